@@ -1,0 +1,39 @@
+// tether: the command-line front end. Exit status 0 on success, 1 when a run fails (diverges), 2 on bad input
+// or usage, always with a message on stderr.
+#include <iostream>
+#include <memory>
+#include <vector>
+
+#include "simulate_command.h"
+#include "tether/dynamics/errors.h"
+
+int main(int argc, char** argv) {
+  using namespace tether;
+  CLI::App app{"tether: constrained multibody dynamics in maximal coordinates, differentiable end to end"};
+  app.require_subcommand(1);
+  std::vector<std::unique_ptr<cli::Command>> commands;
+  commands.push_back(cli::MakeSimulateCommand(&app));
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help
+    std::cerr << "tether: " << e.what() << "\n(run 'tether --help' for usage)\n";
+    return 2;
+  }
+  for (const auto& command : commands) {
+    if (!command->app()->parsed()) continue;
+    try {
+      return command->Run();
+    } catch (const InputError& e) {
+      std::cerr << "tether: error: " << e.what() << "\n";
+      return 2;
+    } catch (const SimulationDiverged& e) {
+      std::cerr << "tether: " << e.what() << "\n";
+      return 1;
+    } catch (const std::exception& e) {
+      std::cerr << "tether: failed: " << e.what() << "\n";
+      return 1;
+    }
+  }
+  return 2;
+}

@@ -1,0 +1,59 @@
+#include "simulate_command.h"
+
+#include <iostream>
+#include <sstream>
+
+#include "scene_overrides.h"
+#include "tether/dynamics/errors.h"
+#include "tether/dynamics/scene_reader.h"
+#include "tether/dynamics/simulator.h"
+#include "tether/dynamics/trajectory_csv.h"
+
+namespace tether::cli {
+namespace {
+
+class SimulateCommand final : public Command {
+ public:
+  explicit SimulateCommand(CLI::App* parent) {
+    app_ = parent->add_subcommand("simulate", "run a scene and write its trajectory CSV");
+    app_->add_option("SCENE", scene_path_, "scene file (JSON)")->required();
+    overrides_.Register(app_);
+    app_->add_option("--every", every_, "write every K-th step (default 1)");
+    app_->add_option("-o,--output", output_path_, "CSV file to write (default: stdout)");
+  }
+
+  CLI::App* app() const override { return app_; }
+
+  int Run() override {
+    if (every_ < 1) throw InputError("--every: must be a whole number >= 1, got " + std::to_string(every_));
+    Scene scene = ReadSceneFile(scene_path_);
+    overrides_.Apply(&scene.model);
+
+    std::unique_ptr<AtomicOutputFile> file;
+    std::ostringstream buffer;  // stdout gets the CSV only once the run has succeeded
+    if (!output_path_.empty()) file = std::make_unique<AtomicOutputFile>(output_path_);
+    std::ostream& out = file ? file->stream() : buffer;
+    TrajectoryCsvWriter writer(scene.model, &out);
+    const RunReport report = Simulate<double>(scene.model, RunOptions{every_},
+                                              [&writer](const Sample<double>& s) { writer.Write(s); });
+    for (const std::string& warning : report.warnings) std::cerr << "tether: warning: " << scene_path_ << ": " << warning << "\n";
+    if (file) {
+      file->Commit();
+    } else {
+      std::cout << buffer.str() << std::flush;
+    }
+    return 0;
+  }
+
+ private:
+  CLI::App* app_;
+  std::string scene_path_, output_path_;
+  SceneOverrides overrides_;
+  int every_ = 1;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> MakeSimulateCommand(CLI::App* parent) { return std::make_unique<SimulateCommand>(parent); }
+
+}  // namespace tether::cli

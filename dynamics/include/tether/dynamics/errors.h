@@ -1,0 +1,29 @@
+// The two ways a run can fail, kept apart as DESIGN.md asks: bad input (the user can fix the scene or the
+// flags; exit status 2) and a simulation that diverges (exit status 1). Internal invariants use assert.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+namespace tether {
+
+// The input cannot be used as given; what() names the place (JSON Pointer, flag) and what is wrong.
+class InputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// The state became non-finite or a constraint ran away; what() says when and which constraint.
+class SimulationDiverged : public std::runtime_error {
+ public:
+  SimulationDiverged(const std::string& message, double time, int constraint)
+      : std::runtime_error(message), time_(time), constraint_(constraint) {}
+  double time() const { return time_; }
+  int constraint() const { return constraint_; }  // scene index, or -1 when no constraint is at fault
+
+ private:
+  double time_;
+  int constraint_;
+};
+
+}  // namespace tether

@@ -1,0 +1,24 @@
+// Time integration of the first-order system y = (q, v), y' = (v, q''(t, q, v)).
+//
+//   euler             q_{n+1} = q_n + h v_n,            v_{n+1} = v_n + h a(t_n, q_n, v_n)
+//   symplectic_euler  v_{n+1} = v_n + h a(t_n, q_n, v_n), q_{n+1} = q_n + h v_{n+1}
+//   rk4               the classical four-stage Runge-Kutta method
+//   rk45              Dormand-Prince 5(4) with local error control: a step is accepted when the RMS over
+//                     components of e_i / (tol (1 + max(|y_i|, |y_new_i|))) is at most 1, and the next step is
+//                     h * min(5, max(0.2, 0.9 err^(-1/5))). Internal steps never cross an output step, so the
+//                     output lies on the grid t_k = k h. The error control looks at values only: with Jets the
+//                     derivatives are those of the accepted steps.
+// The stable range of h * omega for the Baumgarte error dynamics depends on the method (default_gains.h).
+#pragma once
+
+#include "tether/dynamics/workspace.h"
+
+namespace tether {
+
+enum class StepStatus { kOk, kSolveFailed, kStepSizeUnderflow };
+
+// Advances (q, v) from t to t + h with the model's integrator.
+template <typename T>
+StepStatus Advance(const Model<T>& model, double t, double h, Workspace<T>* ws, VecX<T>* q, VecX<T>* v);
+
+}  // namespace tether

@@ -1,0 +1,47 @@
+// The scalars tether is instantiated for, and the little glue every templated header needs.
+//
+// Every numerical routine is a template on the scalar T and is compiled for exactly two scalars:
+//   double                               values;
+//   Jet = ceres::Jet<double, kJetStride> values plus kJetStride directional derivatives.
+// Value(x) is the double part of either; branches that must not be differentiated (step-size control,
+// divergence checks, pivoting) look at Value(x) only.
+#pragma once
+
+#include <ceres/jet.h>
+
+#include <Eigen/Core>
+
+namespace tether {
+
+// Derivative directions carried by one Jet; more parameters are handled in chunks of this many.
+inline constexpr int kJetStride = 4;
+using Jet = ceres::Jet<double, kJetStride>;
+
+template <typename T>
+struct IsJet : std::false_type {};
+template <typename S, int N>
+struct IsJet<ceres::Jet<S, N>> : std::true_type {};
+
+inline double Value(double x) { return x; }
+template <int N>
+double Value(const ceres::Jet<double, N>& x) {
+  return x.a;
+}
+
+// Converts a double-valued quantity to T (a Jet with zero derivatives).
+template <typename T>
+T Constant(double x) {
+  return T(x);
+}
+
+template <typename T>
+using Vec3 = Eigen::Matrix<T, 3, 1>;
+template <typename T>
+using VecX = Eigen::Matrix<T, Eigen::Dynamic, 1>;
+
+}  // namespace tether
+
+// Expands MACRO(T) once for every scalar the library is compiled for (explicit instantiation, see DESIGN.md).
+#define TETHER_FOR_EACH_SCALAR(MACRO) \
+  MACRO(double)                       \
+  MACRO(::tether::Jet)

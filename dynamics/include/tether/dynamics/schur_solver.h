@@ -1,0 +1,57 @@
+// Solving the (regularized) Schur system S x = b of schur_system.h, for double and for Jet scalars.
+//
+// Two factorizations of the double matrix, chosen by KktSolver:
+//   kDense   Cholesky (LLT) of S held as a dense matrix: the fast path for small systems;
+//   kSparse  simplicial LDL^T with an approximate-minimum-degree ordering, whose symbolic analysis is done
+//            once per solver (per run) and only the numeric factorization per solve. For a chain the
+//            ordering keeps S banded and the cost is linear in its length.
+// kAuto is kDense up to kDenseMaxRows rows and kSparse beyond.
+//
+// Jets (the implicit function theorem): with S = S0 + sum_k dS_k e_k and b = b0 + sum_k db_k e_k,
+//   x0 = S0^-1 b0,   dx_k = S0^-1 (db_k - dS_k x0),
+// so the double matrix S0 is factored once and every derivative direction costs one more pair of triangular
+// solves. The right-hand sides db_k - dS_k x0 are the derivative parts of the Jet residual b - S x0.
+#pragma once
+
+#include <Eigen/Cholesky>
+#include <Eigen/SparseCholesky>
+#include <memory>
+
+#include "tether/dynamics/schur_system.h"
+
+namespace tether {
+
+inline constexpr int kDenseMaxRows = 40;
+
+KktSolver ResolveSolver(KktSolver requested, int rows);
+
+class SchurSolver {
+ public:
+  // Analyzes the pattern once; `kind` may be kAuto.
+  SchurSolver(const SchurPattern& pattern, KktSolver kind);
+
+  KktSolver kind() const { return kind_; }
+
+  // x = S^-1 b, S given by its stored values (AssembleSchur). Returns false, leaving x unchanged, when the
+  // factorization fails (a non-finite or indefinite matrix: the run is diverging).
+  template <typename T>
+  bool Solve(const std::vector<T>& values, const VecX<T>& b, VecX<T>* x);
+
+ private:
+  bool Factor(const std::vector<double>& values);
+  void SolveInPlace(Eigen::VectorXd* x);
+
+  const SchurPattern* pattern_;
+  KktSolver kind_;
+  Eigen::MatrixXd dense_;
+  Eigen::LLT<Eigen::MatrixXd> dense_factor_;
+  Eigen::SparseMatrix<double> sparse_;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>> sparse_factor_;
+  Eigen::VectorXd solution_;  // sparse solve output, swapped with its input
+  // scratch for the Jet path
+  std::vector<double> value_part_;
+  Eigen::VectorXd x0_, column_;
+  VecX<Jet> product_;
+};
+
+}  // namespace tether

@@ -1,0 +1,49 @@
+// The trajectory CSV of CONTRACT.md: a header row, then one row per output state with
+//   t, then for each body in scene order NAME.x, NAME.y[, NAME.z][, NAME.angle], NAME.vx, NAME.vy[, NAME.vz]
+//   [, NAME.omega], then constraint_error (m) and energy (J),
+// every number printed with 17 significant digits (round-trips a double exactly).
+#pragma once
+
+#include <fstream>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "tether/dynamics/model.h"
+#include "tether/dynamics/simulator.h"
+
+namespace tether {
+
+std::vector<std::string> TrajectoryColumns(const Model<double>& model);
+
+class TrajectoryCsvWriter {
+ public:
+  // Writes the header row.
+  TrajectoryCsvWriter(const Model<double>& model, std::ostream* out);
+  void Write(const Sample<double>& sample);
+
+ private:
+  const Model<double>& model_;
+  std::ostream* out_;
+  std::string line_;
+};
+
+// A file that appears at `path` only when Commit() is called: it is written to a temporary file beside it and
+// renamed, so a failed run leaves no partial output. Without Commit() the temporary file is removed.
+class AtomicOutputFile {
+ public:
+  explicit AtomicOutputFile(const std::string& path);  // throws InputError if the folder is not writable
+  ~AtomicOutputFile();
+  AtomicOutputFile(const AtomicOutputFile&) = delete;
+  AtomicOutputFile& operator=(const AtomicOutputFile&) = delete;
+
+  std::ostream& stream() { return stream_; }
+  void Commit();  // throws InputError if the file cannot be completed
+
+ private:
+  std::string path_, temporary_;
+  std::ofstream stream_;
+  bool committed_ = false;
+};
+
+}  // namespace tether

@@ -1,0 +1,12 @@
+#include "tether/dynamics/constraint_rows_impl.h"
+
+namespace tether {
+
+#define TETHER_INSTANTIATE_CONSTRAINT_ROWS(T)                                                                 \
+  template std::vector<RowInfo> DescribeRows<T>(const Model<T>&);                                            \
+  template void EvaluateConstraintRows<T>(const Model<T>&, const VecX<T>&, const VecX<T>&, bool,             \
+                                          std::vector<ConstraintRow<T>>*);                                   \
+  template Violation LargestViolation<T>(const std::vector<RowInfo>&, const std::vector<ConstraintRow<T>>&);
+TETHER_FOR_EACH_SCALAR(TETHER_INSTANTIATE_CONSTRAINT_ROWS)
+
+}  // namespace tether

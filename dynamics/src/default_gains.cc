@@ -1,0 +1,44 @@
+#include "tether/dynamics/default_gains.h"
+
+#include <algorithm>
+
+namespace tether {
+
+double RealStabilityLimit(Integrator integrator) {
+  switch (integrator) {
+    case Integrator::kEuler:
+    case Integrator::kSymplecticEuler:
+      return 2.0;
+    case Integrator::kRk4:
+      return 2.785;
+    case Integrator::kRk45:
+      return 3.307;
+  }
+  return 2.0;
+}
+
+Gains DefaultGains(Integrator integrator, double step) {
+  const double omega = std::min(kDefaultMaxOmega, kDefaultStabilityFraction * RealStabilityLimit(integrator) / step);
+  return {2.0 * omega, omega * omega};
+}
+
+template <typename T>
+void GainsInUse(const Model<T>& model, T* alpha, T* beta) {
+  const StabilizationSettings<T>& s = model.stabilization;
+  if (s.method != Stabilization::kBaumgarte) {
+    *alpha = T(0.0);
+    *beta = T(0.0);
+  } else if (s.gains_from_rule) {
+    const Gains g = DefaultGains(model.simulation.integrator, model.simulation.step);
+    *alpha = T(g.alpha);
+    *beta = T(g.beta);
+  } else {
+    *alpha = s.alpha;
+    *beta = s.beta;
+  }
+}
+
+template void GainsInUse<double>(const Model<double>&, double*, double*);
+template void GainsInUse<Jet>(const Model<Jet>&, Jet*, Jet*);
+
+}  // namespace tether

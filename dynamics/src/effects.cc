@@ -1,0 +1,10 @@
+#include "tether/dynamics/effects_impl.h"
+
+namespace tether {
+
+#define TETHER_INSTANTIATE_EFFECTS(T)                                                                      \
+  template void AccumulateForces<T>(const Model<T>&, double, const VecX<T>&, const VecX<T>&, VecX<T>*); \
+  template T Energy<T>(const Model<T>&, const VecX<T>&, const VecX<T>&);
+TETHER_FOR_EACH_SCALAR(TETHER_INSTANTIATE_EFFECTS)
+
+}  // namespace tether

@@ -1,0 +1,157 @@
+#include "tether/dynamics/integrators.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "tether/dynamics/constrained_dynamics.h"
+
+namespace tether {
+namespace {
+
+template <typename T>
+StepStatus Euler(const Model<T>& model, double t, double h, Workspace<T>* ws, VecX<T>* q, VecX<T>* v) {
+  VecX<T>& a = ws->stage_v[0];
+  if (!ComputeAcceleration(model, t, *q, *v, ws, &a)) return StepStatus::kSolveFailed;
+  *q += h * *v;
+  *v += h * a;
+  return StepStatus::kOk;
+}
+
+template <typename T>
+StepStatus SymplecticEuler(const Model<T>& model, double t, double h, Workspace<T>* ws, VecX<T>* q, VecX<T>* v) {
+  VecX<T>& a = ws->stage_v[0];
+  if (!ComputeAcceleration(model, t, *q, *v, ws, &a)) return StepStatus::kSolveFailed;
+  *v += h * a;
+  *q += h * *v;
+  return StepStatus::kOk;
+}
+
+template <typename T>
+StepStatus Rk4(const Model<T>& model, double t, double h, Workspace<T>* ws, VecX<T>* q, VecX<T>* v) {
+  auto& kq = ws->stage_q;
+  auto& kv = ws->stage_v;
+  const double c[4] = {0.0, 0.5, 0.5, 1.0};
+  for (int s = 0; s < 4; ++s) {
+    if (s == 0) {
+      ws->trial_q = *q;
+      ws->trial_v = *v;
+    } else {
+      ws->trial_q = *q + (c[s] * h) * kq[s - 1];
+      ws->trial_v = *v + (c[s] * h) * kv[s - 1];
+    }
+    kq[s] = ws->trial_v;
+    if (!ComputeAcceleration(model, t + c[s] * h, ws->trial_q, ws->trial_v, ws, &kv[s])) {
+      return StepStatus::kSolveFailed;
+    }
+  }
+  *q += (h / 6.0) * (kq[0] + 2.0 * kq[1] + 2.0 * kq[2] + kq[3]);
+  *v += (h / 6.0) * (kv[0] + 2.0 * kv[1] + 2.0 * kv[2] + kv[3]);
+  return StepStatus::kOk;
+}
+
+// Dormand-Prince 5(4) tableau; the last row of A is the fifth-order solution (first same as last).
+constexpr double kC[7] = {0.0, 1.0 / 5, 3.0 / 10, 4.0 / 5, 8.0 / 9, 1.0, 1.0};
+constexpr double kA[7][6] = {
+    {0, 0, 0, 0, 0, 0},
+    {1.0 / 5, 0, 0, 0, 0, 0},
+    {3.0 / 40, 9.0 / 40, 0, 0, 0, 0},
+    {44.0 / 45, -56.0 / 15, 32.0 / 9, 0, 0, 0},
+    {19372.0 / 6561, -25360.0 / 2187, 64448.0 / 6561, -212.0 / 729, 0, 0},
+    {9017.0 / 3168, -355.0 / 33, 46732.0 / 5247, 49.0 / 176, -5103.0 / 18656, 0},
+    {35.0 / 384, 0, 500.0 / 1113, 125.0 / 192, -2187.0 / 6784, 11.0 / 84}};
+// fifth-order minus fourth-order weights: the local error estimate
+constexpr double kE[7] = {71.0 / 57600,      0, -71.0 / 16695, 71.0 / 1920, -17253.0 / 339200,
+                          22.0 / 525, -1.0 / 40};
+
+// One Dormand-Prince trial step of size h from (q, v); the result is left in ws->next_q/next_v and the
+// scaled error norm is returned (infinity when a stage failed).
+template <typename T>
+double DormandPrinceTrial(const Model<T>& model, double t, double h, double tolerance, const VecX<T>& q,
+                          const VecX<T>& v, Workspace<T>* ws) {
+  auto& kq = ws->stage_q;
+  auto& kv = ws->stage_v;
+  if (!ws->rk45_first_stage_valid) {
+    kq[0] = v;
+    if (!ComputeAcceleration(model, t, q, v, ws, &kv[0])) return INFINITY;
+    ws->rk45_first_stage_valid = true;
+  }
+  for (int s = 1; s < 7; ++s) {
+    ws->trial_q = q;
+    ws->trial_v = v;
+    for (int j = 0; j < s; ++j) {
+      if (kA[s][j] == 0.0) continue;
+      ws->trial_q += (h * kA[s][j]) * kq[j];
+      ws->trial_v += (h * kA[s][j]) * kv[j];
+    }
+    kq[s] = ws->trial_v;
+    if (!ComputeAcceleration(model, t + kC[s] * h, ws->trial_q, ws->trial_v, ws, &kv[s])) return INFINITY;
+  }
+  ws->next_q = ws->trial_q;  // stage 6 is evaluated at the fifth-order solution
+  ws->next_v = ws->trial_v;
+  double sum = 0.0;
+  const int n = static_cast<int>(q.size());
+  for (int i = 0; i < n; ++i) {
+    double eq = 0.0, ev = 0.0;
+    for (int s = 0; s < 7; ++s) {
+      eq += kE[s] * Value(kq[s][i]);
+      ev += kE[s] * Value(kv[s][i]);
+    }
+    const double scale_q = tolerance * (1.0 + std::max(std::abs(Value(q[i])), std::abs(Value(ws->next_q[i]))));
+    const double scale_v = tolerance * (1.0 + std::max(std::abs(Value(v[i])), std::abs(Value(ws->next_v[i]))));
+    sum += (h * eq / scale_q) * (h * eq / scale_q) + (h * ev / scale_v) * (h * ev / scale_v);
+  }
+  const double norm = std::sqrt(sum / (2.0 * n));
+  return std::isfinite(norm) ? norm : INFINITY;
+}
+
+template <typename T>
+StepStatus Rk45(const Model<T>& model, double t, double h, Workspace<T>* ws, VecX<T>* q, VecX<T>* v) {
+  const double tolerance = model.simulation.tolerance;
+  const double t_end = t + h;
+  const double smallest = 1e-12 * h;
+  if (ws->rk45_step <= 0.0) ws->rk45_step = h;
+  ws->rk45_first_stage_valid = false;  // the state may have been changed (projection) since the last step
+  while (t_end - t > smallest) {
+    const double remaining = t_end - t;
+    const double trial = std::min(ws->rk45_step, remaining);
+    const double error = DormandPrinceTrial(model, t, trial, tolerance, *q, *v, ws);
+    const double factor = error == 0.0 ? 5.0 : std::min(5.0, std::max(0.2, 0.9 * std::pow(error, -0.2)));
+    if (error <= 1.0) {
+      t += trial;
+      q->swap(ws->next_q);
+      v->swap(ws->next_v);
+      std::swap(ws->stage_q[0], ws->stage_q[6]);  // first same as last
+      std::swap(ws->stage_v[0], ws->stage_v[6]);
+      // a step cut short to land on the grid says nothing about the next one
+      if (trial == ws->rk45_step || factor < 1.0) ws->rk45_step = trial * factor;
+    } else {
+      ws->rk45_step = trial * (std::isfinite(error) ? factor : 0.2);
+      if (!std::isfinite(error)) ws->rk45_first_stage_valid = false;
+      if (ws->rk45_step < smallest) return StepStatus::kStepSizeUnderflow;
+    }
+  }
+  return StepStatus::kOk;
+}
+
+}  // namespace
+
+template <typename T>
+StepStatus Advance(const Model<T>& model, double t, double h, Workspace<T>* ws, VecX<T>* q, VecX<T>* v) {
+  switch (model.simulation.integrator) {
+    case Integrator::kEuler:
+      return Euler(model, t, h, ws, q, v);
+    case Integrator::kSymplecticEuler:
+      return SymplecticEuler(model, t, h, ws, q, v);
+    case Integrator::kRk4:
+      return Rk4(model, t, h, ws, q, v);
+    case Integrator::kRk45:
+      return Rk45(model, t, h, ws, q, v);
+  }
+  return StepStatus::kOk;
+}
+
+#define TETHER_INSTANTIATE_INTEGRATORS(T) \
+  template StepStatus Advance<T>(const Model<T>&, double, double, Workspace<T>*, VecX<T>*, VecX<T>*);
+TETHER_FOR_EACH_SCALAR(TETHER_INSTANTIATE_INTEGRATORS)
+
+}  // namespace tether

@@ -1,0 +1,75 @@
+#include "tether/dynamics/projection.h"
+
+namespace tether {
+namespace {
+
+// ws->rhs = J x for the rows in ws.
+template <typename T>
+void MultiplyJacobian(const Model<T>& model, const VecX<T>& x, Workspace<T>* ws) {
+  for (size_t i = 0; i < ws->rows.size(); ++i) {
+    ws->rhs[i] = Dot(model, ws->rows[i].a, x) + Dot(model, ws->rows[i].b, x);
+  }
+}
+
+// out = M^-1 J^T ws->lambda.
+template <typename T>
+void ApplyReaction(const Model<T>& model, Workspace<T>* ws, VecX<T>* out) {
+  out->setZero();
+  for (size_t i = 0; i < ws->rows.size(); ++i) {
+    AddScaled(model, ws->rows[i].a, ws->lambda[i], out);
+    AddScaled(model, ws->rows[i].b, ws->lambda[i], out);
+  }
+  *out = ws->inverse_mass.cwiseProduct(*out);
+}
+
+}  // namespace
+
+template <typename T>
+ProjectionResult ProjectPositions(const Model<T>& model, double tolerance, Workspace<T>* ws, VecX<T>* q) {
+  constexpr int kMaxIterations = 50;
+  ProjectionResult result;
+  if (ws->rows.empty()) {
+    result.converged = true;
+    return result;
+  }
+  const VecX<T>& unused_velocity = *q;  // position-only evaluation does not read velocities
+  ws->trial_q = *q;                     // the target q_t
+  int settle = IsJet<T>::value ? 1 : 0;  // extra iterations after convergence, for the derivatives
+  for (result.iterations = 0; result.iterations <= kMaxIterations; ++result.iterations) {
+    EvaluateConstraintRows(model, *q, unused_velocity, false, &ws->rows);
+    result.violation = LargestViolation(ws->infos, ws->rows);
+    if (result.violation.largest <= tolerance) {
+      result.converged = true;
+      if (settle-- == 0) break;
+    }
+    if (result.iterations == kMaxIterations) break;
+    // S mu = C(q_k) + J (q_t - q_k)
+    ws->next_q = ws->trial_q - *q;
+    MultiplyJacobian(model, ws->next_q, ws);
+    for (size_t i = 0; i < ws->rows.size(); ++i) ws->rhs[i] += ws->rows[i].value;
+    AssembleSchur(model, ws->pattern, ws->rows, ws->inverse_mass, &ws->schur);
+    if (!ws->solver.Solve(ws->schur, ws->rhs, &ws->lambda)) break;
+    ApplyReaction(model, ws, &ws->next_q);
+    *q = ws->trial_q - ws->next_q;
+  }
+  return result;
+}
+
+template <typename T>
+bool ProjectVelocities(const Model<T>& model, const VecX<T>& q, Workspace<T>* ws, VecX<T>* v) {
+  if (ws->rows.empty()) return true;
+  EvaluateConstraintRows(model, q, *v, false, &ws->rows);
+  MultiplyJacobian(model, *v, ws);
+  AssembleSchur(model, ws->pattern, ws->rows, ws->inverse_mass, &ws->schur);
+  if (!ws->solver.Solve(ws->schur, ws->rhs, &ws->lambda)) return false;
+  ApplyReaction(model, ws, &ws->next_v);
+  *v -= ws->next_v;
+  return true;
+}
+
+#define TETHER_INSTANTIATE_PROJECTION(T)                                                                  \
+  template ProjectionResult ProjectPositions<T>(const Model<T>&, double, Workspace<T>*, VecX<T>*); \
+  template bool ProjectVelocities<T>(const Model<T>&, const VecX<T>&, Workspace<T>*, VecX<T>*);
+TETHER_FOR_EACH_SCALAR(TETHER_INSTANTIATE_PROJECTION)
+
+}  // namespace tether

@@ -1,0 +1,484 @@
+#include "tether/dynamics/scene_reader.h"
+
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "tether/dynamics/errors.h"
+
+namespace tether {
+namespace {
+
+using nlohmann::json;
+
+const char* TypeName(const json& j) {
+  if (j.is_boolean()) return "a boolean";
+  if (j.is_number()) return "a number";
+  if (j.is_string()) return "a string";
+  if (j.is_array()) return "an array";
+  if (j.is_object()) return "an object";
+  return "null";
+}
+
+std::string Escape(const std::string& key) {  // RFC 6901
+  std::string out;
+  for (char c : key) {
+    if (c == '~') {
+      out += "~0";
+    } else if (c == '/') {
+      out += "~1";
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
+std::string Child(const std::string& pointer, const std::string& key) { return pointer + "/" + Escape(key); }
+std::string Child(const std::string& pointer, size_t index) { return pointer + "/" + std::to_string(index); }
+
+std::string Format(double x) {
+  std::ostringstream out;
+  out << x;
+  return out.str();
+}
+
+// Validating accessors; every failure names the file and the JSON Pointer.
+class Validator {
+ public:
+  explicit Validator(std::string path) : path_(std::move(path)) {}
+
+  [[noreturn]] void Fail(const std::string& pointer, const std::string& message) const {
+    throw InputError(path_ + ": " + (pointer.empty() ? std::string("(top level)") : pointer) + ": " + message);
+  }
+
+  void Object(const json& j, const std::string& pointer, const std::set<std::string>& allowed) const {
+    if (!j.is_object()) Fail(pointer, std::string("expected an object, got ") + TypeName(j));
+    for (auto it = j.begin(); it != j.end(); ++it) {
+      if (!allowed.count(it.key())) {
+        std::string list;
+        for (const std::string& k : allowed) list += (list.empty() ? "" : ", ") + k;
+        Fail(Child(pointer, it.key()), "unknown key '" + it.key() + "' (allowed here: " + list + ")");
+      }
+    }
+  }
+
+  const json& Required(const json& object, const std::string& pointer, const char* key) const {
+    if (!object.contains(key)) Fail(pointer, std::string("missing required key '") + key + "'");
+    return object.at(key);
+  }
+
+  const json* Optional(const json& object, const char* key) const {
+    return object.contains(key) ? &object.at(key) : nullptr;
+  }
+
+  double Number(const json& j, const std::string& pointer) const {
+    if (!j.is_number()) Fail(pointer, std::string("expected a number, got ") + TypeName(j));
+    const double x = j.get<double>();
+    if (!std::isfinite(x)) Fail(pointer, "must be finite");
+    return x;
+  }
+  double Positive(const json& j, const std::string& pointer) const {
+    const double x = Number(j, pointer);
+    if (!(x > 0)) Fail(pointer, "must be > 0, got " + Format(x));
+    return x;
+  }
+  double NonNegative(const json& j, const std::string& pointer) const {
+    const double x = Number(j, pointer);
+    if (!(x >= 0)) Fail(pointer, "must be >= 0, got " + Format(x));
+    return x;
+  }
+
+  std::string String(const json& j, const std::string& pointer) const {
+    if (!j.is_string()) Fail(pointer, std::string("expected a string, got ") + TypeName(j));
+    return j.get<std::string>();
+  }
+
+  const json& Array(const json& j, const std::string& pointer) const {
+    if (!j.is_array()) Fail(pointer, std::string("expected an array, got ") + TypeName(j));
+    return j;
+  }
+
+  // An array of exactly `size` numbers, as a Vec3 padded with zeros.
+  Vec3<double> Vector(const json& j, const std::string& pointer, int size) const {
+    Array(j, pointer);
+    if (static_cast<int>(j.size()) != size) {
+      Fail(pointer, "expected " + std::to_string(size) + " numbers (the scene's dimension), got " +
+                        std::to_string(j.size()));
+    }
+    Vec3<double> v = Vec3<double>::Zero();
+    for (int k = 0; k < size; ++k) v[k] = Number(j[k], Child(pointer, k));
+    return v;
+  }
+
+ private:
+  std::string path_;
+};
+
+class SceneBuilder {
+ public:
+  SceneBuilder(const json& document, const std::string& path) : doc_(document), check_(path) {}
+
+  Model<double> Build() {
+    check_.Object(doc_, "", {"dimension", "bodies", "constraints", "effects", "simulation", "stabilization"});
+    if (const json* d = check_.Optional(doc_, "dimension")) {
+      const double dim = check_.Number(*d, "/dimension");
+      if (dim != 2 && dim != 3) check_.Fail("/dimension", "must be 2 or 3, got " + Format(dim));
+      model_.dimension = static_cast<int>(dim);
+    }
+    ReadBodies(check_.Required(doc_, "", "bodies"));
+    if (const json* c = check_.Optional(doc_, "constraints")) ReadConstraints(*c);
+    if (const json* e = check_.Optional(doc_, "effects")) ReadEffects(*e);
+    if (const json* s = check_.Optional(doc_, "simulation")) ReadSimulation(*s);
+    if (const json* s = check_.Optional(doc_, "stabilization")) ReadStabilization(*s);
+    return std::move(model_);
+  }
+
+ private:
+  int Dim() const { return model_.dimension; }
+
+  void ReadBodies(const json& bodies) {
+    check_.Array(bodies, "/bodies");
+    if (bodies.empty()) check_.Fail("/bodies", "a scene needs at least one body");
+    std::map<std::string, size_t> seen;
+    for (size_t i = 0; i < bodies.size(); ++i) {
+      const std::string at = Child("/bodies", i);
+      const json& b = bodies[i];
+      if (!b.is_object()) check_.Fail(at, std::string("expected an object, got ") + TypeName(b));
+      const std::string type = check_.String(check_.Required(b, at, "type"), Child(at, "type"));
+      BodyKind kind;
+      if (type == "particle") {
+        kind = BodyKind::kParticle;
+        check_.Object(b, at, {"name", "type", "mass", "position", "velocity"});
+      } else if (type == "rigid") {
+        kind = BodyKind::kRigid;
+        if (Dim() != 2) check_.Fail(Child(at, "type"), "rigid bodies are planar: they need dimension 2");
+        check_.Object(b, at, {"name", "type", "mass", "inertia", "position", "angle", "velocity", "angular_velocity"});
+      } else {
+        check_.Fail(Child(at, "type"), "unknown body type '" + type + "' (expected particle or rigid)");
+      }
+      const std::string name = check_.String(check_.Required(b, at, "name"), Child(at, "name"));
+      if (name.empty()) check_.Fail(Child(at, "name"), "a body name must not be empty");
+      if (name == "world") check_.Fail(Child(at, "name"), "the name 'world' is reserved for the fixed ground frame");
+      if (seen.count(name)) {
+        check_.Fail(at, "duplicate body name '" + name + "' (also /bodies/" + std::to_string(seen[name]) + ")");
+      }
+      seen[name] = i;
+      names_[name] = static_cast<int>(i);
+      const double mass = check_.Positive(check_.Required(b, at, "mass"), Child(at, "mass"));
+      const double inertia =
+          kind == BodyKind::kRigid ? check_.Positive(check_.Required(b, at, "inertia"), Child(at, "inertia")) : 0.0;
+      const Vec3<double> position = check_.Vector(check_.Required(b, at, "position"), Child(at, "position"), Dim());
+      Vec3<double> velocity = Vec3<double>::Zero();
+      if (const json* v = check_.Optional(b, "velocity")) velocity = check_.Vector(*v, Child(at, "velocity"), Dim());
+      double angle = 0.0, omega = 0.0;
+      if (const json* a = check_.Optional(b, "angle")) angle = check_.Number(*a, Child(at, "angle"));
+      if (const json* w = check_.Optional(b, "angular_velocity")) omega = check_.Number(*w, Child(at, "angular_velocity"));
+      AddBody(&model_, name, kind, mass, inertia, position, angle, velocity, omega);
+    }
+  }
+
+  // A body name (or "world" when allowed) -> index.
+  int BodyIndex(const json& j, const std::string& at, bool world_allowed) const {
+    const std::string name = check_.String(j, at);
+    if (name == "world") {
+      if (!world_allowed) check_.Fail(at, "'world' cannot be used here");
+      return kWorld;
+    }
+    auto it = names_.find(name);
+    if (it == names_.end()) check_.Fail(at, "unknown body '" + name + "'");
+    return it->second;
+  }
+
+  // "bodies": [A, B] and "points": [[..], [..]] of a two-body element.
+  void TwoBodies(const json& element, const std::string& at, BodyPoint<double>* a, BodyPoint<double>* b) const {
+    const std::string bp = Child(at, "bodies");
+    const json& bodies = check_.Array(check_.Required(element, at, "bodies"), bp);
+    if (bodies.size() != 2) check_.Fail(bp, "expected two body names, got " + std::to_string(bodies.size()));
+    a->body = BodyIndex(bodies[0], Child(bp, 0), true);
+    b->body = BodyIndex(bodies[1], Child(bp, 1), true);
+    if (a->body == b->body) check_.Fail(bp, "the two bodies must differ");
+    if (const json* points = check_.Optional(element, "points")) {
+      const std::string pp = Child(at, "points");
+      check_.Array(*points, pp);
+      if (points->size() != 2) check_.Fail(pp, "expected two points, got " + std::to_string(points->size()));
+      a->local = check_.Vector((*points)[0], Child(pp, 0), Dim());
+      b->local = check_.Vector((*points)[1], Child(pp, 1), Dim());
+    }
+  }
+
+  // World position of a body point in the initial state.
+  Vec3<double> InitialPosition(const BodyPoint<double>& p) const {
+    if (p.body == kWorld) return p.local;
+    const Body<double>& body = model_.bodies[p.body];
+    Vec3<double> x = Vec3<double>::Zero();
+    for (int k = 0; k < Dim(); ++k) x[k] = model_.q0[body.offset + k];
+    if (body.kind == BodyKind::kParticle) return x + p.local;
+    const double angle = model_.q0[body.offset + 2];
+    return x + Vec3<double>(std::cos(angle) * p.local.x() - std::sin(angle) * p.local.y(),
+                            std::sin(angle) * p.local.x() + std::cos(angle) * p.local.y(), 0.0);
+  }
+
+  void ReadConstraints(const json& constraints) {
+    check_.Array(constraints, "/constraints");
+    for (size_t i = 0; i < constraints.size(); ++i) {
+      const std::string at = Child("/constraints", i);
+      const json& c = constraints[i];
+      if (!c.is_object()) check_.Fail(at, std::string("expected an object, got ") + TypeName(c));
+      const std::string type = check_.String(check_.Required(c, at, "type"), Child(at, "type"));
+      const int index = static_cast<int>(i);
+      BodyPoint<double> a, b;
+      if (type == "distance") {
+        check_.Object(c, at, {"type", "bodies", "points", "length"});
+        TwoBodies(c, at, &a, &b);
+        double length;
+        if (const json* l = check_.Optional(c, "length")) {
+          length = check_.Positive(*l, Child(at, "length"));
+        } else {
+          length = (InitialPosition(b) - InitialPosition(a)).norm();
+          if (!(length > 0)) check_.Fail(at, "the two points start at the same place: give a 'length' > 0");
+        }
+        model_.distances.push_back({index, a, b, length});
+      } else if (type == "pin") {
+        check_.Object(c, at, {"type", "bodies", "points"});
+        TwoBodies(c, at, &a, &b);
+        model_.pins.push_back({index, a, b});
+      } else if (type == "slider") {
+        check_.Object(c, at, {"type", "bodies", "points", "axis"});
+        TwoBodies(c, at, &a, &b);
+        const Vec3<double> axis = check_.Vector(check_.Required(c, at, "axis"), Child(at, "axis"), Dim());
+        if (!(axis.norm() > 0)) check_.Fail(Child(at, "axis"), "the axis must not be zero");
+        model_.sliders.push_back({index, a, b, axis});
+      } else {
+        check_.Fail(Child(at, "type"), "unknown constraint type '" + type + "' (expected distance, pin or slider)");
+      }
+    }
+  }
+
+  // A schedule {"times": [...], "values": [...]}; `size` 0 means scalar values.
+  template <typename V, typename ReadValue>
+  Schedule<V> ReadSchedule(const json& j, const std::string& at, ReadValue read_value) const {
+    check_.Object(j, at, {"times", "values"});
+    const std::string tp = Child(at, "times"), vp = Child(at, "values");
+    const json& times = check_.Array(check_.Required(j, at, "times"), tp);
+    const json& values = check_.Array(check_.Required(j, at, "values"), vp);
+    if (times.empty()) check_.Fail(tp, "a schedule needs at least one time");
+    if (values.size() != times.size()) {
+      check_.Fail(vp, "expected " + std::to_string(times.size()) + " values (one per time), got " +
+                          std::to_string(values.size()));
+    }
+    Schedule<V> s;
+    for (size_t k = 0; k < times.size(); ++k) {
+      s.times.push_back(check_.Number(times[k], Child(tp, k)));
+      if (k > 0 && !(s.times[k] > s.times[k - 1])) check_.Fail(Child(tp, k), "times must increase strictly");
+      s.values.push_back(read_value(values[k], Child(vp, k)));
+    }
+    return s;
+  }
+
+  std::vector<int> AllBodies() const {
+    std::vector<int> all(model_.bodies.size());
+    for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
+    return all;
+  }
+
+  void ReadEffects(const json& effects) {
+    check_.Array(effects, "/effects");
+    for (size_t i = 0; i < effects.size(); ++i) {
+      const std::string at = Child("/effects", i);
+      const json& e = effects[i];
+      if (!e.is_object()) check_.Fail(at, std::string("expected an object, got ") + TypeName(e));
+      const std::string type = check_.String(check_.Required(e, at, "type"), Child(at, "type"));
+      const int index = static_cast<int>(i);
+      if (type == "gravity") {
+        check_.Object(e, at, {"type", "acceleration"});
+        model_.gravity.push_back(
+            {index, check_.Vector(check_.Required(e, at, "acceleration"), Child(at, "acceleration"), Dim())});
+      } else if (type == "damping") {
+        check_.Object(e, at, {"type", "coefficient", "angular_coefficient", "bodies"});
+        DampingEffect<double> d;
+        d.scene_index = index;
+        d.coefficient = check_.NonNegative(check_.Required(e, at, "coefficient"), Child(at, "coefficient"));
+        if (const json* c = check_.Optional(e, "angular_coefficient")) {
+          d.angular_coefficient = check_.NonNegative(*c, Child(at, "angular_coefficient"));
+        }
+        if (const json* list = check_.Optional(e, "bodies")) {
+          const std::string bp = Child(at, "bodies");
+          check_.Array(*list, bp);
+          for (size_t k = 0; k < list->size(); ++k) d.bodies.push_back(BodyIndex((*list)[k], Child(bp, k), false));
+        } else {
+          d.bodies = AllBodies();
+        }
+        model_.damping.push_back(d);
+      } else if (type == "spring") {
+        check_.Object(e, at, {"type", "bodies", "points", "stiffness", "rest_length", "damping"});
+        SpringEffect<double> s;
+        s.scene_index = index;
+        TwoBodies(e, at, &s.a, &s.b);
+        s.stiffness = check_.NonNegative(check_.Required(e, at, "stiffness"), Child(at, "stiffness"));
+        s.rest_length = check_.NonNegative(check_.Required(e, at, "rest_length"), Child(at, "rest_length"));
+        if (const json* d = check_.Optional(e, "damping")) s.damping = check_.NonNegative(*d, Child(at, "damping"));
+        if (!((InitialPosition(s.b) - InitialPosition(s.a)).norm() > 0)) {
+          check_.Fail(at, "the spring's two points start at the same place, where its direction is undefined");
+        }
+        model_.springs.push_back(s);
+      } else if (type == "force") {
+        check_.Object(e, at, {"type", "body", "point", "value", "schedule"});
+        ForceEffect<double> f;
+        f.scene_index = index;
+        f.body = BodyIndex(check_.Required(e, at, "body"), Child(at, "body"), false);
+        if (const json* p = check_.Optional(e, "point")) f.point = check_.Vector(*p, Child(at, "point"), Dim());
+        ValueOrSchedule(e, at);
+        if (const json* v = check_.Optional(e, "value")) {
+          f.value = check_.Vector(*v, Child(at, "value"), Dim());
+        } else {
+          f.schedule = ReadSchedule<Vec3<double>>(e.at("schedule"), Child(at, "schedule"),
+                                                  [this](const json& j, const std::string& p) {
+                                                    return check_.Vector(j, p, Dim());
+                                                  });
+        }
+        model_.forces.push_back(f);
+      } else if (type == "torque") {
+        check_.Object(e, at, {"type", "body", "value", "schedule"});
+        TorqueEffect<double> t;
+        t.scene_index = index;
+        t.body = BodyIndex(check_.Required(e, at, "body"), Child(at, "body"), false);
+        if (model_.bodies[t.body].kind != BodyKind::kRigid) {
+          check_.Fail(Child(at, "body"), "a torque acts on a planar rigid body, and '" + model_.bodies[t.body].name +
+                                             "' is a particle");
+        }
+        ValueOrSchedule(e, at);
+        if (const json* v = check_.Optional(e, "value")) {
+          t.value = check_.Number(*v, Child(at, "value"));
+        } else {
+          t.schedule = ReadSchedule<double>(e.at("schedule"), Child(at, "schedule"),
+                                            [this](const json& j, const std::string& p) { return check_.Number(j, p); });
+        }
+        model_.torques.push_back(t);
+      } else {
+        check_.Fail(Child(at, "type"),
+                    "unknown effect type '" + type + "' (expected gravity, damping, spring, force or torque)");
+      }
+    }
+  }
+
+  void ValueOrSchedule(const json& e, const std::string& at) const {
+    const bool value = e.contains("value"), schedule = e.contains("schedule");
+    if (value == schedule) check_.Fail(at, "give exactly one of 'value' and 'schedule'");
+  }
+
+  void ReadSimulation(const json& s) {
+    check_.Object(s, "/simulation", {"integrator", "step", "duration", "tolerance", "solver"});
+    SimulationSettings& sim = model_.simulation;
+    if (const json* i = check_.Optional(s, "integrator")) {
+      sim.integrator = ParseIntegrator(check_.String(*i, "/simulation/integrator"), [this](const std::string& m) {
+        check_.Fail("/simulation/integrator", m);
+      });
+    }
+    if (const json* h = check_.Optional(s, "step")) sim.step = check_.Positive(*h, "/simulation/step");
+    if (const json* t = check_.Optional(s, "duration")) sim.duration = check_.Positive(*t, "/simulation/duration");
+    if (const json* t = check_.Optional(s, "tolerance")) sim.tolerance = check_.Positive(*t, "/simulation/tolerance");
+    if (const json* k = check_.Optional(s, "solver")) {
+      const std::string name = check_.String(*k, "/simulation/solver");
+      if (name == "auto") {
+        sim.solver = KktSolver::kAuto;
+      } else if (name == "dense") {
+        sim.solver = KktSolver::kDense;
+      } else if (name == "sparse") {
+        sim.solver = KktSolver::kSparse;
+      } else {
+        check_.Fail("/simulation/solver", "unknown solver '" + name + "' (expected auto, dense or sparse)");
+      }
+    }
+  }
+
+  void ReadStabilization(const json& s) {
+    check_.Object(s, "/stabilization", {"method", "alpha", "beta"});
+    StabilizationSettings<double>& st = model_.stabilization;
+    if (const json* m = check_.Optional(s, "method")) {
+      const std::string name = check_.String(*m, "/stabilization/method");
+      if (name == "none") {
+        st.method = Stabilization::kNone;
+      } else if (name == "baumgarte") {
+        st.method = Stabilization::kBaumgarte;
+      } else if (name == "projection") {
+        st.method = Stabilization::kProjection;
+      } else {
+        check_.Fail("/stabilization/method",
+                    "unknown stabilization method '" + name + "' (expected none, baumgarte or projection)");
+      }
+    }
+    const json* alpha = check_.Optional(s, "alpha");
+    const json* beta = check_.Optional(s, "beta");
+    if (!alpha && !beta) return;
+    if (st.method != Stabilization::kBaumgarte) {
+      check_.Fail(alpha ? "/stabilization/alpha" : "/stabilization/beta", "gains apply to the baumgarte method only");
+    }
+    if (!alpha || !beta) {
+      check_.Fail("/stabilization", "give both 'alpha' and 'beta', or neither (the default rule then sets both)");
+    }
+    st.alpha = check_.NonNegative(*alpha, "/stabilization/alpha");
+    st.beta = check_.NonNegative(*beta, "/stabilization/beta");
+    st.gains_from_rule = false;
+  }
+
+  template <typename OnError>
+  static Integrator ParseIntegrator(const std::string& name, OnError fail) {
+    if (name == "euler") return Integrator::kEuler;
+    if (name == "symplectic_euler") return Integrator::kSymplecticEuler;
+    if (name == "rk4") return Integrator::kRk4;
+    if (name == "rk45") return Integrator::kRk45;
+    fail("unknown integrator '" + name + "' (expected euler, symplectic_euler, rk4 or rk45)");
+    return Integrator::kRk4;
+  }
+
+  const json& doc_;
+  Validator check_;
+  Model<double> model_;
+  std::map<std::string, int> names_;
+};
+
+}  // namespace
+
+json ParseJsonText(const std::string& text, const std::string& path) {
+  try {
+    return json::parse(text);
+  } catch (const json::parse_error& e) {
+    // the byte offset is 1-based and points just past the offending character
+    const size_t end = std::min(text.size(), e.byte == 0 ? size_t{0} : e.byte - 1);
+    size_t line = 1, column = 1;
+    for (size_t k = 0; k < end; ++k) {
+      if (text[k] == '\n') {
+        ++line;
+        column = 1;
+      } else {
+        ++column;
+      }
+    }
+    std::string what = e.what();
+    const size_t colon = what.find(": ");
+    if (colon != std::string::npos) what = what.substr(colon + 2);
+    throw InputError(path + ": line " + std::to_string(line) + ", column " + std::to_string(column) +
+                     ": not valid JSON: " + what);
+  }
+}
+
+Scene ParseScene(const json& document, const std::string& path) {
+  Scene scene;
+  scene.path = path;
+  scene.document = document;
+  scene.model = SceneBuilder(document, path).Build();
+  return scene;
+}
+
+Scene ReadSceneFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open the scene file");
+  std::stringstream text;
+  text << in.rdbuf();
+  return ParseScene(ParseJsonText(text.str(), path), path);
+}
+
+}  // namespace tether

@@ -1,0 +1,87 @@
+#include "tether/dynamics/schur_solver.h"
+
+#include <cmath>
+
+namespace tether {
+
+KktSolver ResolveSolver(KktSolver requested, int rows) {
+  if (requested != KktSolver::kAuto) return requested;
+  return rows <= kDenseMaxRows ? KktSolver::kDense : KktSolver::kSparse;
+}
+
+SchurSolver::SchurSolver(const SchurPattern& pattern, KktSolver kind)
+    : pattern_(&pattern), kind_(ResolveSolver(kind, pattern.size())) {
+  const int n = pattern.size();
+  if (kind_ == KktSolver::kDense) {
+    dense_.setZero(n, n);
+    return;
+  }
+  sparse_.resize(n, n);
+  Eigen::VectorXi per_column(n);
+  for (int j = 0; j < n; ++j) per_column[j] = pattern.column_start()[j + 1] - pattern.column_start()[j];
+  sparse_.reserve(per_column);
+  for (int j = 0; j < n; ++j) {
+    for (int k = pattern.column_start()[j]; k < pattern.column_start()[j + 1]; ++k) {
+      sparse_.insert(pattern.row_index()[k], j) = 1.0;
+    }
+  }
+  sparse_.makeCompressed();
+  sparse_factor_.analyzePattern(sparse_);
+}
+
+bool SchurSolver::Factor(const std::vector<double>& values) {
+  for (double v : values) {
+    if (!std::isfinite(v)) return false;
+  }
+  if (kind_ == KktSolver::kDense) {
+    const std::vector<int>& row = pattern_->row_index();
+    const std::vector<int>& column = pattern_->column_index();
+    for (size_t k = 0; k < values.size(); ++k) dense_(row[k], column[k]) = values[k];
+    dense_factor_.compute(dense_);
+    return dense_factor_.info() == Eigen::Success;
+  }
+  std::copy(values.begin(), values.end(), sparse_.valuePtr());
+  sparse_factor_.factorize(sparse_);
+  return sparse_factor_.info() == Eigen::Success;
+}
+
+void SchurSolver::SolveInPlace(Eigen::VectorXd* x) {
+  if (kind_ == KktSolver::kDense) {
+    dense_factor_.solveInPlace(*x);
+  } else {
+    solution_ = sparse_factor_.solve(*x);
+    x->swap(solution_);
+  }
+}
+
+template <>
+bool SchurSolver::Solve<double>(const std::vector<double>& values, const VecX<double>& b, VecX<double>* x) {
+  if (!Factor(values)) return false;
+  *x = b;
+  SolveInPlace(x);
+  return true;
+}
+
+template <>
+bool SchurSolver::Solve<Jet>(const std::vector<Jet>& values, const VecX<Jet>& b, VecX<Jet>* x) {
+  value_part_.resize(values.size());
+  for (size_t k = 0; k < values.size(); ++k) value_part_[k] = values[k].a;
+  if (!Factor(value_part_)) return false;
+  const int n = pattern_->size();
+  x0_.resize(n);
+  for (int i = 0; i < n; ++i) x0_[i] = b[i].a;
+  SolveInPlace(&x0_);
+  // residual b - S x0: its value part is ~0, its derivative parts are db_k - dS_k x0
+  MultiplySymmetric(*pattern_, values, x0_, &product_);
+  x->resize(n);
+  for (int i = 0; i < n; ++i) (*x)[i] = Jet(x0_[i]);
+  column_.resize(n);
+  for (int k = 0; k < kJetStride; ++k) {
+    for (int i = 0; i < n; ++i) column_[i] = b[i].v[k] - product_[i].v[k];
+    SolveInPlace(&column_);
+    for (int i = 0; i < n; ++i) (*x)[i].v[k] = column_[i];
+  }
+  return true;
+}
+
+}  // namespace tether

@@ -1,0 +1,186 @@
+#include "tether/dynamics/simulator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "tether/dynamics/default_gains.h"
+#include "tether/dynamics/effects.h"
+#include "tether/dynamics/errors.h"
+#include "tether/dynamics/integrators.h"
+#include "tether/dynamics/projection.h"
+
+namespace tether {
+namespace {
+
+// Projections stop at this violation, relative to the length scale.
+constexpr double kProjectionTolerance = 1e-12;
+// An initial state off its constraints by more than this (relative) is reported as moved.
+constexpr double kAssemblyWarning = 1e-10;
+
+std::string Seconds(double t) {
+  std::ostringstream out;
+  out << "t = " << t << " s";
+  return out.str();
+}
+
+template <typename T>
+bool AllFinite(const VecX<T>& x) {
+  for (int i = 0; i < x.size(); ++i) {
+    if (!std::isfinite(Value(x[i]))) return false;
+  }
+  return true;
+}
+
+template <typename T>
+double LargestChange(const VecX<T>& before, const VecX<T>& after) {
+  double change = 0.0;
+  for (int i = 0; i < before.size(); ++i) change = std::max(change, std::abs(Value(after[i]) - Value(before[i])));
+  return change;
+}
+
+template <typename T>
+void AssembleInitialState(const Model<T>& model, double scale, Workspace<T>* ws, VecX<T>* q, VecX<T>* v,
+                          RunReport* report) {
+  const VecX<T> q_given = *q, v_given = *v;
+  const ProjectionResult result = ProjectPositions(model, kProjectionTolerance * scale, ws, q);
+  if (!result.converged) {
+    throw InputError("the initial state cannot be assembled onto the constraints: " +
+                     DescribeConstraint(model, result.violation.scene_index) + " is still violated by " +
+                     std::to_string(result.violation.largest) + " m after " + std::to_string(result.iterations) +
+                     " Gauss-Newton iterations");
+  }
+  if (!ProjectVelocities(model, *q, ws, v)) throw InputError("the initial velocities cannot be projected onto the constraints");
+  const double moved = LargestChange(q_given, *q);
+  if (moved > kAssemblyWarning * scale) {
+    std::ostringstream out;
+    out << "the initial positions violated the constraints; moved them onto the constraints (mass-weighted "
+           "nearest state) by up to "
+        << moved;
+    report->warnings.push_back(out.str());
+  }
+  const double turned = LargestChange(v_given, *v);
+  double speed = 0.0;
+  for (int i = 0; i < v_given.size(); ++i) speed = std::max(speed, std::abs(Value(v_given[i])));
+  if (turned > kAssemblyWarning * (1.0 + speed)) {
+    std::ostringstream out;
+    out << "the initial velocities violated the constraints; projected them onto the constraints by up to "
+        << turned;
+    report->warnings.push_back(out.str());
+  }
+}
+
+}  // namespace
+
+template <typename T>
+double LengthScale(const Model<T>& model) {
+  double scale = 1e-3;
+  for (const Body<T>& body : model.bodies) {
+    for (int k = 0; k < model.dimension; ++k) scale = std::max(scale, std::abs(Value(model.q0[body.offset + k])));
+  }
+  auto points = [&scale](const BodyPoint<T>& p) { scale = std::max(scale, Value(p.local.norm())); };
+  for (const auto& c : model.distances) {
+    scale = std::max(scale, Value(c.length));
+    points(c.a);
+    points(c.b);
+  }
+  for (const auto& c : model.pins) {
+    points(c.a);
+    points(c.b);
+  }
+  for (const auto& c : model.sliders) {
+    points(c.a);
+    points(c.b);
+  }
+  return scale;
+}
+
+template <typename T>
+std::string DescribeConstraint(const Model<T>& model, int scene_index) {
+  auto name = [&model](int body) { return body == kWorld ? std::string("world") : model.bodies[body].name; };
+  auto describe = [&](const char* kind, int a, int b) {
+    return "constraint " + std::to_string(scene_index) + " (" + kind + " " + name(a) + "-" + name(b) + ")";
+  };
+  for (const auto& c : model.distances) {
+    if (c.scene_index == scene_index) return describe("distance", c.a.body, c.b.body);
+  }
+  for (const auto& c : model.pins) {
+    if (c.scene_index == scene_index) return describe("pin", c.a.body, c.b.body);
+  }
+  for (const auto& c : model.sliders) {
+    if (c.scene_index == scene_index) return describe("slider", c.a.body, c.b.body);
+  }
+  for (const auto& c : model.user_constraints) {
+    if (c.scene_index == scene_index) return describe("user-defined", c.body_a, c.body_b);
+  }
+  return "no constraint";
+}
+
+template <typename T>
+RunReport Simulate(const Model<T>& model, const RunOptions& options,
+                   const std::function<void(const Sample<T>&)>& observer) {
+  RunReport report;
+  Workspace<T> ws(model);
+  GainsInUse(model, &ws.alpha, &ws.beta);
+  const double scale = LengthScale(model);
+  const double h = model.simulation.step;
+  const double duration = model.simulation.duration;
+  const int steps = std::max(1, static_cast<int>(std::ceil(duration / h - 1e-9)));
+  const bool project = model.stabilization.method == Stabilization::kProjection;
+
+  VecX<T> q = model.q0, v = model.v0;
+  AssembleInitialState(model, scale, &ws, &q, &v, &report);
+
+  auto emit = [&](double t) {
+    double error = 0.0;
+    if (!ws.rows.empty()) {
+      EvaluateConstraintRows(model, q, v, false, &ws.rows);
+      error = LargestViolation(ws.infos, ws.rows).largest;
+    }
+    observer(Sample<T>{t, q, v, error, Energy(model, q, v)});
+  };
+  auto diverged = [&](double t, const std::string& what) {
+    const Violation worst = LargestViolation(ws.infos, ws.rows);
+    std::string message = "the simulation diverged at " + Seconds(t) + ": " + what;
+    if (worst.scene_index >= 0) {
+      std::ostringstream out;
+      out << "; the worst constraint is " << DescribeConstraint(model, worst.scene_index) << ", violated by "
+          << worst.largest << " m";
+      message += out.str();
+    }
+    return SimulationDiverged(message, t, worst.scene_index);
+  };
+
+  emit(0.0);
+  for (int k = 0; k < steps; ++k) {
+    const double t = k * h;
+    const double t_next = k + 1 == steps ? duration : (k + 1) * h;
+    const StepStatus status = Advance(model, t, t_next - t, &ws, &q, &v);
+    if (status == StepStatus::kSolveFailed) throw diverged(t_next, "the constraint system became singular or non-finite");
+    if (status == StepStatus::kStepSizeUnderflow) throw diverged(t_next, "rk45's step size collapsed");
+    if (project) {
+      if (!ProjectPositions(model, kProjectionTolerance * scale, &ws, &q).converged ||
+          !ProjectVelocities(model, q, &ws, &v)) {
+        throw diverged(t_next, "the projection onto the constraints did not converge");
+      }
+    }
+    if (!AllFinite(q) || !AllFinite(v)) throw diverged(t_next, "the state became non-finite (NaN or infinity)");
+    const Violation worst = LargestViolation(ws.infos, ws.rows);
+    if (worst.largest > scale) {
+      std::ostringstream out;
+      out << "a constraint ran away (violation above the scene's length scale " << scale << " m)";
+      throw diverged(t_next, out.str());
+    }
+    report.steps = k + 1;
+    if ((k + 1) % options.every == 0 || k + 1 == steps) emit(t_next);
+  }
+  return report;
+}
+
+#define TETHER_INSTANTIATE_SIMULATOR(T)                                                                       \
+  template RunReport Simulate<T>(const Model<T>&, const RunOptions&, const std::function<void(const Sample<T>&)>&); \
+  template double LengthScale<T>(const Model<T>&);                                                            \
+  template std::string DescribeConstraint<T>(const Model<T>&, int);
+TETHER_FOR_EACH_SCALAR(TETHER_INSTANTIATE_SIMULATOR)
+
+}  // namespace tether
