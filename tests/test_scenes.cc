@@ -1,0 +1,40 @@
+#include "test_scenes.h"
+
+#include <cmath>
+
+namespace tether::testing {
+
+Model<double> SceneFromJson(const std::string& json_text) {
+  return ParseScene(ParseJsonText(json_text, "inline.json"), "inline.json").model;
+}
+
+Recording Record(const Model<double>& model, int every) {
+  Recording r;
+  Simulate<double>(model, RunOptions{every}, [&r](const Sample<double>& s) {
+    r.t.push_back(s.t);
+    r.q.push_back(s.q);
+    r.v.push_back(s.v);
+    r.constraint_error.push_back(s.constraint_error);
+    r.energy.push_back(s.energy);
+  });
+  return r;
+}
+
+Model<double> Pendulum60(const std::string& integrator, double step, double duration) {
+  const double length = 0.7, angle = M_PI / 3;
+  const std::string x = std::to_string(length * std::sin(angle)), y = std::to_string(-length * std::cos(angle));
+  Model<double> model = SceneFromJson(R"({
+    "bodies": [{"name": "bob", "type": "particle", "mass": 1.0, "position": [)" + x + ", " + y + R"(]}],
+    "constraints": [{"type": "distance", "bodies": ["world", "bob"], "length": 0.7}],
+    "effects": [{"type": "gravity", "acceleration": [0.0, -9.81]}],
+    "stabilization": {"method": "baumgarte", "alpha": 10.0, "beta": 25.0}})");
+  model.simulation.integrator = integrator == "euler"              ? Integrator::kEuler
+                                : integrator == "symplectic_euler" ? Integrator::kSymplecticEuler
+                                : integrator == "rk45"             ? Integrator::kRk45
+                                                                   : Integrator::kRk4;
+  model.simulation.step = step;
+  model.simulation.duration = duration;
+  return model;
+}
+
+}  // namespace tether::testing

@@ -1,0 +1,26 @@
+// Small scenes built inline for tests (MuJoCo style: build, step, check physics).
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "tether/dynamics/scene_reader.h"
+#include "tether/dynamics/simulator.h"
+
+namespace tether::testing {
+
+// Parses a scene given as JSON text (throws InputError like a file would).
+Model<double> SceneFromJson(const std::string& json_text);
+
+// A stored trajectory: time, q, v, constraint_error and energy of every output row.
+struct Recording {
+  std::vector<double> t, constraint_error, energy;
+  std::vector<VecX<double>> q, v;
+};
+Recording Record(const Model<double>& model, int every = 1);
+
+// The simple pendulum of the acceptance checks: a 1 kg bob on a 0.7 m rod, released at rest from 60 degrees.
+Model<double> Pendulum60(const std::string& integrator = "rk4", double step = 1e-3, double duration = 1.0);
+
+}  // namespace tether::testing
