@@ -1,0 +1,38 @@
+#include "bench_models.h"
+
+#include <cmath>
+#include <string>
+
+namespace tether::bench {
+
+Model<double> HorizontalChain(int n, Integrator integrator, KktSolver solver) {
+  Model<double> model;
+  const double link = 1.0 / n;
+  for (int k = 0; k < n; ++k) {
+    AddBody<double>(&model, "p" + std::to_string(k), BodyKind::kParticle, 1.0, 0.0, Vec3<double>((k + 1) * link, 0, 0), 0.0,
+            Vec3<double>::Zero(), 0.0);
+    model.distances.push_back({k, BodyPoint<double>{k - 1}, BodyPoint<double>{k}, link});
+  }
+  model.gravity.push_back({0, Vec3<double>(0, -9.81, 0)});
+  model.simulation.integrator = integrator;
+  model.simulation.solver = solver;
+  model.stabilization.method = Stabilization::kBaumgarte;
+  model.stabilization.alpha = 20.0;
+  model.stabilization.beta = 100.0;
+  model.stabilization.gains_from_rule = false;
+  return model;
+}
+
+Model<double> Pendulum(Integrator integrator, double step) {
+  Model<double> model;
+  const double angle = M_PI / 3;
+  AddBody<double>(&model, "bob", BodyKind::kParticle, 1.0, 0.0, Vec3<double>(std::sin(angle), -std::cos(angle), 0), 0.0,
+          Vec3<double>::Zero(), 0.0);
+  model.distances.push_back({0, BodyPoint<double>{kWorld}, BodyPoint<double>{0}, 1.0});
+  model.gravity.push_back({0, Vec3<double>(0, -9.81, 0)});
+  model.simulation.integrator = integrator;
+  model.simulation.step = step;
+  return model;
+}
+
+}  // namespace tether::bench
