@@ -1,5 +1,8 @@
 #include "scene_overrides.h"
 
+#include <cmath>
+#include <sstream>
+
 #include "tether/dynamics/default_gains.h"
 #include "tether/dynamics/errors.h"
 
@@ -8,8 +11,9 @@ namespace {
 
 double Checked(const std::optional<double>& value, const char* flag, bool zero_allowed) {
   if (!(zero_allowed ? *value >= 0 : *value > 0) || !std::isfinite(*value)) {
-    throw InputError(std::string(flag) + ": must be " + (zero_allowed ? ">= 0" : "> 0") + ", got " +
-                     std::to_string(*value));
+    std::ostringstream message;
+    message << flag << ": must be " << (zero_allowed ? ">= 0" : "> 0") << ", got " << *value;
+    throw InputError(message.str());
   }
   return *value;
 }

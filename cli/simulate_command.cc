@@ -34,8 +34,14 @@ class SimulateCommand final : public Command {
     if (!output_path_.empty()) file = std::make_unique<AtomicOutputFile>(output_path_);
     std::ostream& out = file ? file->stream() : buffer;
     TrajectoryCsvWriter writer(scene.model, &out);
-    const RunReport report = Simulate<double>(scene.model, RunOptions{every_},
-                                              [&writer](const Sample<double>& s) { writer.Write(s); });
+    RunReport report;
+    try {
+      report = Simulate<double>(scene.model, RunOptions{every_}, [&writer](const Sample<double>& s) { writer.Write(s); });
+    } catch (const InputError& e) {  // the scene's initial state cannot be assembled
+      throw InputError(scene_path_ + ": " + e.what());
+    } catch (const SimulationDiverged& e) {
+      throw SimulationDiverged(scene_path_ + ": " + e.what(), e.time(), e.constraint());
+    }
     for (const std::string& warning : report.warnings) std::cerr << "tether: warning: " << scene_path_ << ": " << warning << "\n";
     if (file) {
       file->Commit();

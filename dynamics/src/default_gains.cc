@@ -18,7 +18,9 @@ double RealStabilityLimit(Integrator integrator) {
 }
 
 Gains DefaultGains(Integrator integrator, double step) {
-  const double omega = std::min(kDefaultMaxOmega, kDefaultStabilityFraction * RealStabilityLimit(integrator) / step);
+  const bool first_order = integrator == Integrator::kEuler || integrator == Integrator::kSymplecticEuler;
+  const double cap = first_order ? kFirstOrderMaxOmega : kHighOrderMaxOmega;
+  const double omega = std::min(cap, kDefaultStabilityFraction * RealStabilityLimit(integrator) / step);
   return {2.0 * omega, omega * omega};
 }
 

@@ -233,14 +233,12 @@ class SceneBuilder {
       if (type == "distance") {
         check_.Object(c, at, {"type", "bodies", "points", "length"});
         TwoBodies(c, at, &a, &b);
-        double length;
-        if (const json* l = check_.Optional(c, "length")) {
-          length = check_.Positive(*l, Child(at, "length"));
-        } else {
-          length = (InitialPosition(b) - InitialPosition(a)).norm();
-          if (!(length > 0)) check_.Fail(at, "the two points start at the same place: give a 'length' > 0");
+        const double initial = (InitialPosition(b) - InitialPosition(a)).norm();
+        if (!(initial > 0)) {
+          check_.Fail(at, "the two points start at the same place, where the distance's direction is undefined");
         }
-        model_.distances.push_back({index, a, b, length});
+        const json* length = check_.Optional(c, "length");
+        model_.distances.push_back({index, a, b, length ? check_.Positive(*length, Child(at, "length")) : initial});
       } else if (type == "pin") {
         check_.Object(c, at, {"type", "bodies", "points"});
         TwoBodies(c, at, &a, &b);
@@ -462,6 +460,11 @@ json ParseJsonText(const std::string& text, const std::string& path) {
     if (colon != std::string::npos) what = what.substr(colon + 2);
     throw InputError(path + ": line " + std::to_string(line) + ", column " + std::to_string(column) +
                      ": not valid JSON: " + what);
+  } catch (const json::exception& e) {  // e.g. a number too large for a double
+    std::string what = e.what();
+    const size_t bracket = what.find("] ");
+    if (bracket != std::string::npos) what = what.substr(bracket + 2);
+    throw InputError(path + ": not valid JSON: " + what);
   }
 }
 

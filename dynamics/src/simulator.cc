@@ -99,7 +99,7 @@ template <typename T>
 std::string DescribeConstraint(const Model<T>& model, int scene_index) {
   auto name = [&model](int body) { return body == kWorld ? std::string("world") : model.bodies[body].name; };
   auto describe = [&](const char* kind, int a, int b) {
-    return "constraint " + std::to_string(scene_index) + " (" + kind + " " + name(a) + "-" + name(b) + ")";
+    return "constraint /constraints/" + std::to_string(scene_index) + " (" + kind + " " + name(a) + "-" + name(b) + ")";
   };
   for (const auto& c : model.distances) {
     if (c.scene_index == scene_index) return describe("distance", c.a.body, c.b.body);
@@ -119,6 +119,7 @@ std::string DescribeConstraint(const Model<T>& model, int scene_index) {
 template <typename T>
 RunReport Simulate(const Model<T>& model, const RunOptions& options,
                    const std::function<void(const Sample<T>&)>& observer) {
+  if (options.every < 1) throw InputError("RunOptions::every must be >= 1, got " + std::to_string(options.every));
   RunReport report;
   Workspace<T> ws(model);
   GainsInUse(model, &ws.alpha, &ws.beta);

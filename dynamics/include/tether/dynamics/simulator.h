@@ -44,7 +44,7 @@ RunReport Simulate(const Model<T>& model, const RunOptions& options,
 template <typename T>
 double LengthScale(const Model<T>& model);
 
-// "constraint 3 (world-bob)": how messages name a constraint.
+// "constraint /constraints/3 (distance world-bob)": how messages name a constraint.
 template <typename T>
 std::string DescribeConstraint(const Model<T>& model, int scene_index);
 
