@@ -45,10 +45,11 @@ void AssembleInitialState(const Model<T>& model, double scale, Workspace<T>* ws,
   const VecX<T> q_given = *q, v_given = *v;
   const ProjectionResult result = ProjectPositions(model, kProjectionTolerance * scale, ws, q);
   if (!result.converged) {
-    throw InputError("the initial state cannot be assembled onto the constraints: " +
-                     DescribeConstraint(model, result.violation.scene_index) + " is still violated by " +
-                     std::to_string(result.violation.largest) + " m after " + std::to_string(result.iterations) +
-                     " Gauss-Newton iterations");
+    std::ostringstream out;
+    out << "the initial state cannot be assembled onto the constraints: "
+        << DescribeConstraint(model, result.violation.scene_index) << " is still violated by "
+        << result.violation.largest << " m after " << result.iterations << " Gauss-Newton iterations";
+    throw InputError(out.str());
   }
   if (!ProjectVelocities(model, *q, ws, v)) throw InputError("the initial velocities cannot be projected onto the constraints");
   const double moved = LargestChange(q_given, *q);
