@@ -23,6 +23,25 @@ Model<double> HorizontalChain(int n, Integrator integrator, KktSolver solver) {
   return model;
 }
 
+Model<double> FourBar(int n, KktSolver solver) {
+  Model<double> model;
+  const double inertia = 1.0 / 12.0;
+  for (int i = 0; i <= n; ++i) {
+    AddBody<double>(&model, "crank" + std::to_string(i), BodyKind::kRigid, 1.0, inertia, Vec3<double>(i, 0.5, 0),
+                    M_PI / 2, Vec3<double>(0.5, 0, 0), -1.0);
+    model.pins.push_back({i, {kWorld, Vec3<double>(i, 0, 0)}, {i, Vec3<double>(-0.5, 0, 0)}});
+  }
+  for (int i = 0; i < n; ++i) {
+    const int coupler = AddBody<double>(&model, "coupler" + std::to_string(i), BodyKind::kRigid, 1.0, inertia,
+                                        Vec3<double>(i + 0.5, 1.0, 0), 0.0, Vec3<double>(1.0, 0, 0), 0.0);
+    model.pins.push_back({n + 1 + 2 * i, {coupler, Vec3<double>(-0.5, 0, 0)}, {i, Vec3<double>(0.5, 0, 0)}});
+    model.pins.push_back({n + 2 + 2 * i, {coupler, Vec3<double>(0.5, 0, 0)}, {i + 1, Vec3<double>(0.5, 0, 0)}});
+  }
+  model.gravity.push_back({0, Vec3<double>(0, -9.81, 0)});
+  model.simulation.solver = solver;
+  return model;
+}
+
 Model<double> Pendulum(Integrator integrator, double step) {
   Model<double> model;
   const double angle = M_PI / 3;

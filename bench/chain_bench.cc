@@ -1,6 +1,7 @@
-// Time per step against the number of particles in a chain, for each KKT solver path and two integrators.
-// The chain falls from horizontal, so every step works on a changing configuration. Linear growth on the
-// sparse path is the goal (the Schur complement of a chain is tridiagonal).
+// Time per step against system size for each KKT solver path: chains of particles (two integrators) and
+// N-four-bars of rigid bars (closed loops). The systems move during the benchmark, so every step works on a
+// changing configuration. Linear growth on the sparse path is the goal (a chain's Schur complement is
+// tridiagonal); the four-bars show where the dense path pays.
 #include <benchmark/benchmark.h>
 
 #include "bench_models.h"
@@ -10,9 +11,8 @@
 namespace tether::bench {
 namespace {
 
-void StepChain(benchmark::State& state, Integrator integrator, KktSolver solver) {
-  const int n = static_cast<int>(state.range(0));
-  const Model<double> model = HorizontalChain(n, integrator, solver);
+// Steps the model inside the benchmark loop; one item is one step.
+void StepModel(benchmark::State& state, const Model<double>& model) {
   Workspace<double> ws(model);
   GainsInUse(model, &ws.alpha, &ws.beta);
   VecX<double> q = model.q0, v = model.v0;
@@ -23,8 +23,16 @@ void StepChain(benchmark::State& state, Integrator integrator, KktSolver solver)
     t += h;
     benchmark::DoNotOptimize(q.data());
   }
-  state.counters["particles"] = n;
-  state.SetItemsProcessed(state.iterations());  // items = steps
+  state.counters["rows"] = static_cast<double>(ws.infos.size());
+  state.SetItemsProcessed(state.iterations());
+}
+
+void StepChain(benchmark::State& state, Integrator integrator, KktSolver solver) {
+  StepModel(state, HorizontalChain(static_cast<int>(state.range(0)), integrator, solver));
+}
+
+void StepFourBar(benchmark::State& state, KktSolver solver) {
+  StepModel(state, FourBar(static_cast<int>(state.range(0)), solver));
 }
 
 void Sizes(benchmark::internal::Benchmark* b, int largest) {
@@ -40,6 +48,9 @@ BENCHMARK_CAPTURE(StepChain, symplectic_euler_sparse, Integrator::kSymplecticEul
     ->Apply([](auto* b) { Sizes(b, 1000); });
 BENCHMARK_CAPTURE(StepChain, symplectic_euler_dense, Integrator::kSymplecticEuler, KktSolver::kDense)
     ->Apply([](auto* b) { Sizes(b, 500); });
+
+BENCHMARK_CAPTURE(StepFourBar, rk4_sparse, KktSolver::kSparse)->Arg(1)->Arg(2)->Arg(5)->Arg(10)->Arg(40)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(StepFourBar, rk4_dense, KktSolver::kDense)->Arg(1)->Arg(2)->Arg(5)->Arg(10)->Arg(40)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace tether::bench

@@ -21,7 +21,7 @@
 
 namespace tether {
 
-inline constexpr int kDenseMaxRows = 40;
+inline constexpr int kDenseMaxRows = 16;  // measured crossover: bench/chain_bench.cc (README)
 
 KktSolver ResolveSolver(KktSolver requested, int rows);
 
