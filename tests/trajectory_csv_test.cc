@@ -1,0 +1,246 @@
+// The trajectory CSV of CONTRACT.md: its columns for particles (2D, 3D) and planar rigid bodies, numbers that
+// round-trip a double exactly, and an output file that appears only when committed.
+#include "tether/dynamics/trajectory_csv.h"
+
+#include <dirent.h>
+#include <gtest/gtest.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "test_scenes.h"
+#include "tether/dynamics/errors.h"
+
+namespace tether {
+namespace {
+
+using testing::SceneFromJson;
+
+std::vector<std::string> Split(const std::string& line) {
+  std::vector<std::string> fields;
+  std::stringstream in(line);
+  std::string field;
+  while (std::getline(in, field, ',')) fields.push_back(field);
+  return fields;
+}
+
+std::vector<std::string> Lines(const std::string& text) {
+  std::vector<std::string> lines;
+  std::stringstream in(text);
+  std::string line;
+  while (std::getline(in, line)) lines.push_back(line);
+  return lines;
+}
+
+// A fresh empty folder for one test, removed with its files at the end.
+class ScratchFolder {
+ public:
+  ScratchFolder() : path_(::testing::TempDir() + "tether_csv_XXXXXX") {
+    EXPECT_NE(mkdtemp(path_.data()), nullptr) << path_;
+  }
+  ~ScratchFolder() {
+    for (const std::string& name : Entries()) std::remove((path_ + "/" + name).c_str());
+    rmdir(path_.c_str());
+  }
+  const std::string& path() const { return path_; }
+
+  std::vector<std::string> Entries() const {
+    std::vector<std::string> names;
+    if (DIR* dir = opendir(path_.c_str())) {
+      while (const dirent* entry = readdir(dir)) {
+        const std::string name = entry->d_name;
+        if (name != "." && name != "..") names.push_back(name);
+      }
+      closedir(dir);
+    }
+    return names;
+  }
+
+ private:
+  std::string path_;
+};
+
+bool Exists(const std::string& path) { return std::ifstream(path).good(); }
+
+TEST(TrajectoryCsv, ParticleColumnsIn2d) {
+  const Model<double> model =
+      SceneFromJson(R"({"bodies": [{"name": "bob", "type": "particle", "mass": 1, "position": [0, 0]}]})");
+  EXPECT_EQ(TrajectoryColumns(model),
+            (std::vector<std::string>{"t", "bob.x", "bob.y", "bob.vx", "bob.vy", "constraint_error", "energy"}));
+}
+
+TEST(TrajectoryCsv, ParticleColumnsIn3d) {
+  const Model<double> model = SceneFromJson(R"({"dimension": 3, "bodies": [
+      {"name": "p", "type": "particle", "mass": 1, "position": [0, 0, 0]},
+      {"name": "q", "type": "particle", "mass": 1, "position": [1, 0, 0]}]})");
+  EXPECT_EQ(TrajectoryColumns(model),
+            (std::vector<std::string>{"t", "p.x", "p.y", "p.z", "p.vx", "p.vy", "p.vz", "q.x", "q.y", "q.z", "q.vx",
+                                      "q.vy", "q.vz", "constraint_error", "energy"}));
+}
+
+TEST(TrajectoryCsv, RigidBodyColumnsInSceneOrder) {
+  const Model<double> model = SceneFromJson(R"({"bodies": [
+      {"name": "crank", "type": "rigid", "mass": 1, "inertia": 0.1, "position": [0, 0]},
+      {"name": "bob", "type": "particle", "mass": 1, "position": [1, 0]}]})");
+  EXPECT_EQ(TrajectoryColumns(model),
+            (std::vector<std::string>{"t", "crank.x", "crank.y", "crank.angle", "crank.vx", "crank.vy", "crank.omega",
+                                      "bob.x", "bob.y", "bob.vx", "bob.vy", "constraint_error", "energy"}));
+}
+
+TEST(TrajectoryCsv, WriterHeaderAndRowMatchTheColumns) {
+  const Model<double> model = SceneFromJson(R"({"bodies": [
+      {"name": "crank", "type": "rigid", "mass": 1, "inertia": 0.1, "position": [0, 0]},
+      {"name": "bob", "type": "particle", "mass": 1, "position": [1, 0]}]})");
+  std::ostringstream out;
+  TrajectoryCsvWriter writer(model, &out);
+  VecX<double> q(5), v(5);
+  q << 1, 2, 3, 4, 5;
+  v << 6, 7, 8, 9, 10;
+  writer.Write(Sample<double>{0.5, q, v, 1e-9, -2.0});
+  const std::vector<std::string> lines = Lines(out.str());
+  ASSERT_EQ(lines.size(), 2u);
+  const std::vector<std::string> columns = TrajectoryColumns(model);
+  EXPECT_EQ(Split(lines[0]), columns);
+  // per body: coordinates, then velocities
+  EXPECT_EQ(Split(lines[1]), (std::vector<std::string>{"0.5", "1", "2", "3", "6", "7", "8", "4", "5", "9", "10",
+                                                       "1.0000000000000001e-09", "-2"}));
+}
+
+TEST(TrajectoryCsv, NumbersRoundTripExactly) {
+  const Model<double> model =
+      SceneFromJson(R"({"bodies": [{"name": "p", "type": "particle", "mass": 1, "position": [0, 0]}]})");
+  // values whose shortest faithful decimal forms need all 17 significant digits, and extremes
+  const std::vector<double> values = {0.1,
+                                      1.0 / 3.0,
+                                      M_PI,
+                                      std::nextafter(1.0, 2.0),
+                                      -2.5e17 + 2,
+                                      std::numeric_limits<double>::denorm_min(),
+                                      std::numeric_limits<double>::max(),
+                                      -std::numeric_limits<double>::min(),
+                                      123456789.01234567,
+                                      std::exp(-40.0)};
+  // two rows of seven fields (t, x, y, vx, vy, constraint_error, energy) cycling through the values
+  const auto value = [&values](size_t row, size_t field) { return values[(row * 7 + field) % values.size()]; };
+  std::ostringstream out;
+  TrajectoryCsvWriter writer(model, &out);
+  for (size_t row = 0; row < 2; ++row) {
+    const VecX<double> q = (VecX<double>(2) << value(row, 1), value(row, 2)).finished();
+    const VecX<double> v = (VecX<double>(2) << value(row, 3), value(row, 4)).finished();
+    writer.Write(Sample<double>{value(row, 0), q, v, value(row, 5), value(row, 6)});
+  }
+  const std::vector<std::string> lines = Lines(out.str());
+  ASSERT_EQ(lines.size(), 3u);
+  for (size_t row = 0; row < 2; ++row) {
+    const std::vector<std::string> fields = Split(lines[row + 1]);
+    ASSERT_EQ(fields.size(), 7u);
+    for (size_t i = 0; i < fields.size(); ++i) {
+      EXPECT_EQ(std::strtod(fields[i].c_str(), nullptr), value(row, i)) << fields[i];
+    }
+  }
+}
+
+TEST(TrajectoryCsv, SimulatedRowsRoundTrip) {
+  // a real run through the writer reads back to the very same doubles
+  const Model<double> model = testing::Pendulum60("rk4", 1e-3, 0.05);
+  std::ostringstream out;
+  TrajectoryCsvWriter writer(model, &out);
+  std::vector<std::vector<double>> rows;
+  Simulate<double>(model, RunOptions{5}, [&](const Sample<double>& s) {
+    writer.Write(s);
+    rows.push_back({s.t, s.q[0], s.q[1], s.v[0], s.v[1], s.constraint_error, s.energy});
+  });
+  const std::vector<std::string> lines = Lines(out.str());
+  ASSERT_EQ(lines.size(), rows.size() + 1);
+  ASSERT_EQ(rows.size(), 11u);
+  for (size_t r = 0; r < rows.size(); ++r) {
+    const std::vector<std::string> fields = Split(lines[r + 1]);
+    ASSERT_EQ(fields.size(), rows[r].size());
+    for (size_t i = 0; i < fields.size(); ++i) EXPECT_EQ(std::strtod(fields[i].c_str(), nullptr), rows[r][i]);
+  }
+}
+
+TEST(TrajectoryCsv, AngleIsContinuous) {
+  // a free wheel spinning at 10 rad/s for 1 s: the angle column reaches 10 rad, not 10 - 2 pi or 10 - 4 pi
+  const Model<double> model = SceneFromJson(R"({"bodies": [
+      {"name": "w", "type": "rigid", "mass": 1, "inertia": 0.1, "position": [0, 0], "angular_velocity": 10.0}]})");
+  std::ostringstream out;
+  TrajectoryCsvWriter writer(model, &out);
+  Simulate<double>(model, RunOptions{100}, [&writer](const Sample<double>& s) { writer.Write(s); });
+  const std::vector<std::string> lines = Lines(out.str());
+  ASSERT_EQ(lines.size(), 12u);
+  double previous = -1.0;
+  for (size_t row = 1; row < lines.size(); ++row) {
+    const std::vector<std::string> fields = Split(lines[row]);
+    ASSERT_EQ(fields.size(), 9u);
+    const double t = std::strtod(fields[0].c_str(), nullptr), angle = std::strtod(fields[3].c_str(), nullptr);
+    EXPECT_NEAR(angle, 10.0 * t, 1e-12);
+    EXPECT_GT(angle, previous);
+    previous = angle;
+  }
+}
+
+TEST(AtomicOutputFile, CommittedFileAppearsWithItsContents) {
+  const ScratchFolder folder;
+  const std::string path = folder.path() + "/out.csv";
+  {
+    AtomicOutputFile file(path);
+    file.stream() << "t,x\n0,1\n";
+    EXPECT_FALSE(Exists(path)) << "the file appeared before Commit()";
+    file.Commit();
+  }
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  EXPECT_EQ(text.str(), "t,x\n0,1\n");
+  EXPECT_EQ(folder.Entries(), std::vector<std::string>{"out.csv"});  // no temporary left beside it
+}
+
+TEST(AtomicOutputFile, UncommittedFileLeavesNothing) {
+  const ScratchFolder folder;
+  const std::string path = folder.path() + "/out.csv";
+  {
+    AtomicOutputFile file(path);
+    file.stream() << "t,x\n0,1\n";
+    file.stream().flush();
+  }
+  EXPECT_FALSE(Exists(path));
+  EXPECT_TRUE(folder.Entries().empty());
+}
+
+TEST(AtomicOutputFile, UncommittedFileKeepsAnOlderFile) {
+  // a failed run does not clobber the result of an earlier one
+  const ScratchFolder folder;
+  const std::string path = folder.path() + "/out.csv";
+  std::ofstream(path) << "old\n";
+  {
+    AtomicOutputFile file(path);
+    file.stream() << "new\n";
+  }
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "old");
+  EXPECT_EQ(folder.Entries(), std::vector<std::string>{"out.csv"});
+}
+
+TEST(AtomicOutputFile, UnwritableFolderIsAnInputError) {
+  const ScratchFolder folder;
+  try {
+    AtomicOutputFile file(folder.path() + "/no/such/folder/out.csv");
+    FAIL() << "opened a file in a folder that does not exist";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("out.csv"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace tether
