@@ -5,6 +5,7 @@
 
 #include "tether/dynamics/default_gains.h"
 #include "tether/dynamics/errors.h"
+#include "tether/dynamics/names.h"
 
 namespace tether::cli {
 namespace {
@@ -35,43 +36,9 @@ void SceneOverrides::Apply(Model<double>* model) const {
   StabilizationSettings<double>& st = model->stabilization;
   if (duration) sim.duration = Checked(duration, "--duration", false);
   if (step) sim.step = Checked(step, "--step", false);
-  if (integrator) {
-    const std::string& name = *integrator;
-    if (name == "euler") {
-      sim.integrator = Integrator::kEuler;
-    } else if (name == "symplectic_euler") {
-      sim.integrator = Integrator::kSymplecticEuler;
-    } else if (name == "rk4") {
-      sim.integrator = Integrator::kRk4;
-    } else if (name == "rk45") {
-      sim.integrator = Integrator::kRk45;
-    } else {
-      throw InputError("--integrator: unknown integrator '" + name + "' (expected euler, symplectic_euler, rk4 or rk45)");
-    }
-  }
-  if (solver) {
-    if (*solver == "auto") {
-      sim.solver = KktSolver::kAuto;
-    } else if (*solver == "dense") {
-      sim.solver = KktSolver::kDense;
-    } else if (*solver == "sparse") {
-      sim.solver = KktSolver::kSparse;
-    } else {
-      throw InputError("--solver: unknown solver '" + *solver + "' (expected auto, dense or sparse)");
-    }
-  }
-  if (stabilization) {
-    if (*stabilization == "none") {
-      st.method = Stabilization::kNone;
-    } else if (*stabilization == "baumgarte") {
-      st.method = Stabilization::kBaumgarte;
-    } else if (*stabilization == "projection") {
-      st.method = Stabilization::kProjection;
-    } else {
-      throw InputError("--stabilization: unknown method '" + *stabilization +
-                       "' (expected none, baumgarte or projection)");
-    }
-  }
+  if (integrator) sim.integrator = ParseIntegrator(*integrator, "--integrator");
+  if (solver) sim.solver = ParseKktSolver(*solver, "--solver");
+  if (stabilization) st.method = ParseStabilization(*stabilization, "--stabilization");
   if (alpha || beta) {
     if (stabilization && st.method != Stabilization::kBaumgarte) {
       throw InputError("--alpha/--beta: gains apply to the baumgarte method only, not --stabilization " + *stabilization);

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "tether/dynamics/errors.h"
+#include "tether/dynamics/names.h"
 
 namespace tether {
 namespace {
@@ -50,8 +51,13 @@ class Validator {
  public:
   explicit Validator(std::string path) : path_(std::move(path)) {}
 
+  // "FILE: POINTER", how every message starts.
+  std::string Where(const std::string& pointer) const {
+    return path_ + ": " + (pointer.empty() ? std::string("(top level)") : pointer);
+  }
+
   [[noreturn]] void Fail(const std::string& pointer, const std::string& message) const {
-    throw InputError(path_ + ": " + (pointer.empty() ? std::string("(top level)") : pointer) + ": " + message);
+    throw InputError(Where(pointer) + ": " + message);
   }
 
   void Object(const json& j, const std::string& pointer, const std::set<std::string>& allowed) const {
@@ -371,24 +377,13 @@ class SceneBuilder {
     check_.Object(s, "/simulation", {"integrator", "step", "duration", "tolerance", "solver"});
     SimulationSettings& sim = model_.simulation;
     if (const json* i = check_.Optional(s, "integrator")) {
-      sim.integrator = ParseIntegrator(check_.String(*i, "/simulation/integrator"), [this](const std::string& m) {
-        check_.Fail("/simulation/integrator", m);
-      });
+      sim.integrator = ParseIntegrator(check_.String(*i, "/simulation/integrator"), check_.Where("/simulation/integrator"));
     }
     if (const json* h = check_.Optional(s, "step")) sim.step = check_.Positive(*h, "/simulation/step");
     if (const json* t = check_.Optional(s, "duration")) sim.duration = check_.Positive(*t, "/simulation/duration");
     if (const json* t = check_.Optional(s, "tolerance")) sim.tolerance = check_.Positive(*t, "/simulation/tolerance");
     if (const json* k = check_.Optional(s, "solver")) {
-      const std::string name = check_.String(*k, "/simulation/solver");
-      if (name == "auto") {
-        sim.solver = KktSolver::kAuto;
-      } else if (name == "dense") {
-        sim.solver = KktSolver::kDense;
-      } else if (name == "sparse") {
-        sim.solver = KktSolver::kSparse;
-      } else {
-        check_.Fail("/simulation/solver", "unknown solver '" + name + "' (expected auto, dense or sparse)");
-      }
+      sim.solver = ParseKktSolver(check_.String(*k, "/simulation/solver"), check_.Where("/simulation/solver"));
     }
   }
 
@@ -396,17 +391,7 @@ class SceneBuilder {
     check_.Object(s, "/stabilization", {"method", "alpha", "beta"});
     StabilizationSettings<double>& st = model_.stabilization;
     if (const json* m = check_.Optional(s, "method")) {
-      const std::string name = check_.String(*m, "/stabilization/method");
-      if (name == "none") {
-        st.method = Stabilization::kNone;
-      } else if (name == "baumgarte") {
-        st.method = Stabilization::kBaumgarte;
-      } else if (name == "projection") {
-        st.method = Stabilization::kProjection;
-      } else {
-        check_.Fail("/stabilization/method",
-                    "unknown stabilization method '" + name + "' (expected none, baumgarte or projection)");
-      }
+      st.method = ParseStabilization(check_.String(*m, "/stabilization/method"), check_.Where("/stabilization/method"));
     }
     const json* alpha = check_.Optional(s, "alpha");
     const json* beta = check_.Optional(s, "beta");
@@ -420,16 +405,6 @@ class SceneBuilder {
     st.alpha = check_.NonNegative(*alpha, "/stabilization/alpha");
     st.beta = check_.NonNegative(*beta, "/stabilization/beta");
     st.gains_from_rule = false;
-  }
-
-  template <typename OnError>
-  static Integrator ParseIntegrator(const std::string& name, OnError fail) {
-    if (name == "euler") return Integrator::kEuler;
-    if (name == "symplectic_euler") return Integrator::kSymplecticEuler;
-    if (name == "rk4") return Integrator::kRk4;
-    if (name == "rk45") return Integrator::kRk45;
-    fail("unknown integrator '" + name + "' (expected euler, symplectic_euler, rk4 or rk45)");
-    return Integrator::kRk4;
   }
 
   const json& doc_;

@@ -74,21 +74,19 @@ std::vector<RowInfo> DescribeRows(const Model<T>& model) {
 template <typename T>
 void EvaluateConstraintRows(const Model<T>& model, const VecX<T>& q, const VecX<T>& v, bool velocity_terms,
                             std::vector<ConstraintRow<T>>* rows) {
-  using std::sqrt;
   ConstraintRow<T>* row = rows->data();
   for (const DistanceConstraint<T>& c : model.distances) {
     const PointMotion<T> pa = MovePoint(model, c.a, q, v);
     const PointMotion<T> pb = MovePoint(model, c.b, q, v);
-    const Vec3<T> d = pb.position - pa.position;
-    const T length = sqrt(d.squaredNorm());
-    const Vec3<T> n = d / length;
-    row->value = length - c.length;
+    const Segment<T> segment = Between(pa, pb);
+    const Vec3<T>& n = segment.n;
+    row->value = segment.length - c.length;
     row->a = PointGradient(c.a.body, Vec3<T>(-n), pa);
     row->b = PointGradient(c.b.body, n, pb);
     if (velocity_terms) {
       const Vec3<T> dv = pb.velocity - pa.velocity;
       const T along = n.dot(dv);
-      row->bias = (dv.squaredNorm() - along * along) / length + n.dot(pb.centripetal - pa.centripetal);
+      row->bias = (dv.squaredNorm() - along * along) / segment.length + n.dot(pb.centripetal - pa.centripetal);
     }
     ++row;
   }

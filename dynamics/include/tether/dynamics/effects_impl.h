@@ -11,7 +11,6 @@ namespace tether {
 
 template <typename T>
 void AccumulateForces(const Model<T>& model, double t, const VecX<T>& q, const VecX<T>& v, VecX<T>* f) {
-  using std::sqrt;
   for (const GravityEffect<T>& g : model.gravity) {
     for (const Body<T>& body : model.bodies) {
       for (int k = 0; k < model.dimension; ++k) (*f)[body.offset + k] += body.mass * g.acceleration[k];
@@ -27,12 +26,11 @@ void AccumulateForces(const Model<T>& model, double t, const VecX<T>& q, const V
   for (const SpringEffect<T>& s : model.springs) {
     const PointMotion<T> pa = MovePoint(model, s.a, q, v);
     const PointMotion<T> pb = MovePoint(model, s.b, q, v);
-    const Vec3<T> d = pb.position - pa.position;
-    const T length = sqrt(d.squaredNorm());
-    const Vec3<T> n = d / length;
-    const T tension = s.stiffness * (length - s.rest_length) + s.damping * n.dot(pb.velocity - pa.velocity);
-    AddScaled(model, PointGradient(s.a.body, n, pa), tension, f);
-    AddScaled(model, PointGradient(s.b.body, n, pb), T(-tension), f);
+    const Segment<T> segment = Between(pa, pb);
+    const T tension = s.stiffness * (segment.length - s.rest_length) +
+                      s.damping * segment.n.dot(pb.velocity - pa.velocity);
+    AddScaled(model, PointGradient(s.a.body, segment.n, pa), tension, f);
+    AddScaled(model, PointGradient(s.b.body, segment.n, pb), T(-tension), f);
   }
   for (const ForceEffect<T>& e : model.forces) {
     const PointMotion<T> p = MovePoint(model, BodyPoint<T>{e.body, e.point}, q, v);
@@ -46,7 +44,6 @@ void AccumulateForces(const Model<T>& model, double t, const VecX<T>& q, const V
 
 template <typename T>
 T Energy(const Model<T>& model, const VecX<T>& q, const VecX<T>& v) {
-  using std::sqrt;
   T energy(0.0);
   for (const Body<T>& body : model.bodies) {
     const Vec3<T> velocity = Translation(body, model.dimension, v);
@@ -57,8 +54,7 @@ T Energy(const Model<T>& model, const VecX<T>& q, const VecX<T>& v) {
     }
   }
   for (const SpringEffect<T>& s : model.springs) {
-    const Vec3<T> d = MovePoint(model, s.b, q, v).position - MovePoint(model, s.a, q, v).position;
-    const T stretch = sqrt(d.squaredNorm()) - s.rest_length;
+    const T stretch = Between(MovePoint(model, s.a, q, v), MovePoint(model, s.b, q, v)).length - s.rest_length;
     energy += T(0.5) * s.stiffness * stretch * stretch;
   }
   return energy;

@@ -84,6 +84,25 @@ PointMotion<T> MovePoint(const Model<T>& model, const BodyPoint<T>& point, const
   return m;
 }
 
+// The segment from point a to point b: d = p_b - p_a, its length |d| and direction n = d / |d| (undefined
+// when the points coincide; scenes are checked for that at the start).
+template <typename T>
+struct Segment {
+  Vec3<T> d;
+  T length;
+  Vec3<T> n;
+};
+
+template <typename T>
+Segment<T> Between(const PointMotion<T>& a, const PointMotion<T>& b) {
+  using std::sqrt;
+  Segment<T> s;
+  s.d = b.position - a.position;
+  s.length = sqrt(s.d.squaredNorm());
+  s.n = s.d / s.length;
+  return s;
+}
+
 // The generalized vector of "direction . p" for a point: d(n . p)/d(body coordinates).
 template <typename T>
 BodyVector<T> PointGradient(int body, const Vec3<T>& direction, const PointMotion<T>& point) {
