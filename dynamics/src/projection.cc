@@ -34,7 +34,9 @@ ProjectionResult ProjectPositions(const Model<T>& model, double tolerance, Works
   }
   const VecX<T>& unused_velocity = *q;  // position-only evaluation does not read velocities
   ws->trial_q = *q;                     // the target q_t
-  int settle = IsJet<T>::value ? 1 : 0;  // extra iterations after convergence, for the derivatives
+  // One more iteration after the values converge lets Jet derivatives settle; doubles take it too, so that the
+  // value part of a Jet run stays the double run to round-off (one code path for every scalar).
+  int settle = 1;
   for (result.iterations = 0; result.iterations <= kMaxIterations; ++result.iterations) {
     EvaluateConstraintRows(model, *q, unused_velocity, false, &ws->rows);
     result.violation = LargestViolation(ws->infos, ws->rows);

@@ -38,6 +38,25 @@ struct Dual {
     const S q = x.v / y.v;
     return {q, (x.d - q * y.d) / y.v};
   }
+  // Mixed with the underlying scalar S itself. Templates, so that only an exact S matches: a double goes through
+  // the implicit Dual(double) above, and Dual<Dual<..>> * 2.0 stays unambiguous.
+  template <typename U, typename = std::enable_if_t<std::is_same_v<U, S> && !std::is_same_v<S, double>>>
+  friend Dual operator+(const Dual& x, const U& y) { return {x.v + y, x.d}; }
+  template <typename U, typename = std::enable_if_t<std::is_same_v<U, S> && !std::is_same_v<S, double>>>
+  friend Dual operator+(const U& y, const Dual& x) { return {y + x.v, x.d}; }
+  template <typename U, typename = std::enable_if_t<std::is_same_v<U, S> && !std::is_same_v<S, double>>>
+  friend Dual operator-(const Dual& x, const U& y) { return {x.v - y, x.d}; }
+  template <typename U, typename = std::enable_if_t<std::is_same_v<U, S> && !std::is_same_v<S, double>>>
+  friend Dual operator-(const U& y, const Dual& x) { return {y - x.v, -x.d}; }
+  template <typename U, typename = std::enable_if_t<std::is_same_v<U, S> && !std::is_same_v<S, double>>>
+  friend Dual operator*(const Dual& x, const U& y) { return {x.v * y, x.d * y}; }
+  template <typename U, typename = std::enable_if_t<std::is_same_v<U, S> && !std::is_same_v<S, double>>>
+  friend Dual operator*(const U& y, const Dual& x) { return {y * x.v, y * x.d}; }
+  template <typename U, typename = std::enable_if_t<std::is_same_v<U, S> && !std::is_same_v<S, double>>>
+  friend Dual operator/(const Dual& x, const U& y) { return {x.v / y, x.d / y}; }
+  template <typename U, typename = std::enable_if_t<std::is_same_v<U, S> && !std::is_same_v<S, double>>>
+  friend Dual operator/(const U& y, const Dual& x) { return Dual(y) / x; }
+
   friend bool operator<(const Dual& x, const Dual& y) { return x.v < y.v; }
   friend bool operator>(const Dual& x, const Dual& y) { return x.v > y.v; }
   friend bool operator<=(const Dual& x, const Dual& y) { return x.v <= y.v; }

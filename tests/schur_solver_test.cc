@@ -1,0 +1,277 @@
+// The Schur-complement KKT solve (schur_system.h, schur_solver.h) through ComputeAcceleration:
+//   - kDense and kSparse agree with each other and with a dense LU solve of the full KKT matrix [M J^T; J 0]
+//     assembled here from EvaluateConstraintRows, on a chain and on a four-bar loop;
+//   - a duplicated row (a redundant constraint) gives finite multipliers split equally between the copies (the
+//     least-norm choice) and the acceleration of the model without the copy;
+//   - the Jet path (implicit function theorem, one factorization of the value part) matches an oracle that
+//     builds the regularized Schur matrix as a dense matrix of Jets and factors it with Eigen.
+#include "tether/dynamics/schur_solver.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <random>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "tether/dynamics/constrained_dynamics.h"
+#include "tether/dynamics/effects.h"
+
+namespace tether {
+namespace {
+
+constexpr double kSolverAgreement = 1e-12;   // dense vs sparse factorization, relative to the largest entry
+constexpr double kKktAgreement = 1e-9;       // vs the unregularized KKT solve (regularization moves lambda ~1e-12)
+constexpr double kJetAgreement = 1e-12;      // Jet path vs factoring the Jet matrix, relative
+constexpr double kAlpha = 3.0, kBeta = 5.0;  // Baumgarte gains, so that every term of the right-hand side counts
+
+int AddBar(Model<double>* model, double x, double y, double angle) {
+  const int index = static_cast<int>(model->bodies.size());
+  return AddBody<double>(model, "bar" + std::to_string(index), BodyKind::kRigid, 1.0 + 0.2 * index, 0.02 + 0.01 * index,
+                         Vec3<double>(x, y, 0.0), angle, Vec3<double>::Zero(), 0.0);
+}
+
+void AddPin(Model<double>* model, int a, const Vec3<double>& local_a, int b, const Vec3<double>& local_b) {
+  model->pins.push_back({model->NumConstraints(), {a, local_a}, {b, local_b}});
+}
+
+Model<double> WithGravity() {
+  Model<double> model;
+  model.dimension = 2;
+  model.gravity.push_back({0, Vec3<double>(0.0, -9.81, 0.0)});
+  return model;
+}
+
+// Five rigid bars of length 0.5 pinned end to end from the world, and a particle on a rod from the last one:
+// 11 rows, a banded Schur matrix.
+Model<double> Chain() {
+  Model<double> model = WithGravity();
+  const Vec3<double> head(-0.25, 0.0, 0.0), tail(0.25, 0.0, 0.0);
+  int previous = kWorld;
+  Vec3<double> joint = Vec3<double>::Zero();
+  for (int k = 0; k < 5; ++k) {
+    const double angle = -0.3 - 0.25 * k;
+    const Vec3<double> centre = joint + Rotate(angle, tail);
+    const int bar = AddBar(&model, centre.x(), centre.y(), angle);
+    AddPin(&model, previous, previous == kWorld ? joint : tail, bar, head);
+    previous = bar;
+    joint = centre + Rotate(angle, tail);
+  }
+  const int bob = AddBody<double>(&model, "bob", BodyKind::kParticle, 0.7, 0.0, joint + Vec3<double>(0.1, -0.28, 0.0),
+                                  0.0, Vec3<double>::Zero(), 0.0);
+  model.distances.push_back({model.NumConstraints(), {previous, tail}, {bob, Vec3<double>::Zero()}, 0.3});
+  return model;
+}
+
+// A four-bar loop: crank, coupler and rocker pinned to each other and, at both ends, to the world. The state is
+// only near the loop's assembly: the KKT solve does not need C = 0.
+Model<double> FourBar() {
+  Model<double> model = WithGravity();
+  const int crank = AddBar(&model, 0.1, 0.17, 1.05);    // length 0.4
+  const int coupler = AddBar(&model, 0.6, 0.45, 0.25);  // length 1.1
+  const int rocker = AddBar(&model, 1.05, 0.2, 1.5);    // length 0.8
+  AddPin(&model, kWorld, Vec3<double>::Zero(), crank, Vec3<double>(-0.2, 0.0, 0.0));
+  AddPin(&model, crank, Vec3<double>(0.2, 0.0, 0.0), coupler, Vec3<double>(-0.55, 0.0, 0.0));
+  AddPin(&model, coupler, Vec3<double>(0.55, 0.0, 0.0), rocker, Vec3<double>(0.4, 0.0, 0.0));
+  AddPin(&model, rocker, Vec3<double>(-0.4, 0.0, 0.0), kWorld, Vec3<double>(1.0, 0.0, 0.0));
+  return model;
+}
+
+// A velocity with every component O(1), fixed by the seed.
+Eigen::VectorXd SomeVelocity(int n, unsigned seed) {
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<double> unit(-1.5, 1.5);
+  Eigen::VectorXd v(n);
+  for (int i = 0; i < n; ++i) v[i] = unit(random);
+  return v;
+}
+
+struct Solution {
+  Eigen::VectorXd acceleration, lambda;
+};
+
+// The library's solve with the given factorization.
+template <typename T>
+Solution LibrarySolve(Model<T> model, KktSolver kind, const VecX<T>& q, const VecX<T>& v, VecX<T>* a_out = nullptr,
+                      VecX<T>* lambda_out = nullptr) {
+  model.simulation.solver = kind;
+  Workspace<T> ws(model);
+  EXPECT_EQ(ws.solver.kind(), kind);
+  ws.alpha = T(kAlpha);
+  ws.beta = T(kBeta);
+  VecX<T> a(model.NumCoordinates());
+  EXPECT_TRUE(ComputeAcceleration(model, 0.0, q, v, &ws, &a));
+  if (a_out != nullptr) *a_out = a;
+  if (lambda_out != nullptr) *lambda_out = ws.lambda;
+  Solution s{Eigen::VectorXd(a.size()), Eigen::VectorXd(ws.lambda.size())};
+  for (int i = 0; i < a.size(); ++i) s.acceleration[i] = Value(a[i]);
+  for (int i = 0; i < ws.lambda.size(); ++i) s.lambda[i] = Value(ws.lambda[i]);
+  return s;
+}
+
+// The pieces of the KKT system at (q, v), over any scalar: J, M^-1's diagonal, f and the Schur right-hand side
+// b = J M^-1 f + Jdot q' + alpha J q' + beta C (so that J q'' = -(Jdot q' + alpha J q' + beta C)).
+template <typename T>
+struct KktPieces {
+  Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> jacobian;
+  VecX<T> inverse_mass, force, gamma;  // gamma = -(Jdot q' + alpha J q' + beta C)
+};
+
+template <typename T>
+KktPieces<T> Pieces(const Model<T>& model, const VecX<T>& q, const VecX<T>& v) {
+  const int n = model.NumCoordinates();
+  std::vector<ConstraintRow<T>> rows(DescribeRows(model).size());
+  EvaluateConstraintRows(model, q, v, true, &rows);
+  const int m = static_cast<int>(rows.size());
+  KktPieces<T> p;
+  p.jacobian.setZero(m, n);
+  for (int i = 0; i < m; ++i) {
+    VecX<T> row = VecX<T>::Zero(n);
+    AddScaled(model, rows[i].a, T(1.0), &row);
+    AddScaled(model, rows[i].b, T(1.0), &row);
+    p.jacobian.row(i) = row.transpose();
+  }
+  p.inverse_mass.resize(n);
+  for (const Body<T>& body : model.bodies) {
+    for (int k = 0; k < model.dimension; ++k) p.inverse_mass[body.offset + k] = T(1.0) / body.mass;
+    if (body.kind == BodyKind::kRigid) p.inverse_mass[body.offset + 2] = T(1.0) / body.inertia;
+  }
+  p.force = VecX<T>::Zero(n);
+  AccumulateForces(model, 0.0, q, v, &p.force);
+  const VecX<T> velocity = p.jacobian * v;
+  p.gamma.resize(m);
+  for (int i = 0; i < m; ++i) p.gamma[i] = -(rows[i].bias + T(kAlpha) * velocity[i] + T(kBeta) * rows[i].value);
+  return p;
+}
+
+// The oracle: LU of the full KKT matrix [M J^T; J 0] [q''; lambda] = [f; gamma].
+Solution KktSolve(const Model<double>& model, const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
+  const KktPieces<double> p = Pieces(model, q, v);
+  const int n = static_cast<int>(p.force.size()), m = static_cast<int>(p.gamma.size());
+  Eigen::MatrixXd kkt = Eigen::MatrixXd::Zero(n + m, n + m);
+  kkt.topLeftCorner(n, n) = p.inverse_mass.cwiseInverse().asDiagonal();
+  kkt.topRightCorner(n, m) = p.jacobian.transpose();
+  kkt.bottomLeftCorner(m, n) = p.jacobian;
+  Eigen::VectorXd rhs(n + m);
+  rhs << p.force, p.gamma;
+  const Eigen::VectorXd x = kkt.fullPivLu().solve(rhs);
+  return {x.head(n), x.tail(m)};
+}
+
+void ExpectVectorNear(const Eigen::VectorXd& actual, const Eigen::VectorXd& expected, double relative,
+                      const char* what) {
+  ASSERT_EQ(actual.size(), expected.size()) << what;
+  const double scale = std::max(1.0, expected.cwiseAbs().maxCoeff());
+  for (int i = 0; i < expected.size(); ++i) {
+    ASSERT_TRUE(std::isfinite(actual[i])) << what << " [" << i << "]";
+    EXPECT_NEAR(actual[i], expected[i], relative * scale) << what << " [" << i << "]";
+  }
+}
+
+void ExpectDenseSparseAndKktAgree(const Model<double>& model, unsigned seed) {
+  const Eigen::VectorXd v = SomeVelocity(model.NumCoordinates(), seed);
+  const Solution dense = LibrarySolve(model, KktSolver::kDense, model.q0, v);
+  const Solution sparse = LibrarySolve(model, KktSolver::kSparse, model.q0, v);
+  const Solution kkt = KktSolve(model, model.q0, v);
+  ExpectVectorNear(sparse.acceleration, dense.acceleration, kSolverAgreement, "sparse vs dense q''");
+  ExpectVectorNear(sparse.lambda, dense.lambda, kSolverAgreement, "sparse vs dense lambda");
+  ExpectVectorNear(dense.acceleration, kkt.acceleration, kKktAgreement, "dense vs KKT q''");
+  ExpectVectorNear(dense.lambda, kkt.lambda, kKktAgreement, "dense vs KKT lambda");
+  // the solution satisfies J q'' = gamma
+  const KktPieces<double> p = Pieces(model, model.q0, v);
+  ExpectVectorNear(p.jacobian * dense.acceleration, p.gamma, kKktAgreement, "J q'' = gamma");
+}
+
+TEST(SchurSolver, DenseSparseAndKktAgreeOnAChain) { ExpectDenseSparseAndKktAgree(Chain(), 11); }
+
+TEST(SchurSolver, DenseSparseAndKktAgreeOnAFourBarLoop) { ExpectDenseSparseAndKktAgree(FourBar(), 12); }
+
+// A pendulum whose rod is declared twice: S is singular, the regularization picks the least-norm multipliers.
+TEST(SchurSolver, DuplicatedRowGivesEqualSplitAndTheRightAcceleration) {
+  Model<double> single = WithGravity();
+  const int bob = AddBody<double>(&single, "bob", BodyKind::kParticle, 1.3, 0.0, Vec3<double>(0.4, -0.5, 0.0), 0.0,
+                                  Vec3<double>::Zero(), 0.0);
+  single.distances.push_back({0, {kWorld, Vec3<double>::Zero()}, {bob, Vec3<double>::Zero()}, 0.6});
+  Model<double> doubled = single;
+  doubled.distances.push_back({1, {kWorld, Vec3<double>::Zero()}, {bob, Vec3<double>::Zero()}, 0.6});
+
+  const Eigen::VectorXd v(Eigen::Vector2d(0.8, 0.64));  // tangent to the rod
+  const Solution reference = KktSolve(single, single.q0, v);
+  ASSERT_GT(std::abs(reference.lambda[0]), 1.0);  // the rod carries a real load
+  for (KktSolver kind : {KktSolver::kDense, KktSolver::kSparse}) {
+    SCOPED_TRACE(kind == KktSolver::kDense ? "dense" : "sparse");
+    const Solution s = LibrarySolve(doubled, kind, doubled.q0, v);
+    ExpectVectorNear(s.acceleration, reference.acceleration, kKktAgreement, "q''");
+    ASSERT_EQ(s.lambda.size(), 2);
+    EXPECT_NEAR(s.lambda[0] + s.lambda[1], reference.lambda[0], kKktAgreement * std::abs(reference.lambda[0]));
+    // equal split: the least-norm multipliers. The null-space component is resolved only to round-off over the
+    // regularization (1e-16 / 1e-12), hence the looser tolerance.
+    EXPECT_NEAR(s.lambda[0], 0.5 * reference.lambda[0], 1e-3 * std::abs(reference.lambda[0]));
+    EXPECT_NEAR(s.lambda[1], 0.5 * reference.lambda[0], 1e-3 * std::abs(reference.lambda[0]));
+  }
+}
+
+// The Jet oracle: lambda from the regularized Schur matrix (schur_system.h) held as a dense matrix of Jets and
+// factored with Eigen's LDLT over Jets, then q'' = M^-1 (f - J^T lambda).
+void JetOracle(const Model<Jet>& model, const VecX<Jet>& q, const VecX<Jet>& v, VecX<Jet>* a, VecX<Jet>* lambda) {
+  const KktPieces<Jet> p = Pieces(model, q, v);
+  const int m = static_cast<int>(p.gamma.size());
+  using JetMatrix = Eigen::Matrix<Jet, Eigen::Dynamic, Eigen::Dynamic>;
+  JetMatrix schur = p.jacobian * p.inverse_mass.asDiagonal() * p.jacobian.transpose();
+  double largest = 0.0;
+  for (int i = 0; i < m; ++i) largest = std::max(largest, schur(i, i).a);
+  for (int i = 0; i < m; ++i) schur(i, i) += kSchurRegularization * (schur(i, i) + Jet(kSchurDiagonalFloor * largest));
+  const VecX<Jet> b = p.jacobian * p.inverse_mass.cwiseProduct(p.force) - p.gamma;
+  *lambda = schur.ldlt().solve(b);
+  *a = p.inverse_mass.cwiseProduct(p.force - p.jacobian.transpose() * *lambda);
+}
+
+void ExpectJetsNear(const VecX<Jet>& actual, const VecX<Jet>& expected, const char* what) {
+  ASSERT_EQ(actual.size(), expected.size());
+  double value_scale = 1.0, derivative_scale = 1.0;
+  for (int i = 0; i < expected.size(); ++i) {
+    value_scale = std::max(value_scale, std::abs(expected[i].a));
+    derivative_scale = std::max(derivative_scale, expected[i].v.cwiseAbs().maxCoeff());
+  }
+  for (int i = 0; i < expected.size(); ++i) {
+    EXPECT_NEAR(actual[i].a, expected[i].a, kJetAgreement * value_scale) << what << " [" << i << "]";
+    for (int k = 0; k < kJetStride; ++k) {
+      EXPECT_NEAR(actual[i].v[k], expected[i].v[k], kJetAgreement * derivative_scale)
+          << what << " [" << i << "] direction " << k;
+    }
+  }
+}
+
+TEST(SchurSolver, JetPathMatchesFactoringTheJetMatrix) {
+  const std::vector<std::pair<std::string, Model<double>>> scenes = {{"chain", Chain()}, {"four-bar", FourBar()}};
+  for (const auto& [name, base] : scenes) {
+    // derivative directions: a mass, gravity, a coordinate (moves J and S) and a velocity (moves the bias)
+    Model<Jet> model = CastModel<Jet>(base);
+    model.bodies[1].mass.v[0] = 1.0;
+    model.gravity[0].acceleration[1].v[1] = 1.0;
+    VecX<Jet> q = model.q0, v = SomeVelocity(base.NumCoordinates(), 13).cast<Jet>();
+    q[model.bodies[1].offset + 2].v[2] = 1.0;
+    v[model.bodies[2].offset].v[3] = 1.0;
+
+    VecX<Jet> expected_a, expected_lambda;
+    JetOracle(model, q, v, &expected_a, &expected_lambda);
+    // the derivative parts are not trivially zero
+    double largest_derivative = 0.0;
+    for (int i = 0; i < expected_a.size(); ++i) {
+      largest_derivative = std::max(largest_derivative, expected_a[i].v.cwiseAbs().maxCoeff());
+    }
+    ASSERT_GT(largest_derivative, 0.1);
+    for (KktSolver kind : {KktSolver::kDense, KktSolver::kSparse}) {
+      SCOPED_TRACE(name + (kind == KktSolver::kDense ? ", dense" : ", sparse"));
+      VecX<Jet> a, lambda;
+      LibrarySolve(model, kind, q, v, &a, &lambda);
+      ExpectJetsNear(a, expected_a, "q''");
+      ExpectJetsNear(lambda, expected_lambda, "lambda");
+    }
+  }
+}
+
+}  // namespace
+}  // namespace tether
