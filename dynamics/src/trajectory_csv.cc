@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <charconv>
 #include <cstdio>
 
 #include "tether/dynamics/errors.h"
@@ -33,9 +34,9 @@ void TrajectoryCsvWriter::Write(const Sample<double>& s) {
   char number[32];
   line_.clear();
   auto put = [&](double x) {
-    std::snprintf(number, sizeof number, "%.17g", x);
+    const std::to_chars_result end = std::to_chars(number, number + sizeof number, x);
     if (!line_.empty()) line_ += ',';
-    line_ += number;
+    line_.append(number, end.ptr);
   };
   put(s.t);
   for (const Body<double>& body : model_.bodies) {

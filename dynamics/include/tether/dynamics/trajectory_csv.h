@@ -1,7 +1,8 @@
 // The trajectory CSV of CONTRACT.md: a header row, then one row per output state with
 //   t, then for each body in scene order NAME.x, NAME.y[, NAME.z][, NAME.angle], NAME.vx, NAME.vy[, NAME.vz]
 //   [, NAME.omega], then constraint_error (m) and energy (J),
-// every number printed with 17 significant digits (round-trips a double exactly).
+// every number printed in the shortest form that reads back as the same double (std::to_chars): full double
+// precision without noise digits (0.1, not 0.10000000000000001).
 #pragma once
 
 #include <fstream>
