@@ -111,7 +111,7 @@ TEST(TrajectoryCsv, WriterHeaderAndRowMatchTheColumns) {
   EXPECT_EQ(Split(lines[0]), columns);
   // per body: coordinates, then velocities
   EXPECT_EQ(Split(lines[1]), (std::vector<std::string>{"0.5", "1", "2", "3", "6", "7", "8", "4", "5", "9", "10",
-                                                       "1.0000000000000001e-09", "-2"}));
+                                                       "1e-09", "-2"}));
 }
 
 TEST(TrajectoryCsv, NumbersRoundTripExactly) {
