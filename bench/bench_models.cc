@@ -3,11 +3,14 @@
 #include <cmath>
 #include <string>
 
+#include "tether/dynamics/default_gains.h"
+#include "tether/dynamics/integrators.h"
+
 namespace tether::bench {
 
 Model<double> HorizontalChain(int n, Integrator integrator, KktSolver solver) {
   Model<double> model;
-  const double link = 1.0 / n;
+  const double link = 1.0;
   for (int k = 0; k < n; ++k) {
     AddBody<double>(&model, "p" + std::to_string(k), BodyKind::kParticle, 1.0, 0.0, Vec3<double>((k + 1) * link, 0, 0), 0.0,
             Vec3<double>::Zero(), 0.0);
@@ -52,6 +55,33 @@ Model<double> Pendulum(Integrator integrator, double step) {
   model.simulation.integrator = integrator;
   model.simulation.step = step;
   return model;
+}
+
+constexpr int kStepsPerRun = 250;
+
+void StepModel(benchmark::State& state, const Model<double>& model) {
+  Workspace<double> ws(model);
+  GainsInUse(model, &ws.alpha, &ws.beta);
+  VecX<double> q = model.q0, v = model.v0;
+  const double h = model.simulation.step;
+  int step = 0;
+  for (auto _ : state) {
+    if (step == kStepsPerRun) {
+      state.PauseTiming();
+      q = model.q0;
+      v = model.v0;
+      step = 0;
+      state.ResumeTiming();
+    }
+    if (Advance(model, step * h, h, &ws, &q, &v) != StepStatus::kOk) {
+      state.SkipWithError("a step failed");
+      break;
+    }
+    ++step;
+    benchmark::DoNotOptimize(q.data());
+  }
+  state.counters["rows"] = static_cast<double>(ws.infos.size());
+  state.SetItemsProcessed(state.iterations());
 }
 
 }  // namespace tether::bench

@@ -5,27 +5,9 @@
 #include <benchmark/benchmark.h>
 
 #include "bench_models.h"
-#include "tether/dynamics/default_gains.h"
-#include "tether/dynamics/integrators.h"
 
 namespace tether::bench {
 namespace {
-
-// Steps the model inside the benchmark loop; one item is one step.
-void StepModel(benchmark::State& state, const Model<double>& model) {
-  Workspace<double> ws(model);
-  GainsInUse(model, &ws.alpha, &ws.beta);
-  VecX<double> q = model.q0, v = model.v0;
-  double t = 0.0;
-  const double h = model.simulation.step;
-  for (auto _ : state) {
-    Advance(model, t, h, &ws, &q, &v);
-    t += h;
-    benchmark::DoNotOptimize(q.data());
-  }
-  state.counters["rows"] = static_cast<double>(ws.infos.size());
-  state.SetItemsProcessed(state.iterations());
-}
 
 void StepChain(benchmark::State& state, Integrator integrator, KktSolver solver) {
   StepModel(state, HorizontalChain(static_cast<int>(state.range(0)), integrator, solver));
