@@ -9,8 +9,8 @@ KktSolver ResolveSolver(KktSolver requested, int rows) {
   return rows <= kDenseMaxRows ? KktSolver::kDense : KktSolver::kSparse;
 }
 
-SchurSolver::SchurSolver(const SchurPattern& pattern, KktSolver kind)
-    : pattern_(&pattern), kind_(ResolveSolver(kind, pattern.size())) {
+SchurSolver::SchurSolver(const SchurPattern& pattern, KktSolver kind, bool factor_jet_matrices)
+    : pattern_(&pattern), kind_(ResolveSolver(kind, pattern.size())), factor_jet_matrices_(factor_jet_matrices) {
   const int n = pattern.size();
   if (kind_ == KktSolver::kDense) {
     dense_.setZero(n, n);
@@ -64,6 +64,7 @@ bool SchurSolver::Solve<double>(const std::vector<double>& values, const VecX<do
 
 template <>
 bool SchurSolver::Solve<Jet>(const std::vector<Jet>& values, const VecX<Jet>& b, VecX<Jet>* x) {
+  if (factor_jet_matrices_) return SolveByFactoringJets(values, b, x);
   value_part_.resize(values.size());
   for (size_t k = 0; k < values.size(); ++k) value_part_[k] = values[k].a;
   if (!Factor(value_part_)) return false;
@@ -81,6 +82,28 @@ bool SchurSolver::Solve<Jet>(const std::vector<Jet>& values, const VecX<Jet>& b,
     SolveInPlace(&column_);
     for (int i = 0; i < n; ++i) (*x)[i].v[k] = column_[i];
   }
+  return true;
+}
+
+bool SchurSolver::SolveByFactoringJets(const std::vector<Jet>& values, const VecX<Jet>& b, VecX<Jet>* x) {
+  const int n = pattern_->size();
+  const std::vector<int>& row = pattern_->row_index();
+  const std::vector<int>& column = pattern_->column_index();
+  if (kind_ == KktSolver::kDense) {
+    jet_dense_.setZero(n, n);
+    for (size_t k = 0; k < values.size(); ++k) jet_dense_(row[k], column[k]) = values[k];
+    Eigen::LLT<Eigen::Matrix<Jet, Eigen::Dynamic, Eigen::Dynamic>> factor(jet_dense_);
+    if (factor.info() != Eigen::Success) return false;
+    *x = factor.solve(b);
+    return true;
+  }
+  std::vector<Eigen::Triplet<Jet>> entries;
+  for (size_t k = 0; k < values.size(); ++k) entries.emplace_back(row[k], column[k], values[k]);
+  jet_sparse_.resize(n, n);
+  jet_sparse_.setFromTriplets(entries.begin(), entries.end());
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<Jet>, Eigen::Lower, Eigen::AMDOrdering<int>> factor(jet_sparse_);
+  if (factor.info() != Eigen::Success) return false;
+  *x = factor.solve(b);
   return true;
 }
 

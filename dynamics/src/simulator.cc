@@ -121,25 +121,31 @@ template <typename T>
 RunReport Simulate(const Model<T>& model, const RunOptions& options,
                    const std::function<void(const Sample<T>&)>& observer) {
   if (options.every < 1) throw InputError("RunOptions::every must be >= 1, got " + std::to_string(options.every));
+  const double duration = model.simulation.duration;
+  for (size_t i = 0; i < options.stops.size(); ++i) {
+    if (!(options.stops[i] >= 0.0 && options.stops[i] <= duration * (1 + 1e-12)) ||
+        (i > 0 && !(options.stops[i] > options.stops[i - 1]))) {
+      throw InputError("RunOptions::stops must increase strictly and lie within [0, duration]");
+    }
+  }
   RunReport report;
-  Workspace<T> ws(model);
+  Workspace<T> ws(model, options.factor_jet_matrices);
   GainsInUse(model, &ws.alpha, &ws.beta);
   const double scale = LengthScale(model);
   const double h = model.simulation.step;
-  const double duration = model.simulation.duration;
   const int steps = std::max(1, static_cast<int>(std::ceil(duration / h - 1e-9)));
   const bool project = model.stabilization.method == Stabilization::kProjection;
 
   VecX<T> q = model.q0, v = model.v0;
   AssembleInitialState(model, scale, &ws, &q, &v, &report);
 
-  auto emit = [&](double t) {
+  auto emit = [&](double t, bool output, int stop) {
     double error = 0.0;
     if (!ws.rows.empty()) {
       EvaluateConstraintRows(model, q, v, false, &ws.rows);
       error = LargestViolation(ws.infos, ws.rows).largest;
     }
-    observer(Sample<T>{t, q, v, error, Energy(model, q, v)});
+    observer(Sample<T>{t, q, v, error, Energy(model, q, v), output, stop});
   };
   auto diverged = [&](double t, const std::string& what) {
     const Violation worst = LargestViolation(ws.infos, ws.rows);
@@ -153,11 +159,10 @@ RunReport Simulate(const Model<T>& model, const RunOptions& options,
     return SimulationDiverged(message, t, worst.scene_index);
   };
 
-  emit(0.0);
-  for (int k = 0; k < steps; ++k) {
-    const double t = k * h;
-    const double t_next = k + 1 == steps ? duration : (k + 1) * h;
-    const StepStatus status = Advance(model, t, t_next - t, &ws, &q, &v);
+  // one step of the run, with its stabilization and divergence checks
+  auto advance = [&](double t, double dt) {
+    const StepStatus status = Advance(model, t, dt, &ws, &q, &v);
+    const double t_next = t + dt;
     if (status == StepStatus::kSolveFailed) throw diverged(t_next, "the constraint system became singular or non-finite");
     if (status == StepStatus::kStepSizeUnderflow) throw diverged(t_next, "rk45's step size collapsed");
     if (project) {
@@ -173,8 +178,30 @@ RunReport Simulate(const Model<T>& model, const RunOptions& options,
       out << "a constraint ran away (violation above the scene's length scale " << scale << " m)";
       throw diverged(t_next, out.str());
     }
+  };
+
+  // stops closer than this to a grid time are served by that grid time
+  const double same_time = 1e-9 * h;
+  const std::vector<double>& stops = options.stops;
+  size_t next_stop = 0;
+  auto stop_at = [&](double t) {
+    return next_stop < stops.size() && std::abs(stops[next_stop] - t) <= same_time ? static_cast<int>(next_stop++) : -1;
+  };
+
+  emit(0.0, true, stop_at(0.0));
+  for (int k = 0; k < steps; ++k) {
+    double t = k * h;
+    const double t_next = k + 1 == steps ? duration : (k + 1) * h;
+    while (next_stop < stops.size() && stops[next_stop] < t_next - same_time) {  // step onto the stop
+      advance(t, stops[next_stop] - t);
+      t = stops[next_stop];
+      emit(t, false, static_cast<int>(next_stop++));
+    }
+    advance(t, t_next - t);
     report.steps = k + 1;
-    if ((k + 1) % options.every == 0 || k + 1 == steps) emit(t_next);
+    const bool output = (k + 1) % options.every == 0 || k + 1 == steps;
+    const int stop = stop_at(t_next);
+    if (output || stop >= 0) emit(t_next, output, stop);
   }
   return report;
 }

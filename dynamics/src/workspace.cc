@@ -5,10 +5,10 @@
 namespace tether {
 
 template <typename T>
-Workspace<T>::Workspace(const Model<T>& model)
+Workspace<T>::Workspace(const Model<T>& model, bool factor_jet_matrices)
     : infos(DescribeRows(model)),
       pattern(infos, static_cast<int>(model.bodies.size())),
-      solver(pattern, model.simulation.solver),
+      solver(pattern, model.simulation.solver, factor_jet_matrices),
       inverse_mass(InverseMassDiagonal(model)),
       rows(infos.size()),
       schur(pattern.nonzeros(), T(0.0)) {

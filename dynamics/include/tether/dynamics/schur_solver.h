@@ -11,6 +11,8 @@
 //   x0 = S0^-1 b0,   dx_k = S0^-1 (db_k - dS_k x0),
 // so the double matrix S0 is factored once and every derivative direction costs one more pair of triangular
 // solves. The right-hand sides db_k - dS_k x0 are the derivative parts of the Jet residual b - S x0.
+// Factoring the matrix of Jets itself (same dense or sparse method, in Jet arithmetic) is kept only as a test
+// oracle and a benchmark baseline (factor_jet_matrices).
 #pragma once
 
 #include <Eigen/Cholesky>
@@ -28,7 +30,7 @@ KktSolver ResolveSolver(KktSolver requested, int rows);
 class SchurSolver {
  public:
   // Analyzes the pattern once; `kind` may be kAuto.
-  SchurSolver(const SchurPattern& pattern, KktSolver kind);
+  SchurSolver(const SchurPattern& pattern, KktSolver kind, bool factor_jet_matrices = false);
 
   KktSolver kind() const { return kind_; }
 
@@ -40,6 +42,7 @@ class SchurSolver {
  private:
   bool Factor(const std::vector<double>& values);
   void SolveInPlace(Eigen::VectorXd* x);
+  bool SolveByFactoringJets(const std::vector<Jet>& values, const VecX<Jet>& b, VecX<Jet>* x);
 
   const SchurPattern* pattern_;
   KktSolver kind_;
@@ -52,6 +55,10 @@ class SchurSolver {
   std::vector<double> value_part_;
   Eigen::VectorXd x0_, column_;
   VecX<Jet> product_;
+  // the oracle path
+  bool factor_jet_matrices_;
+  Eigen::Matrix<Jet, Eigen::Dynamic, Eigen::Dynamic> jet_dense_;
+  Eigen::SparseMatrix<Jet> jet_sparse_;
 };
 
 }  // namespace tether

@@ -1,6 +1,6 @@
 // A run of a model: assemble the initial state onto the constraints, step on the grid t_k = k h (the last
-// step shortened to land on the duration), stabilize, watch for divergence, and hand output rows to an
-// observer.
+// step shortened to land on the duration, and steps split at requested stop times), stabilize, watch for
+// divergence, and hand output rows and stop samples to an observer.
 //
 // Divergence: the run stops with SimulationDiverged when the state becomes non-finite, the Schur system
 // cannot be factored, rk45's step collapses, or a constraint is violated by more than the scene's length
@@ -23,10 +23,19 @@ struct Sample {
   const VecX<T>& v;
   double constraint_error;  // largest geometric violation over the constraints, m
   T energy;                 // kinetic + gravity + spring potential, J
+  bool output = true;       // a row of the output grid (every k-th step, the first and the last)
+  int stop = -1;            // index into RunOptions::stops when the sample is at a stop time, else -1
 };
 
 struct RunOptions {
   int every = 1;  // output every k-th step (the first and the last state are always output)
+  // Times (strictly increasing, within [0, duration]) at which the run must sample its state exactly: the
+  // step that would cross a stop is split there, so observations need no interpolation. A stop within 1e-9 h
+  // of a grid time is served by it.
+  std::vector<double> stops;
+  // Test oracle and benchmark only: factor the Schur matrix of Jets itself instead of applying the implicit
+  // function theorem to its value part (schur_solver.h).
+  bool factor_jet_matrices = false;
 };
 
 struct RunReport {

@@ -13,7 +13,8 @@ namespace tether {
 
 template <typename T>
 struct Workspace {
-  explicit Workspace(const Model<T>& model);
+  // factor_jet_matrices: see RunOptions (a test oracle; the default applies the implicit function theorem).
+  explicit Workspace(const Model<T>& model, bool factor_jet_matrices = false);
   Workspace(const Workspace&) = delete;  // the solver points into the pattern
   Workspace& operator=(const Workspace&) = delete;
 
