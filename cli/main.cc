@@ -4,6 +4,7 @@
 #include <memory>
 #include <vector>
 
+#include "gradient_command.h"
 #include "simulate_command.h"
 #include "tether/dynamics/errors.h"
 
@@ -13,6 +14,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   std::vector<std::unique_ptr<cli::Command>> commands;
   commands.push_back(cli::MakeSimulateCommand(&app));
+  commands.push_back(cli::MakeGradientCommand(&app));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,60 @@
+// Parameters: numeric leaves of a scene named by JSON Pointers (RFC 6901), bound to the model fields they set,
+// so that a Model<T> can carry them as T (a Jet seeds their derivative directions).
+//
+// Differentiable: /bodies/i/{mass, inertia, position/k, angle, velocity/k, angular_velocity};
+// /constraints/i/{length, points/j/k, axis/k}; /effects/i/{acceleration/k (gravity), coefficient,
+// angular_coefficient (damping), stiffness, rest_length, damping, points/j/k (spring), value[/k], point/k,
+// schedule/values/j[/k] (force, torque)}; /stabilization/{alpha, beta}.
+// Refused with a message naming the file and the pointer: pointers that are not in the scene file (a default
+// must be written out to become a parameter), that name an array or object instead of a number, and leaves
+// that are not differentiable (names, types, the integrator, step, duration, tolerance, schedule times).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "tether/dynamics/scene_reader.h"
+
+namespace tether {
+
+// Where a parameter lives in a Model<T>.
+struct FieldRef {
+  enum class Kind {
+    kMass, kInertia, kInitialPosition, kInitialVelocity,
+    kDistanceLength, kDistancePoint, kPinPoint, kSliderPoint, kSliderAxis,
+    kGravity, kDampingCoefficient, kDampingAngular,
+    kSpringStiffness, kSpringRestLength, kSpringDamping, kSpringPoint,
+    kForceValue, kForcePoint, kForceSchedule, kTorqueValue, kTorqueSchedule,
+    kAlpha, kBeta
+  };
+  Kind kind = Kind::kMass;
+  int index = 0;      // body, or position in the model's list of that kind of constraint or effect
+  int slot = 0;       // which point (0: first body's, 1: second's), or which schedule value
+  int component = 0;  // vector component, or coordinate index in q0 / v0
+};
+
+class ParameterSet {
+ public:
+  ParameterSet() = default;
+  // Resolves every pointer against the scene. Throws InputError naming the file and the pointer.
+  ParameterSet(const Scene& scene, const std::vector<std::string>& pointers);
+
+  int size() const { return static_cast<int>(pointers_.size()); }
+  const std::vector<std::string>& pointers() const { return pointers_; }
+  const FieldRef& field(int i) const { return fields_[i]; }
+
+  // The model field of parameter i.
+  template <typename T>
+  T& Field(Model<T>* model, int i) const;
+
+  std::vector<double> Values(const Model<double>& model) const;
+  void Assign(const std::vector<double>& values, Model<double>* model) const;
+  // Writes the values into a scene document at their pointers (for writing a scene back).
+  void WriteInto(const std::vector<double>& values, nlohmann::json* document) const;
+
+ private:
+  std::vector<std::string> pointers_;
+  std::vector<FieldRef> fields_;
+};
+
+}  // namespace tether

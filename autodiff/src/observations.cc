@@ -1,0 +1,151 @@
+#include "tether/autodiff/observations.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <numeric>
+#include <sstream>
+
+#include "tether/dynamics/errors.h"
+#include "tether/dynamics/trajectory_csv.h"
+
+namespace tether {
+namespace {
+
+std::vector<std::string> SplitCells(const std::string& line) {
+  std::vector<std::string> cells;
+  std::stringstream stream(line);
+  std::string cell;
+  while (std::getline(stream, cell, ',')) cells.push_back(cell);
+  if (!line.empty() && line.back() == ',') cells.push_back("");
+  return cells;
+}
+
+std::string Trim(std::string s) {
+  const size_t begin = s.find_first_not_of(" \t\r");
+  const size_t end = s.find_last_not_of(" \t\r");
+  return begin == std::string::npos ? "" : s.substr(begin, end - begin + 1);
+}
+
+// Column name -> where its value lives, for every trajectory column of the model.
+std::map<std::string, ObservedColumn> KnownColumns(const Model<double>& model) {
+  std::map<std::string, ObservedColumn> known;
+  static const char* kAxes[3] = {"x", "y", "z"};
+  for (const Body<double>& body : model.bodies) {
+    using Source = ObservedColumn::Source;
+    for (int k = 0; k < model.dimension; ++k) {
+      known[body.name + "." + kAxes[k]] = {body.name + "." + kAxes[k], Source::kCoordinate, body.offset + k};
+      known[body.name + ".v" + kAxes[k]] = {body.name + ".v" + kAxes[k], Source::kVelocity, body.offset + k};
+    }
+    if (body.kind == BodyKind::kRigid) {
+      known[body.name + ".angle"] = {body.name + ".angle", Source::kCoordinate, body.offset + 2};
+      known[body.name + ".omega"] = {body.name + ".omega", Source::kVelocity, body.offset + 2};
+    }
+  }
+  known["energy"] = {"energy", ObservedColumn::Source::kEnergy, 0};
+  return known;
+}
+
+}  // namespace
+
+int Observations::CellCount() const {
+  int count = 0;
+  for (const auto& row : values) {
+    for (double v : row) count += std::isnan(v) ? 0 : 1;
+  }
+  return count;
+}
+
+Observations ReadObservations(const std::string& path, const Model<double>& model) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot open the data file");
+  auto fail = [&path](int line, const std::string& message) {
+    throw InputError(path + ": line " + std::to_string(line) + ": " + message);
+  };
+  Observations obs;
+  obs.path = path;
+  std::string text;
+  if (!std::getline(in, text)) throw InputError(path + ": the data file is empty (it needs a header row)");
+  const std::map<std::string, ObservedColumn> known = KnownColumns(model);
+  const std::vector<std::string> header = SplitCells(text);
+  int time_column = -1;
+  std::vector<int> column_of_cell(header.size(), -1);  // data column of each CSV cell, -1 for t
+  for (size_t c = 0; c < header.size(); ++c) {
+    const std::string name = Trim(header[c]);
+    if (name == "t") {
+      if (time_column >= 0) fail(1, "the column 't' appears twice");
+      time_column = static_cast<int>(c);
+      continue;
+    }
+    if (name == "constraint_error") fail(1, "'constraint_error' is a diagnostic and cannot be observed");
+    const auto it = known.find(name);
+    if (it == known.end()) {
+      fail(1, "unknown column '" + name + "' (expected t and trajectory columns such as " +
+                  TrajectoryColumns(model)[1] + ")");
+    }
+    for (const ObservedColumn& seen : obs.columns) {
+      if (seen.name == name) fail(1, "the column '" + name + "' appears twice");
+    }
+    column_of_cell[c] = static_cast<int>(obs.columns.size());
+    obs.columns.push_back(it->second);
+  }
+  if (time_column < 0) fail(1, "no 't' column");
+  if (obs.columns.empty()) fail(1, "no observed column besides 't'");
+
+  const double duration = model.simulation.duration;
+  for (int line = 2; std::getline(in, text); ++line) {
+    if (Trim(text).empty()) continue;
+    const std::vector<std::string> cells = SplitCells(text);
+    if (cells.size() != header.size()) {
+      fail(line, "expected " + std::to_string(header.size()) + " cells, got " + std::to_string(cells.size()));
+    }
+    std::vector<double> row(obs.columns.size(), NAN);
+    double t = NAN;
+    for (size_t c = 0; c < cells.size(); ++c) {
+      const std::string cell = Trim(cells[c]);
+      const std::string& name = Trim(header[c]);
+      if (cell.empty()) {
+        if (static_cast<int>(c) == time_column) fail(line, "the time 't' is missing");
+        continue;
+      }
+      char* end = nullptr;
+      const double value = std::strtod(cell.c_str(), &end);
+      if (end != cell.c_str() + cell.size() || !std::isfinite(value)) {
+        fail(line, "column '" + name + "': '" + cell + "' is not a finite number");
+      }
+      if (static_cast<int>(c) == time_column) {
+        t = value;
+      } else {
+        row[column_of_cell[c]] = value;
+      }
+    }
+    if (!(t >= 0.0 && t <= duration * (1 + 1e-12))) {
+      std::ostringstream message;
+      message << "t = " << t << " lies outside the simulated interval [0, " << duration << "]";
+      fail(line, message.str());
+    }
+    obs.times.push_back(t);
+    obs.values.push_back(row);
+    obs.lines.push_back(line);
+  }
+  if (obs.times.empty()) throw InputError(path + ": the data file has no rows");
+
+  // rows in time order; one row per time
+  std::vector<size_t> order(obs.times.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&obs](size_t a, size_t b) { return obs.times[a] < obs.times[b]; });
+  Observations sorted = obs;
+  for (size_t k = 0; k < order.size(); ++k) {
+    sorted.times[k] = obs.times[order[k]];
+    sorted.values[k] = obs.values[order[k]];
+    sorted.lines[k] = obs.lines[order[k]];
+    if (k > 0 && sorted.times[k] == sorted.times[k - 1]) {
+      fail(sorted.lines[k], "repeats the time of line " + std::to_string(sorted.lines[k - 1]));
+    }
+  }
+  return sorted;
+}
+
+}  // namespace tether

@@ -1,0 +1,101 @@
+#include "tether/autodiff/residuals.h"
+
+#include <algorithm>
+#include <climits>
+#include <cmath>
+
+namespace tether {
+
+template <typename T>
+VecX<T> ObservationResiduals(const Model<T>& model, const Observations& observations, const RunOptions& options) {
+  // where each row's residuals start
+  std::vector<int> first(observations.times.size() + 1, 0);
+  for (size_t row = 0; row < observations.times.size(); ++row) {
+    int count = 0;
+    for (double v : observations.values[row]) count += std::isnan(v) ? 0 : 1;
+    first[row + 1] = first[row] + count;
+  }
+  VecX<T> residuals(first.back());
+  RunOptions run = options;
+  run.every = INT_MAX;  // no output rows are needed, only the stops
+  run.stops = observations.times;
+  Simulate<T>(model, run, [&](const Sample<T>& s) {
+    if (s.stop < 0) return;
+    int cell = first[s.stop];
+    const std::vector<double>& observed = observations.values[s.stop];
+    for (size_t c = 0; c < observed.size(); ++c) {
+      if (std::isnan(observed[c])) continue;
+      const ObservedColumn& column = observations.columns[c];
+      const T simulated = column.source == ObservedColumn::Source::kCoordinate ? s.q[column.index]
+                          : column.source == ObservedColumn::Source::kVelocity ? s.v[column.index]
+                                                                               : s.energy;
+      residuals[cell++] = simulated - T(observed[c]);
+    }
+  });
+  return residuals;
+}
+
+void EvaluateByJets(const Model<double>& model, const ParameterSet& parameters, const JetResidualFunction& residuals,
+                    Eigen::VectorXd* values, Eigen::MatrixXd* jacobian) {
+  const int count = parameters.size();
+  for (int first = 0; first == 0 || first < count; first += kJetStride) {
+    Model<Jet> seeded = CastModel<Jet>(model);
+    const int chunk = std::min(kJetStride, count - first);
+    for (int k = 0; k < chunk; ++k) parameters.Field(&seeded, first + k).v[k] = 1.0;
+    const VecX<Jet> r = residuals(seeded);
+    if (first == 0) {
+      values->resize(r.size());
+      for (int i = 0; i < r.size(); ++i) (*values)[i] = r[i].a;
+      if (jacobian) jacobian->resize(r.size(), count);
+    }
+    if (!jacobian) break;
+    for (int k = 0; k < chunk; ++k) {
+      for (int i = 0; i < r.size(); ++i) (*jacobian)(i, first + k) = r[i].v[k];
+    }
+  }
+}
+
+LossGradient JetLossGradient(const Model<double>& model, const ParameterSet& parameters,
+                             const Observations& observations, bool factor_jet_matrices) {
+  RunOptions options;
+  options.factor_jet_matrices = factor_jet_matrices;
+  Eigen::VectorXd r;
+  Eigen::MatrixXd jacobian;
+  EvaluateByJets(
+      model, parameters,
+      [&](const Model<Jet>& m) { return ObservationResiduals(m, observations, options); }, &r, &jacobian);
+  LossGradient result;
+  result.loss = 0.5 * r.squaredNorm();
+  const Eigen::VectorXd gradient = jacobian.transpose() * r;
+  result.gradient.assign(gradient.data(), gradient.data() + gradient.size());
+  return result;
+}
+
+double CentralDifferenceStep(double value) { return 1e-5 * std::max(std::abs(value), 1e-2); }
+
+LossGradient CentralDifferenceLossGradient(const Model<double>& model, const ParameterSet& parameters,
+                                           const Observations& observations) {
+  auto loss = [&observations](const Model<double>& m) {
+    return 0.5 * ObservationResiduals(m, observations).squaredNorm();
+  };
+  LossGradient result;
+  result.loss = loss(model);
+  const std::vector<double> values = parameters.Values(model);
+  Model<double> shifted = model;
+  for (int i = 0; i < parameters.size(); ++i) {
+    const double h = CentralDifferenceStep(values[i]);
+    double& field = parameters.Field(&shifted, i);
+    field = values[i] + h;
+    const double up = loss(shifted);
+    field = values[i] - h;
+    const double down = loss(shifted);
+    field = values[i];
+    result.gradient.push_back((up - down) / (2 * h));
+  }
+  return result;
+}
+
+template VecX<double> ObservationResiduals<double>(const Model<double>&, const Observations&, const RunOptions&);
+template VecX<Jet> ObservationResiduals<Jet>(const Model<Jet>&, const Observations&, const RunOptions&);
+
+}  // namespace tether
