@@ -6,6 +6,7 @@
 
 #include "gradient_command.h"
 #include "simulate_command.h"
+#include "tune_command.h"
 #include "tether/dynamics/errors.h"
 
 int main(int argc, char** argv) {
@@ -15,6 +16,7 @@ int main(int argc, char** argv) {
   std::vector<std::unique_ptr<cli::Command>> commands;
   commands.push_back(cli::MakeSimulateCommand(&app));
   commands.push_back(cli::MakeGradientCommand(&app));
+  commands.push_back(cli::MakeTuneCommand(&app));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

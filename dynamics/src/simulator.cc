@@ -122,10 +122,11 @@ RunReport Simulate(const Model<T>& model, const RunOptions& options,
                    const std::function<void(const Sample<T>&)>& observer) {
   if (options.every < 1) throw InputError("RunOptions::every must be >= 1, got " + std::to_string(options.every));
   const double duration = model.simulation.duration;
+  const double t0 = options.start_time;
   for (size_t i = 0; i < options.stops.size(); ++i) {
-    if (!(options.stops[i] >= 0.0 && options.stops[i] <= duration * (1 + 1e-12)) ||
+    if (!(options.stops[i] >= t0 && options.stops[i] <= t0 + duration * (1 + 1e-12)) ||
         (i > 0 && !(options.stops[i] > options.stops[i - 1]))) {
-      throw InputError("RunOptions::stops must increase strictly and lie within [0, duration]");
+      throw InputError("RunOptions::stops must increase strictly and lie within the run's interval");
     }
   }
   RunReport report;
@@ -188,10 +189,10 @@ RunReport Simulate(const Model<T>& model, const RunOptions& options,
     return next_stop < stops.size() && std::abs(stops[next_stop] - t) <= same_time ? static_cast<int>(next_stop++) : -1;
   };
 
-  emit(0.0, true, stop_at(0.0));
+  emit(t0, true, stop_at(t0));
   for (int k = 0; k < steps; ++k) {
-    double t = k * h;
-    const double t_next = k + 1 == steps ? duration : (k + 1) * h;
+    double t = t0 + k * h;
+    const double t_next = t0 + (k + 1 == steps ? duration : (k + 1) * h);
     while (next_stop < stops.size() && stops[next_stop] < t_next - same_time) {  // step onto the stop
       advance(t, stops[next_stop] - t);
       t = stops[next_stop];

@@ -29,7 +29,10 @@ struct Sample {
 
 struct RunOptions {
   int every = 1;  // output every k-th step (the first and the last state are always output)
-  // Times (strictly increasing, within [0, duration]) at which the run must sample its state exactly: the
+  // Time of the initial state (model.q0, model.v0): the run covers [start_time, start_time + duration] on the
+  // grid start_time + k h. Time-dependent effects (schedules) see these times.
+  double start_time = 0.0;
+  // Times (strictly increasing, within the run's interval) at which the run must sample its state exactly: the
   // step that would cross a stop is split there, so observations need no interpolation. A stop within 1e-9 h
   // of a grid time is served by it.
   std::vector<double> stops;

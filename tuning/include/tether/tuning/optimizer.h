@@ -1,0 +1,48 @@
+// Minimizing f(x) = 1/2 |r(x)|^2 over a box with Ceres or NLopt, for gain tuning and (later) identification.
+//
+// The residual function returns false at an infeasible point (the simulation diverges). Ceres then rejects the
+// step (the cost function returns false); NLopt gets a large finite value, kInfeasibleValue, and a zero
+// gradient, never NaN.
+//
+// Optimizer names (CONTRACT.md): "ceres" (Levenberg-Marquardt with the Jacobian, box bounds), or
+// "nlopt:ALGORITHM" with any NLopt algorithm name: gradient based (LD_LBFGS, LD_MMA, LD_SLSQP, ...) get
+// g = J^T r; derivative free (LN_BOBYQA, LN_COBYLA, LN_SBPLX, LN_NELDERMEAD, ...) and global ones (GN_DIRECT_L,
+// GN_CRS2_LM, ...) only f. The multi-level single-linkage methods (GN_MLSL, GN_MLSL_LDS, G_MLSL, G_MLSL_LDS) run
+// LN_BOBYQA as their local optimizer, or LD_LBFGS when their name asks for derivatives (G_...).
+#pragma once
+
+#include <Eigen/Core>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace tether {
+
+inline constexpr double kInfeasibleValue = 1e10;
+
+// r at x; the Jacobian (rows of r by entries of x) too when jacobian is not null. False: infeasible.
+using ResidualFunction = std::function<bool(const std::vector<double>& x, Eigen::VectorXd* r, Eigen::MatrixXd* jacobian)>;
+
+struct OptimizerSettings {
+  std::string name = "ceres";
+  int max_evaluations = 200;
+  double relative_tolerance = 1e-8;  // on x (NLopt) and on the cost decrease (Ceres)
+};
+
+struct OptimizerResult {
+  std::vector<double> x;
+  double value = 0.0;    // 1/2 |r|^2 at x
+  int evaluations = 0;   // residual evaluations, with or without Jacobian
+  double seconds = 0.0;
+  std::string message;   // the back end's own summary of why it stopped
+};
+
+// Throws InputError ("--optimizer: ...") for an unknown optimizer name.
+OptimizerResult Minimize(const ResidualFunction& residuals, const std::vector<double>& start,
+                         const std::vector<double>& lower, const std::vector<double>& upper,
+                         const OptimizerSettings& settings);
+
+// Checks an optimizer name without running anything; throws InputError like Minimize.
+void CheckOptimizerName(const std::string& name);
+
+}  // namespace tether

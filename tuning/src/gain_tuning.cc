@@ -1,0 +1,94 @@
+#include "tether/tuning/gain_tuning.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "tether/dynamics/default_gains.h"
+#include "tether/dynamics/errors.h"
+#include "tether/dynamics/simulator.h"
+#include "tether/tuning/stability.h"
+
+namespace tether {
+namespace {
+
+// min over zeta in the box of B(zeta), on a fine grid of zeta
+double SmallestBound(Integrator integrator) {
+  double smallest = INFINITY;
+  for (int k = 0; k <= 48; ++k) {
+    smallest = std::min(smallest, StabilityBound(integrator, kMinZeta + (kMaxZeta - kMinZeta) * k / 48.0));
+  }
+  return smallest;
+}
+
+}  // namespace
+
+GainMetrics MeasureGains(const Model<double>& model, const std::string& name, double alpha, double beta,
+                         const GainObjective& objective) {
+  GainMetrics m;
+  m.name = name;
+  m.alpha = alpha;
+  m.beta = beta;
+  const GainObjective::Reference& reference = objective.reference();
+  double squared = 0.0, energy0 = 0.0, drift = 0.0, worst = 0.0;
+  int k = 0;
+  const auto begin = std::chrono::steady_clock::now();
+  try {
+    Simulate<double>(WithGains(model, alpha, beta), RunOptions{}, [&](const Sample<double>& s) {
+      if (k == 0) energy0 = s.energy;
+      drift = std::max(drift, std::abs(s.energy - energy0));
+      worst = std::max(worst, s.constraint_error);
+      if (!reference.q.empty()) {
+        for (int i : objective.translational()) squared += std::pow(s.q[i] - reference.q[k][i], 2);
+      }
+      ++k;
+    });
+  } catch (const SimulationDiverged& e) {
+    m.diverged = true;
+    m.divergence = e.what();
+    return m;
+  }
+  m.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+  if (!reference.q.empty()) m.rms_position_error = std::sqrt(squared / std::max(1, k - 1));
+  m.max_constraint_error = worst;
+  m.energy_drift = drift / std::max(std::abs(energy0), 1.0);
+  return m;
+}
+
+TuneResult TuneGains(const Model<double>& model, const TuneSettings& settings) {
+  CheckOptimizerName(settings.optimizer.name);
+  const GainObjective objective(model, settings.objective);
+  const double h = model.simulation.step;
+  const Integrator integrator = model.simulation.integrator;
+
+  TuneResult result;
+  result.omega_upper = kStabilityMargin * SmallestBound(integrator) / h;
+  const std::vector<double> lower = {std::log(kMinOmega), kMinZeta};
+  const std::vector<double> upper = {std::log(result.omega_upper), kMaxZeta};
+  const Gains rule = DefaultGains(integrator, h);
+  const double rule_omega = std::sqrt(rule.beta);
+  const std::vector<double> start = {std::clamp(std::log(rule_omega), lower[0], upper[0]), 1.0};
+
+  const ResidualFunction residuals = [&objective](const std::vector<double>& x, Eigen::VectorXd* r,
+                                                  Eigen::MatrixXd* jacobian) {
+    return objective.Evaluate(x[0], x[1], r, jacobian);
+  };
+  result.optimizer = Minimize(residuals, start, lower, upper, settings.optimizer);
+  result.omega = std::exp(result.optimizer.x[0]);
+  result.zeta = result.optimizer.x[1];
+  result.alpha = 2.0 * result.zeta * result.omega;
+  result.beta = result.omega * result.omega;
+  result.objective = objective.Value(result.optimizer.x[0], result.optimizer.x[1]);
+  result.window = objective.window();
+  result.bound = StabilityBound(integrator, result.zeta);
+  result.margin = 1.0 - h * result.omega / result.bound;
+
+  result.comparison.push_back(MeasureGains(model, "tuned", result.alpha, result.beta, objective));
+  result.comparison.push_back(MeasureGains(model, "none", 0.0, 0.0, objective));
+  result.comparison.push_back(MeasureGains(model, "rbdl", 20.0, 100.0, objective));
+  result.comparison.push_back(MeasureGains(model, "mujoco", 100.0, 2500.0, objective));
+  result.comparison.push_back(MeasureGains(model, "default_rule", rule.alpha, rule.beta, objective));
+  return result;
+}
+
+}  // namespace tether
