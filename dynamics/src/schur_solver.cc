@@ -85,6 +85,9 @@ bool SchurSolver::Solve<Jet>(const std::vector<Jet>& values, const VecX<Jet>& b,
   return true;
 }
 
+// The oracle's substitutions are written out: Eigen's triangular solves skip right-hand-side entries that
+// compare equal to zero, and a Jet compares by its value only, so a zero value with non-zero derivatives would
+// lose them.
 bool SchurSolver::SolveByFactoringJets(const std::vector<Jet>& values, const VecX<Jet>& b, VecX<Jet>* x) {
   const int n = pattern_->size();
   const std::vector<int>& row = pattern_->row_index();
@@ -92,9 +95,18 @@ bool SchurSolver::SolveByFactoringJets(const std::vector<Jet>& values, const Vec
   if (kind_ == KktSolver::kDense) {
     jet_dense_.setZero(n, n);
     for (size_t k = 0; k < values.size(); ++k) jet_dense_(row[k], column[k]) = values[k];
-    Eigen::LLT<Eigen::Matrix<Jet, Eigen::Dynamic, Eigen::Dynamic>> factor(jet_dense_);
+    const Eigen::LLT<Eigen::Matrix<Jet, Eigen::Dynamic, Eigen::Dynamic>> factor(jet_dense_);
     if (factor.info() != Eigen::Success) return false;
-    *x = factor.solve(b);
+    const Eigen::Matrix<Jet, Eigen::Dynamic, Eigen::Dynamic> lower = factor.matrixL();
+    *x = b;
+    for (int i = 0; i < n; ++i) {  // L y = b
+      for (int k = 0; k < i; ++k) (*x)[i] -= lower(i, k) * (*x)[k];
+      (*x)[i] /= lower(i, i);
+    }
+    for (int i = n - 1; i >= 0; --i) {  // L^T x = y
+      for (int k = i + 1; k < n; ++k) (*x)[i] -= lower(k, i) * (*x)[k];
+      (*x)[i] /= lower(i, i);
+    }
     return true;
   }
   std::vector<Eigen::Triplet<Jet>> entries;
@@ -103,7 +115,22 @@ bool SchurSolver::SolveByFactoringJets(const std::vector<Jet>& values, const Vec
   jet_sparse_.setFromTriplets(entries.begin(), entries.end());
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<Jet>, Eigen::Lower, Eigen::AMDOrdering<int>> factor(jet_sparse_);
   if (factor.info() != Eigen::Success) return false;
-  *x = factor.solve(b);
+  // S = P^T L D L^T P with L unit lower triangular (its strictly lower part stored by columns)
+  const Eigen::SparseMatrix<Jet>& lower = factor.matrixL().nestedExpression();
+  const VecX<Jet> d = factor.vectorD();
+  VecX<Jet> y = factor.permutationP() * b;
+  for (int j = 0; j < n; ++j) {  // L z = P b
+    for (Eigen::SparseMatrix<Jet>::InnerIterator it(lower, j); it; ++it) {
+      if (it.row() > j) y[it.row()] -= it.value() * y[j];
+    }
+  }
+  for (int j = 0; j < n; ++j) y[j] /= d[j];
+  for (int j = n - 1; j >= 0; --j) {  // L^T w = D^-1 z
+    for (Eigen::SparseMatrix<Jet>::InnerIterator it(lower, j); it; ++it) {
+      if (it.row() > j) y[j] -= it.value() * y[it.row()];
+    }
+  }
+  *x = factor.permutationPinv() * y;
   return true;
 }
 

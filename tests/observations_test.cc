@@ -1,0 +1,212 @@
+// ReadObservations (observations.h): trajectory-CSV columns mapped to the q / v / energy entries they observe, for
+// particles (2D and 3D) and planar rigid bodies; rows sorted by time; empty cells missing (NaN) and not counted;
+// and every malformed file refused with an InputError naming the file and the line.
+#include "tether/autodiff/observations.h"
+
+#include <gtest/gtest.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+#include "test_scenes.h"
+#include "tether/dynamics/errors.h"
+
+namespace tether {
+namespace {
+
+using testing::SceneFromJson;
+using Source = ObservedColumn::Source;
+
+// A particle (q 0..1) and a rigid body (q 2..4: x, y, angle), simulated for 0.5 s.
+const char* kPlanarScene = R"({
+  "bodies": [{"name": "bob", "type": "particle", "mass": 1.0, "position": [0.6, -0.35]},
+             {"name": "bar", "type": "rigid", "mass": 2.0, "inertia": 0.1, "position": [1.0, 0.5], "angle": 0.3}],
+  "effects": [{"type": "gravity", "acceleration": [0.0, -9.81]}],
+  "simulation": {"duration": 0.5}})";
+
+// Files in a scratch folder, removed at the end.
+class ObservationsTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    folder_ = ::testing::TempDir() + "tether_obs_XXXXXX";
+    ASSERT_NE(mkdtemp(folder_.data()), nullptr) << folder_;
+    model_ = SceneFromJson(kPlanarScene);
+  }
+  void TearDown() override {
+    for (const std::string& path : written_) std::remove(path.c_str());
+    rmdir(folder_.c_str());
+  }
+
+  std::string Write(const std::string& name, const std::string& text) {
+    const std::string path = folder_ + "/" + name;
+    std::ofstream(path) << text;
+    written_.push_back(path);
+    return path;
+  }
+
+  // Expects ReadObservations to refuse `text` with a message naming the file, `line` (when > 0) and `detail`.
+  void ExpectRefused(const std::string& text, int line, const std::string& detail) {
+    const std::string path = Write("bad.csv", text);
+    try {
+      ReadObservations(path, model_);
+      ADD_FAILURE() << "accepted:\n" << text;
+    } catch (const InputError& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find(path), std::string::npos) << message;
+      if (line > 0) EXPECT_NE(message.find("line " + std::to_string(line)), std::string::npos) << message;
+      EXPECT_NE(message.find(detail), std::string::npos) << message;
+    }
+  }
+
+  std::string folder_;
+  std::vector<std::string> written_;
+  Model<double> model_;
+};
+
+void ExpectColumn(const ObservedColumn& column, const std::string& name, Source source, int index) {
+  EXPECT_EQ(column.name, name);
+  EXPECT_EQ(column.source, source) << name;
+  EXPECT_EQ(column.index, index) << name;
+}
+
+TEST_F(ObservationsTest, ColumnsMapToCoordinatesVelocitiesAndEnergy) {
+  const std::string path = Write("obs.csv",
+                                 "bar.angle,bob.x,t,bob.vy,energy,bar.omega,bar.y,bar.vx\n"
+                                 "0.3,0.6,0.0,0.0,1.5,0.0,0.5,0.0\n");
+  const Observations obs = ReadObservations(path, model_);
+  EXPECT_EQ(obs.path, path);
+  ASSERT_EQ(obs.columns.size(), 7u);  // t is not an observed column
+  ExpectColumn(obs.columns[0], "bar.angle", Source::kCoordinate, 4);
+  ExpectColumn(obs.columns[1], "bob.x", Source::kCoordinate, 0);
+  ExpectColumn(obs.columns[2], "bob.vy", Source::kVelocity, 1);
+  EXPECT_EQ(obs.columns[3].source, Source::kEnergy);
+  EXPECT_EQ(obs.columns[3].name, "energy");
+  ExpectColumn(obs.columns[4], "bar.omega", Source::kVelocity, 4);
+  ExpectColumn(obs.columns[5], "bar.y", Source::kCoordinate, 3);
+  ExpectColumn(obs.columns[6], "bar.vx", Source::kVelocity, 2);
+  ASSERT_EQ(obs.times.size(), 1u);
+  EXPECT_EQ(obs.values[0], (std::vector<double>{0.3, 0.6, 0.0, 1.5, 0.0, 0.5, 0.0}));
+  EXPECT_EQ(obs.lines, std::vector<int>{2});
+}
+
+TEST_F(ObservationsTest, ParticleZColumnsIn3D) {
+  const Model<double> model = SceneFromJson(R"({"dimension": 3,
+    "bodies": [{"name": "a", "type": "particle", "mass": 1.0, "position": [0.0, 0.0, 0.0]},
+               {"name": "b", "type": "particle", "mass": 1.0, "position": [1.0, 2.0, 3.0]}]})");
+  const std::string path = Write("obs3.csv", "t,b.z,b.vz,a.vy,b.x\n0.5,3.0,0.0,0.0,1.0\n");
+  const Observations obs = ReadObservations(path, model);
+  ASSERT_EQ(obs.columns.size(), 4u);
+  ExpectColumn(obs.columns[0], "b.z", Source::kCoordinate, 5);
+  ExpectColumn(obs.columns[1], "b.vz", Source::kVelocity, 5);
+  ExpectColumn(obs.columns[2], "a.vy", Source::kVelocity, 1);
+  ExpectColumn(obs.columns[3], "b.x", Source::kCoordinate, 3);
+}
+
+TEST_F(ObservationsTest, RowsAreSortedByTimeWithTheirLines) {
+  const std::string path = Write("unsorted.csv",
+                                 "t,bob.x,bob.y\n"
+                                 "0.5,5.0,-5.0\n"
+                                 "0.1234,1.0,-1.0\n"
+                                 "\n"  // blank lines are skipped but still counted
+                                 "0.3,3.0,-3.0\n"
+                                 "0,0.5,-0.5\n");
+  const Observations obs = ReadObservations(path, model_);
+  EXPECT_EQ(obs.times, (std::vector<double>{0.0, 0.1234, 0.3, 0.5}));  // exact: as written in the file
+  ASSERT_EQ(obs.values.size(), 4u);
+  EXPECT_EQ(obs.values[0], (std::vector<double>{0.5, -0.5}));
+  EXPECT_EQ(obs.values[1], (std::vector<double>{1.0, -1.0}));
+  EXPECT_EQ(obs.values[2], (std::vector<double>{3.0, -3.0}));
+  EXPECT_EQ(obs.values[3], (std::vector<double>{5.0, -5.0}));
+  EXPECT_EQ(obs.lines, (std::vector<int>{6, 3, 5, 2}));
+  EXPECT_EQ(obs.CellCount(), 8);
+}
+
+TEST_F(ObservationsTest, EmptyCellsAreMissing) {
+  const std::string path = Write("gaps.csv",
+                                 "t,bob.x,bob.vx,energy\n"
+                                 "0.1,,0.25,\n"
+                                 "0.2, 1.5 ,,-2\n"
+                                 "0.3,,,7.5\n");
+  const Observations obs = ReadObservations(path, model_);
+  ASSERT_EQ(obs.values.size(), 3u);
+  EXPECT_TRUE(std::isnan(obs.values[0][0]));
+  EXPECT_EQ(obs.values[0][1], 0.25);
+  EXPECT_TRUE(std::isnan(obs.values[0][2]));  // a trailing empty cell
+  EXPECT_EQ(obs.values[1][0], 1.5);           // spaces around a number are allowed
+  EXPECT_TRUE(std::isnan(obs.values[1][1]));
+  EXPECT_EQ(obs.values[1][2], -2.0);
+  EXPECT_TRUE(std::isnan(obs.values[2][0]));
+  EXPECT_TRUE(std::isnan(obs.values[2][1]));
+  EXPECT_EQ(obs.values[2][2], 7.5);
+  EXPECT_EQ(obs.CellCount(), 4);
+}
+
+TEST_F(ObservationsTest, TimesAtBothEndsOfTheIntervalAreAccepted) {
+  const Observations obs = ReadObservations(Write("ends.csv", "t,bob.x\n0,1\n0.5,2\n"), model_);
+  EXPECT_EQ(obs.times, (std::vector<double>{0.0, 0.5}));
+}
+
+TEST_F(ObservationsTest, UnknownColumnIsRefused) {
+  ExpectRefused("t,bob.x,bob.angle\n0.1,1,2\n", 1, "bob.angle");  // a particle has no angle
+  ExpectRefused("t,ghost.x\n0.1,1\n", 1, "ghost.x");
+  ExpectRefused("t,bob.z\n0.1,1\n", 1, "bob.z");  // a planar scene has no z
+}
+
+TEST_F(ObservationsTest, ConstraintErrorColumnIsRefused) {
+  ExpectRefused("t,bob.x,constraint_error\n0.1,1,0\n", 1, "constraint_error");
+}
+
+TEST_F(ObservationsTest, DuplicateColumnIsRefused) {
+  ExpectRefused("t,bob.x,bar.y,bob.x\n0.1,1,2,3\n", 1, "bob.x");
+  ExpectRefused("t,bob.x,t\n0.1,1,0.2\n", 1, "'t'");
+}
+
+TEST_F(ObservationsTest, MissingTimeColumnIsRefused) {
+  ExpectRefused("bob.x,bob.y\n1,2\n", 1, "'t'");
+  ExpectRefused("t\n0.1\n", 1, "no observed column");
+}
+
+TEST_F(ObservationsTest, NonNumberCellIsRefused) {
+  ExpectRefused("t,bob.x\n0.1,1\n0.2,abc\n", 3, "abc");
+  ExpectRefused("t,bob.x\n0.1,1\n0.2,2\n0.3,1.5x\n", 4, "bob.x");
+  ExpectRefused("t,bob.x\n0.1,nan\n", 2, "bob.x");
+  ExpectRefused("t,bob.x\nzero,1\n", 2, "zero");
+  ExpectRefused("t,bob.x\n0.1,1\n,2\n", 3, "'t'");  // a missing time
+}
+
+TEST_F(ObservationsTest, TimeOutsideTheIntervalIsRefused) {
+  ExpectRefused("t,bob.x\n0.1,1\n-0.01,2\n", 3, "-0.01");
+  ExpectRefused("t,bob.x\n0.1,1\n0.2,2\n0.51,3\n", 4, "0.51");
+}
+
+TEST_F(ObservationsTest, RepeatedTimeIsRefused) {
+  // reported at the later line (in time order), naming the earlier one
+  ExpectRefused("t,bob.x\n0.2,1\n0.1,2\n0.2,3\n", 4, "line 2");
+}
+
+TEST_F(ObservationsTest, WrongNumberOfCellsIsRefused) {
+  ExpectRefused("t,bob.x,bob.y\n0.1,1,2\n0.2,1\n", 3, "got 2");
+  ExpectRefused("t,bob.x,bob.y\n0.1,1,2,3\n", 2, "got 4");
+}
+
+TEST_F(ObservationsTest, EmptyFileIsRefused) {
+  ExpectRefused("", 0, "empty");
+  ExpectRefused("t,bob.x\n", 0, "no rows");
+}
+
+TEST_F(ObservationsTest, MissingFileIsRefused) {
+  const std::string path = folder_ + "/does_not_exist.csv";
+  try {
+    ReadObservations(path, model_);
+    ADD_FAILURE() << "a missing file was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace tether
