@@ -26,6 +26,24 @@ Model<double> HorizontalChain(int n, Integrator integrator, KktSolver solver) {
   return model;
 }
 
+nlohmann::json HorizontalChainScene(int n, double duration) {
+  const double link = 1.0;
+  nlohmann::json bodies = nlohmann::json::array(), constraints = nlohmann::json::array();
+  for (int k = 0; k < n; ++k) {
+    const std::string name = "p" + std::to_string(k);
+    bodies.push_back({{"name", name}, {"type", "particle"}, {"mass", 1.0}, {"position", {(k + 1) * link, 0.0}}});
+    constraints.push_back({{"type", "distance"},
+                           {"bodies", {k == 0 ? std::string("world") : "p" + std::to_string(k - 1), name}},
+                           {"length", link}});
+  }
+  return {{"dimension", 2},
+          {"bodies", bodies},
+          {"constraints", constraints},
+          {"effects", nlohmann::json::array({{{"type", "gravity"}, {"acceleration", {0.0, -9.81}}}})},
+          {"simulation", {{"integrator", "rk4"}, {"step", 1e-3}, {"duration", duration}}},
+          {"stabilization", {{"method", "baumgarte"}, {"alpha", 20.0}, {"beta", 100.0}}}};
+}
+
 Model<double> FourBar(int n, KktSolver solver) {
   Model<double> model;
   const double inertia = 1.0 / 12.0;

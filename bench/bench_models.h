@@ -3,6 +3,8 @@
 
 #include <benchmark/benchmark.h>
 
+#include <nlohmann/json.hpp>
+
 #include "tether/dynamics/model.h"
 
 namespace tether::bench {
@@ -11,6 +13,11 @@ namespace tether::bench {
 // gravity, with the given integrator and KKT solver path. (Short links under the weight of a long chain make
 // transverse modes too fast for h = 1e-3: 1000 links of 1 mm reach about 3000 rad/s.)
 Model<double> HorizontalChain(int n, Integrator integrator, KktSolver solver);
+
+// The same chain as a scene document (rk4, step 1e-3 s, the given duration, solver "auto", Baumgarte alpha = 20,
+// beta = 100), with every mass and link length written out so that JSON Pointers can name them as parameters
+// (/bodies/k/mass, /constraints/k/length). Parse it with tether::ParseScene.
+nlohmann::json HorizontalChainScene(int n, double duration);
 
 // The IFToMM A02 N-four-bar: n parallelograms of uniform 1 m, 1 kg bars (2n + 1 rigid bodies, 4n + 2 pin
 // constraints, 8n + 4 rows), cranks vertical and turning at -1 rad/s, under gravity.
