@@ -16,6 +16,7 @@ nlohmann::json ToJson(const GainMetrics& m) {
   nlohmann::json j = {{"name", m.name},
                       {"alpha", m.alpha},
                       {"beta", m.beta},
+                      {"objective", m.objective},
                       {"diverged", m.diverged},
                       {"rms_position_error", m.rms_position_error},
                       {"max_constraint_error", m.max_constraint_error},
@@ -31,14 +32,15 @@ void PrintSummary(const TuneResult& r, double step) {
   std::fprintf(stderr, "stability: h omega = %.4g, bound %.4g, margin %.0f%%; %d evaluations in %.2f s (%s)\n",
                step * r.omega, r.bound, 100.0 * r.margin, r.optimizer.evaluations, r.optimizer.seconds,
                r.optimizer.message.c_str());
-  std::fprintf(stderr, "%-13s %10s %10s %14s %14s %12s %9s\n", "gains", "alpha", "beta", "rms error (m)",
-               "max C (m)", "energy drift", "time (s)");
+  std::fprintf(stderr, "%-13s %10s %10s %12s %14s %14s %12s %9s\n", "gains", "alpha", "beta", "objective",
+               "rms error (m)", "max C (m)", "energy drift", "time (s)");
   for (const GainMetrics& m : r.comparison) {
     if (m.diverged) {
-      std::fprintf(stderr, "%-13s %10.4g %10.4g %14s\n", m.name.c_str(), m.alpha, m.beta, "diverges");
+      std::fprintf(stderr, "%-13s %10.4g %10.4g %12.4g %14s\n", m.name.c_str(), m.alpha, m.beta, m.objective,
+                   "diverges");
     } else {
-      std::fprintf(stderr, "%-13s %10.4g %10.4g %14.3e %14.3e %12.3e %9.3f\n", m.name.c_str(), m.alpha, m.beta,
-                   m.rms_position_error, m.max_constraint_error, m.energy_drift, m.seconds);
+      std::fprintf(stderr, "%-13s %10.4g %10.4g %12.4g %14.3e %14.3e %12.3e %9.3f\n", m.name.c_str(), m.alpha,
+                   m.beta, m.objective, m.rms_position_error, m.max_constraint_error, m.energy_drift, m.seconds);
     }
   }
 }

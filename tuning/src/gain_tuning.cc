@@ -29,6 +29,7 @@ GainMetrics MeasureGains(const Model<double>& model, const std::string& name, do
   m.name = name;
   m.alpha = alpha;
   m.beta = beta;
+  if (beta > 0.0) m.objective = objective.Value(0.5 * std::log(beta), alpha / (2.0 * std::sqrt(beta)));
   const GainObjective::Reference& reference = objective.reference();
   double squared = 0.0, energy0 = 0.0, drift = 0.0, worst = 0.0;
   int k = 0;
@@ -66,8 +67,19 @@ TuneResult TuneGains(const Model<double>& model, const TuneSettings& settings) {
   const std::vector<double> lower = {std::log(kMinOmega), kMinZeta};
   const std::vector<double> upper = {std::log(result.omega_upper), kMaxZeta};
   const Gains rule = DefaultGains(integrator, h);
-  const double rule_omega = std::sqrt(rule.beta);
-  const std::vector<double> start = {std::clamp(std::log(rule_omega), lower[0], upper[0]), 1.0};
+  // the search starts from the best of the presets that lie in the box (all critically damped)
+  std::vector<double> start;
+  double best = INFINITY;
+  for (const double omega : {std::sqrt(rule.beta), 10.0, 50.0}) {
+    const double log_omega = std::log(omega);
+    if (log_omega < lower[0] || log_omega > upper[0]) continue;
+    const double value = objective.Value(log_omega, 1.0);
+    if (value < best || start.empty()) {
+      best = value;
+      start = {log_omega, 1.0};
+    }
+  }
+  if (start.empty()) start = {std::clamp(std::log(std::sqrt(rule.beta)), lower[0], upper[0]), 1.0};
 
   const ResidualFunction residuals = [&objective](const std::vector<double>& x, Eigen::VectorXd* r,
                                                   Eigen::MatrixXd* jacobian) {

@@ -3,7 +3,8 @@
 //   zeta in [kMinZeta, kMaxZeta],   omega in [kMinOmega, kStabilityMargin * min_zeta B(zeta) / h],
 // where B is the integrator's stability bound on h omega (stability.h): every point of the box keeps the
 // discrete error dynamics stable with a margin, so the tuner never returns gains that blow up. The search
-// starts from the default rule's gains (default_gains.h). The tuned gains are then compared with presets on
+// starts from the best of the presets inside the box (the default rule's gains, default_gains.h; 10 and 50
+// rad/s critically damped), so the result is never worse than those on the objective. The tuned gains are then compared with presets on
 // the whole run: none (0, 0); RBDL-style (20, 100); MuJoCo-style (100, 2500); the default rule.
 #pragma once
 
@@ -29,6 +30,7 @@ struct TuneSettings {
 struct GainMetrics {
   std::string name;
   double alpha = 0.0, beta = 0.0;
+  double objective = NAN;             // the tuning objective at these gains (NaN for beta = 0: not a point of it)
   bool diverged = false;
   std::string divergence;             // the simulator's message when diverged
   double rms_position_error = NAN;    // against the reference, m (NaN without a reference: drift objective)
