@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "gradient_command.h"
+#include "identify_command.h"
 #include "simulate_command.h"
 #include "tune_command.h"
 #include "tether/dynamics/errors.h"
@@ -17,6 +18,8 @@ int main(int argc, char** argv) {
   commands.push_back(cli::MakeSimulateCommand(&app));
   commands.push_back(cli::MakeGradientCommand(&app));
   commands.push_back(cli::MakeTuneCommand(&app));
+  commands.push_back(cli::MakeIdentifyCommand(&app));
+  commands.push_back(cli::MakeFitCommand(&app));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

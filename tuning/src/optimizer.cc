@@ -4,6 +4,8 @@
 #include <nlopt.h>
 
 #include <chrono>
+#include <cmath>
+#include <cstdlib>
 #include <nlopt.hpp>
 
 #include "tether/dynamics/errors.h"
@@ -50,9 +52,12 @@ OptimizerResult MinimizeWithCeres(const ResidualFunction& residuals, const std::
   residuals(start, &r, nullptr);  // Minimize checked that the start is feasible; this sizes the problem
   std::vector<double> x = start;
   ceres::Problem problem;
+  ceres::LossFunction* loss = nullptr;  // the problem owns it
+  if (settings.loss.kind == RobustLoss::Kind::kHuber) loss = new ceres::HuberLoss(settings.loss.delta);
+  if (settings.loss.kind == RobustLoss::Kind::kCauchy) loss = new ceres::CauchyLoss(settings.loss.delta);
   problem.AddResidualBlock(new ResidualCost(residuals, static_cast<int>(r.size()), static_cast<int>(x.size()),
                                             &result.evaluations),
-                           nullptr, x.data());
+                           loss, x.data());
   for (size_t i = 0; i < x.size(); ++i) {
     problem.SetParameterLowerBound(x.data(), static_cast<int>(i), lower[i]);
     problem.SetParameterUpperBound(x.data(), static_cast<int>(i), upper[i]);
@@ -71,6 +76,31 @@ OptimizerResult MinimizeWithCeres(const ResidualFunction& residuals, const std::
   return result;
 }
 
+// rho(s) and rho'(s) of a robust loss (the same functions as Ceres' HuberLoss and CauchyLoss).
+void EvaluateLoss(const RobustLoss& loss, double s, double rho[2]) {
+  const double b = loss.delta * loss.delta;
+  switch (loss.kind) {
+    case RobustLoss::Kind::kNone:
+      rho[0] = s;
+      rho[1] = 1.0;
+      return;
+    case RobustLoss::Kind::kHuber:
+      if (s <= b) {
+        rho[0] = s;
+        rho[1] = 1.0;
+      } else {
+        const double root = std::sqrt(s);
+        rho[0] = 2.0 * loss.delta * root - b;
+        rho[1] = loss.delta / root;
+      }
+      return;
+    case RobustLoss::Kind::kCauchy:
+      rho[0] = b * std::log1p(s / b);
+      rho[1] = 1.0 / (1.0 + s / b);
+      return;
+  }
+}
+
 bool IsMultiLevelSingleLinkage(const std::string& algorithm) { return algorithm.find("MLSL") != std::string::npos; }
 
 OptimizerResult MinimizeWithNlopt(const ResidualFunction& residuals, const std::string& algorithm_name,
@@ -81,8 +111,9 @@ OptimizerResult MinimizeWithNlopt(const ResidualFunction& residuals, const std::
   nlopt::opt opt(static_cast<nlopt::algorithm>(algorithm), static_cast<unsigned>(start.size()));
   struct Context {
     const ResidualFunction* residuals;
+    const RobustLoss* loss;
     int* evaluations;
-  } context{&residuals, &result.evaluations};
+  } context{&residuals, &settings.loss, &result.evaluations};
   auto objective = [](const std::vector<double>& x, std::vector<double>& gradient, void* data) -> double {
     const Context& c = *static_cast<Context*>(data);
     Eigen::VectorXd r;
@@ -93,11 +124,20 @@ OptimizerResult MinimizeWithNlopt(const ResidualFunction& residuals, const std::
       std::fill(gradient.begin(), gradient.end(), 0.0);
       return kInfeasibleValue;
     }
+    // f = 1/2 sum rho(r_i^2), df/dx = sum rho'(r_i^2) r_i dr_i/dx
+    double value = 0.0;
+    Eigen::VectorXd weight(r.size());
+    for (int i = 0; i < r.size(); ++i) {
+      double rho[2];
+      EvaluateLoss(*c.loss, r[i] * r[i], rho);
+      value += 0.5 * rho[0];
+      weight[i] = rho[1] * r[i];
+    }
     if (want_gradient) {
-      const Eigen::VectorXd g = jacobian.transpose() * r;
+      const Eigen::VectorXd g = jacobian.transpose() * weight;
       for (size_t i = 0; i < gradient.size(); ++i) gradient[i] = g[static_cast<int>(i)];
     }
-    return 0.5 * r.squaredNorm();
+    return value;
   };
   opt.set_min_objective(objective, &context);
   opt.set_lower_bounds(lower);
@@ -131,6 +171,58 @@ OptimizerResult MinimizeWithNlopt(const ResidualFunction& residuals, const std::
 
 }  // namespace
 
+RobustLoss ParseRobustLoss(const std::string& text, const std::string& flag) {
+  const size_t colon = text.find(':');
+  const std::string kind = text.substr(0, colon);
+  RobustLoss loss;
+  if (kind == "huber") {
+    loss.kind = RobustLoss::Kind::kHuber;
+  } else if (kind == "cauchy") {
+    loss.kind = RobustLoss::Kind::kCauchy;
+  } else {
+    throw InputError(flag + ": unknown loss '" + text + "' (expected huber:DELTA or cauchy:DELTA)");
+  }
+  char* end = nullptr;
+  const std::string number = colon == std::string::npos ? "" : text.substr(colon + 1);
+  loss.delta = std::strtod(number.c_str(), &end);
+  if (number.empty() || end != number.c_str() + number.size() || !(loss.delta > 0) || !std::isfinite(loss.delta)) {
+    throw InputError(flag + ": '" + text + "' needs a scale DELTA > 0, e.g. " + kind + ":0.01");
+  }
+  return loss;
+}
+
+double RobustCost(const RobustLoss& loss, const Eigen::VectorXd& r) {
+  double cost = 0.0;
+  for (int i = 0; i < r.size(); ++i) {
+    double rho[2];
+    EvaluateLoss(loss, r[i] * r[i], rho);
+    cost += 0.5 * rho[0];
+  }
+  return cost;
+}
+
+bool UnscaledCovariance(const ResidualFunction& residuals, const std::vector<double>& x, Eigen::MatrixXd* covariance) {
+  Eigen::VectorXd r;
+  if (!residuals(x, &r, nullptr)) return false;
+  int evaluations = 0;
+  std::vector<double> at = x;
+  ceres::Problem problem;
+  problem.AddResidualBlock(new ResidualCost(residuals, static_cast<int>(r.size()), static_cast<int>(x.size()), &evaluations),
+                           nullptr, at.data());
+  ceres::Covariance::Options options;
+  options.algorithm_type = ceres::DENSE_SVD;
+  options.null_space_rank = -1;
+  options.min_reciprocal_condition_number = 1e-14;
+  ceres::Covariance estimator(options);
+  const std::vector<std::pair<const double*, const double*>> blocks = {{at.data(), at.data()}};
+  if (!estimator.Compute(blocks, &problem)) return false;
+  covariance->resize(x.size(), x.size());
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> rows(x.size(), x.size());
+  if (!estimator.GetCovarianceBlock(at.data(), at.data(), rows.data())) return false;
+  *covariance = rows;
+  return true;
+}
+
 void CheckOptimizerName(const std::string& name) {
   if (name == "ceres") return;
   const std::string prefix = "nlopt:";
@@ -162,9 +254,12 @@ OptimizerResult Minimize(const ResidualFunction& residuals, const std::vector<do
     if (jacobian) *jacobian *= scale;
     return true;
   };
-  OptimizerResult result = settings.name == "ceres"
-                               ? MinimizeWithCeres(scaled, start, lower, upper, settings)
-                               : MinimizeWithNlopt(scaled, settings.name.substr(6), start, lower, upper, settings);
+  OptimizerSettings scaled_settings = settings;  // rho is homogeneous of degree 2 in (r, delta)
+  scaled_settings.loss.delta *= scale;
+  OptimizerResult result =
+      settings.name == "ceres"
+          ? MinimizeWithCeres(scaled, start, lower, upper, scaled_settings)
+          : MinimizeWithNlopt(scaled, settings.name.substr(6), start, lower, upper, scaled_settings);
   result.value /= scale * scale;
   result.evaluations += 1;
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();

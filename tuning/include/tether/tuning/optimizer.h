@@ -1,4 +1,5 @@
-// Minimizing f(x) = 1/2 |r(x)|^2 over a box with Ceres or NLopt, for gain tuning and (later) identification.
+// Minimizing f(x) = 1/2 sum rho(r_i(x)^2) (rho: a robust loss, the identity by default) over a box with Ceres or
+// NLopt, for gain tuning and identification.
 //
 // The residual function returns false at an infeasible point (the simulation diverges). Ceres then rejects the
 // step (the cost function returns false); NLopt gets a large finite value, kInfeasibleValue, and a zero
@@ -23,15 +24,29 @@ inline constexpr double kInfeasibleValue = 1e10;
 // r at x; the Jacobian (rows of r by entries of x) too when jacobian is not null. False: infeasible.
 using ResidualFunction = std::function<bool(const std::vector<double>& x, Eigen::VectorXd* r, Eigen::MatrixXd* jacobian)>;
 
+// A robust loss rho(s) of the squared residual s = r_i^2 (Ceres' convention): the cost is 1/2 sum rho(r_i^2).
+//   none    rho(s) = s
+//   huber   rho(s) = s for s <= d^2, 2 d sqrt(s) - d^2 beyond       (linear growth past |r| = d)
+//   cauchy  rho(s) = d^2 log(1 + s / d^2)                            (logarithmic growth)
+struct RobustLoss {
+  enum class Kind { kNone, kHuber, kCauchy };
+  Kind kind = Kind::kNone;
+  double delta = 1.0;
+};
+
+// Parses "huber:DELTA" or "cauchy:DELTA" (DELTA > 0); throws InputError naming `flag`.
+RobustLoss ParseRobustLoss(const std::string& text, const std::string& flag);
+
 struct OptimizerSettings {
   std::string name = "ceres";
+  RobustLoss loss;
   int max_evaluations = 200;
   double relative_tolerance = 1e-8;  // on x (NLopt) and on the cost decrease (Ceres)
 };
 
 struct OptimizerResult {
   std::vector<double> x;
-  double value = 0.0;    // 1/2 |r|^2 at x
+  double value = 0.0;    // 1/2 sum rho(r_i^2) at x (1/2 |r|^2 without a robust loss)
   int evaluations = 0;   // residual evaluations, with or without Jacobian
   double seconds = 0.0;
   std::string message;   // the back end's own summary of why it stopped
@@ -44,5 +59,12 @@ OptimizerResult Minimize(const ResidualFunction& residuals, const std::vector<do
 
 // Checks an optimizer name without running anything; throws InputError like Minimize.
 void CheckOptimizerName(const std::string& name);
+
+// 1/2 sum rho(r_i^2).
+double RobustCost(const RobustLoss& loss, const Eigen::VectorXd& r);
+
+// (J^T J)^-1 at x from ceres::Covariance (dense SVD; directions whose reciprocal condition number is below
+// 1e-14 are dropped, as a pseudo-inverse does). False if the residuals cannot be evaluated there.
+bool UnscaledCovariance(const ResidualFunction& residuals, const std::vector<double>& x, Eigen::MatrixXd* covariance);
 
 }  // namespace tether

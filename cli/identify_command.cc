@@ -1,0 +1,153 @@
+#include "identify_command.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <iostream>
+#include <limits>
+
+#include "scene_overrides.h"
+#include "tether/dynamics/errors.h"
+#include "tether/dynamics/scene_reader.h"
+#include "tether/dynamics/trajectory_csv.h"
+#include "tether/tuning/identification.h"
+
+namespace tether::cli {
+namespace {
+
+// "PTR=LO:HI" -> (PTR, LO, HI); either bound may be empty (unbounded on that side).
+std::tuple<std::string, double, double> ParseBound(const std::string& text) {
+  const size_t equals = text.rfind('='), colon = text.rfind(':');
+  if (equals == std::string::npos || colon == std::string::npos || colon < equals) {
+    throw InputError("--bound: '" + text + "' is not PTR=LO:HI (e.g. /bodies/0/mass=0.1:10)");
+  }
+  auto number = [&text](const std::string& s, double unbounded) {
+    if (s.empty()) return unbounded;
+    char* end = nullptr;
+    const double x = std::strtod(s.c_str(), &end);
+    if (end != s.c_str() + s.size() || std::isnan(x)) throw InputError("--bound: '" + text + "': '" + s + "' is not a number");
+    return x;
+  };
+  const double lo = number(text.substr(equals + 1, colon - equals - 1), -std::numeric_limits<double>::max());
+  const double hi = number(text.substr(colon + 1), std::numeric_limits<double>::max());
+  if (!(lo < hi)) throw InputError("--bound: '" + text + "': LO must be below HI");
+  return {text.substr(0, equals), lo, hi};
+}
+
+nlohmann::json NumberOrNull(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
+
+class IdentifyCommand final : public Command {
+ public:
+  IdentifyCommand(CLI::App* parent, bool fit) : fit_(fit) {
+    app_ = fit ? parent->add_subcommand("fit", "fit initial conditions or force schedules to target keyframes")
+               : parent->add_subcommand("identify", "identify scene parameters from recorded trajectories");
+    app_->add_option("SCENE", scene_path_, "scene file (JSON) holding the initial guess")->required();
+    app_->add_option("--data", data_paths_, "a recording or targets: trajectory CSV with t and any columns (repeatable)")
+        ->required();
+    app_->add_option("--param", pointers_, "an unknown, as a JSON Pointer into the scene (repeatable)")->required();
+    app_->add_option("--bound", bounds_, "PTR=LO:HI bounds an unknown (repeatable; LO or HI may be left empty)");
+    app_->add_option("--segments", segments_, "multiple shooting with K segments (default 1: single shooting)");
+    app_->add_option("--loss", loss_, "robust loss: huber:DELTA or cauchy:DELTA (default: squares)");
+    app_->add_option("--optimizer", optimizer_, "ceres (default) or nlopt:ALGORITHM");
+    app_->add_option("--max-evaluations", max_evaluations_, "budget of residual evaluations (default 200)");
+    app_->add_option("-o,--output", output_path_, "write the scene with the estimates in place");
+    if (fit) app_->add_option("--smooth", smooth_, "weight W of the penalty on changes between schedule values");
+    overrides_.Register(app_);
+  }
+
+  CLI::App* app() const override { return app_; }
+
+  int Run() override {
+    IdentifySettings settings;
+    settings.optimizer.name = optimizer_;
+    CheckOptimizerName(optimizer_);
+    if (!loss_.empty()) settings.optimizer.loss = ParseRobustLoss(loss_, "--loss");
+    if (segments_ < 1) throw InputError("--segments: must be a whole number >= 1, got " + std::to_string(segments_));
+    if (max_evaluations_ < 2) {
+      throw InputError("--max-evaluations: must be a whole number >= 2, got " + std::to_string(max_evaluations_));
+    }
+    if (!(smooth_ >= 0) || !std::isfinite(smooth_)) throw InputError("--smooth: must be >= 0");
+    settings.segments = segments_;
+    settings.smooth = smooth_;
+    settings.optimizer.max_evaluations = max_evaluations_;
+
+    Scene scene = ReadSceneFile(scene_path_);
+    overrides_.Apply(&scene.model);
+    const ParameterSet parameters(scene, pointers_);
+    settings.bounds.assign(parameters.size(), {-std::numeric_limits<double>::max(), std::numeric_limits<double>::max()});
+    for (const std::string& text : bounds_) {
+      const auto [pointer, lo, hi] = ParseBound(text);
+      const auto it = std::find(pointers_.begin(), pointers_.end(), pointer);
+      if (it == pointers_.end()) throw InputError("--bound: '" + pointer + "' is not one of the --param pointers");
+      settings.bounds[it - pointers_.begin()] = {lo, hi};
+    }
+    std::vector<Observations> recordings;
+    for (const std::string& path : data_paths_) recordings.push_back(ReadObservations(path, scene.model));
+    std::unique_ptr<AtomicOutputFile> out;
+    if (!output_path_.empty()) out = std::make_unique<AtomicOutputFile>(output_path_);
+
+    IdentifyResult result;
+    try {
+      result = Identify(scene.model, parameters, recordings, settings);
+    } catch (const InputError& e) {
+      throw InputError(scene_path_ + ": " + e.what());
+    }
+    if (out) {
+      nlohmann::json updated = scene.document;
+      parameters.WriteInto(result.estimate, &updated);
+      out->stream() << updated.dump(2) << "\n";
+      out->Commit();
+    }
+    std::cout << ToJson(parameters, result).dump(2) << std::endl;
+    for (const std::string& warning : result.warnings) std::cerr << "tether: warning: " << warning << "\n";
+    return 0;
+  }
+
+ private:
+  nlohmann::json ToJson(const ParameterSet& parameters, const IdentifyResult& r) const {
+    nlohmann::json j;
+    j["parameters"] = nlohmann::json::object();
+    j["standard_deviation"] = nlohmann::json::object();
+    j["initial_parameters"] = nlohmann::json::object();
+    j["correlation"] = nlohmann::json::object();
+    for (int i = 0; i < parameters.size(); ++i) {
+      const std::string& ptr = parameters.pointers()[i];
+      j["parameters"][ptr] = r.estimate[i];
+      j["standard_deviation"][ptr] = NumberOrNull(r.standard_deviation[i]);
+      j["initial_parameters"][ptr] = r.initial[i];
+      for (int k = 0; k < parameters.size(); ++k) {
+        j["correlation"][ptr][parameters.pointers()[k]] = NumberOrNull(r.correlation(i, k));
+      }
+    }
+    j["initial_cost"] = r.initial_cost;
+    j["final_cost"] = r.final_cost;
+    j["condition_number"] = NumberOrNull(r.condition_number);
+    j["residual_count"] = r.residual_count;
+    j["evaluations"] = r.optimizer.evaluations;
+    j["seconds"] = r.optimizer.seconds;
+    j["optimizer"] = optimizer_;
+    j["optimizer_message"] = r.optimizer.message;
+    j["segments"] = segments_;
+    j["warnings"] = r.warnings;
+    j["residuals"] = nlohmann::json::array();
+    for (const ResidualStatistics& s : r.residuals) {
+      j["residuals"].push_back({{"file", s.file}, {"column", s.column}, {"count", s.count}, {"rms", s.rms},
+                                {"max", s.largest}});
+    }
+    return j;
+  }
+
+  bool fit_;
+  CLI::App* app_;
+  std::string scene_path_, output_path_, loss_, optimizer_ = "ceres";
+  std::vector<std::string> data_paths_, pointers_, bounds_;
+  int segments_ = 1, max_evaluations_ = 200;
+  double smooth_ = 0.0;
+  SceneOverrides overrides_;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> MakeIdentifyCommand(CLI::App* parent) { return std::make_unique<IdentifyCommand>(parent, false); }
+std::unique_ptr<Command> MakeFitCommand(CLI::App* parent) { return std::make_unique<IdentifyCommand>(parent, true); }
+
+}  // namespace tether::cli

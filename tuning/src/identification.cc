@@ -1,0 +1,402 @@
+#include "tether/tuning/identification.h"
+
+#include <Eigen/SVD>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "tether/dynamics/errors.h"
+#include "tether/dynamics/simulator.h"
+
+namespace tether {
+namespace {
+
+using Kind = FieldRef::Kind;
+constexpr double kUnbounded = std::numeric_limits<double>::max();
+
+// The state of a run at requested times: q, v and the energy at each.
+template <typename T>
+struct States {
+  std::vector<VecX<T>> q, v;
+  std::vector<T> energy;
+};
+
+template <typename T>
+States<T> StatesAt(const Model<T>& model, double start, const std::vector<double>& times) {
+  States<T> out;
+  RunOptions options;
+  options.every = std::numeric_limits<int>::max();
+  options.start_time = start;
+  options.stops = times;
+  Simulate<T>(model, options, [&out](const Sample<T>& s) {
+    if (s.stop < 0) return;
+    out.q.push_back(s.q);
+    out.v.push_back(s.v);
+    out.energy.push_back(s.energy);
+  });
+  return out;
+}
+
+// Everything Identify needs to turn unknowns into residuals.
+class ShootingProblem {
+ public:
+  ShootingProblem(const Model<double>& model, const ParameterSet& parameters, const std::vector<Observations>& recordings,
+                  const IdentifySettings& settings)
+      : model_(model), parameters_(parameters), recordings_(recordings), settings_(settings) {
+    const std::vector<double> values = parameters.Values(model);
+    for (int i = 0; i < parameters.size(); ++i) {
+      const bool lower_positive = settings.bounds.empty() || settings.bounds[i].first > 0 ||
+                                  settings.bounds[i].first == -kUnbounded;
+      log_space_.push_back(PositiveKind(parameters.field(i).kind) && values[i] > 0 && lower_positive);
+    }
+    double end = 0.0;
+    for (const Observations& r : recordings) end = std::max(end, r.times.back());
+    if (!(end > 0.0)) throw InputError("the data has no observation after t = 0: there is nothing to fit");
+    const int segments = std::max(1, settings.segments);
+    for (int k = 0; k <= segments; ++k) boundaries_.push_back(end * k / segments);
+    state_size_ = 2 * model.NumCoordinates();
+    // the smoothing pairs: consecutive values of one schedule component
+    for (int a = 0; a < parameters.size(); ++a) {
+      for (int b = 0; b < parameters.size(); ++b) {
+        const FieldRef &fa = parameters.field(a), &fb = parameters.field(b);
+        const bool schedule = fa.kind == Kind::kForceSchedule || fa.kind == Kind::kTorqueSchedule;
+        if (schedule && fb.kind == fa.kind && fb.index == fa.index && fb.component == fa.component &&
+            fb.slot == fa.slot + 1) {
+          smooth_pairs_.push_back({a, b});
+        }
+      }
+    }
+  }
+
+  int Unknowns() const { return parameters_.size() + (Segments() - 1) * state_size_; }
+  int Segments() const { return static_cast<int>(boundaries_.size()) - 1; }
+  bool LogSpace(int i) const { return log_space_[i]; }
+
+  // unknowns <-> parameters (in their own units)
+  double ToUnknown(int i, double p) const { return log_space_[i] ? std::log(p) : p; }
+  double ToParameter(int i, double x) const { return log_space_[i] ? std::exp(x) : x; }
+
+  // The starting unknowns: the scene's parameters and, for multiple shooting, segment start states from the
+  // initial-guess run with the observed components replaced by the data nearest in time.
+  std::vector<double> Start() const {
+    std::vector<double> x;
+    const std::vector<double> values = parameters_.Values(model_);
+    for (int i = 0; i < parameters_.size(); ++i) x.push_back(ToUnknown(i, values[i]));
+    if (Segments() == 1) return x;
+    const std::vector<double> starts(boundaries_.begin() + 1, boundaries_.end() - 1);
+    States<double> guess;
+    try {
+      guess = StatesAt(TruncatedModel(model_, 0), 0.0, starts);
+    } catch (const SimulationDiverged&) {  // the guess diverges: start every segment from the initial state
+      guess.q.assign(starts.size(), model_.q0);
+      guess.v.assign(starts.size(), model_.v0);
+    }
+    for (size_t k = 0; k < starts.size(); ++k) {
+      VecX<double> q = guess.q[k], v = guess.v[k];
+      ReplaceByData(starts[k], &q, &v);
+      for (int i = 0; i < q.size(); ++i) x.push_back(q[i]);
+      for (int i = 0; i < v.size(); ++i) x.push_back(v[i]);
+    }
+    return x;
+  }
+
+  // Residuals at unknowns x, and their Jacobian when asked (Jets in chunks of kJetStride unknowns).
+  bool Evaluate(const std::vector<double>& x, Eigen::VectorXd* r, Eigen::MatrixXd* jacobian) const {
+    Model<double> guess = model_;
+    for (int i = 0; i < parameters_.size(); ++i) parameters_.Field(&guess, i) = ToParameter(i, x[i]);
+    try {
+      if (!jacobian) {
+        const std::vector<double> values = Residuals<double>(CastModel<double>(guess), x, -1);
+        *r = Eigen::Map<const Eigen::VectorXd>(values.data(), values.size());
+        return true;
+      }
+      const int n = Unknowns();
+      for (int first = 0; first < n; first += kJetStride) {
+        const std::vector<Jet> values = Residuals<Jet>(CastModel<Jet>(guess), x, first);
+        if (first == 0) {
+          r->resize(values.size());
+          jacobian->setZero(values.size(), n);
+          for (size_t i = 0; i < values.size(); ++i) (*r)[i] = values[i].a;
+        }
+        for (int k = 0; k < kJetStride && first + k < n; ++k) {
+          for (size_t i = 0; i < values.size(); ++i) (*jacobian)(i, first + k) = values[i].v[k];
+        }
+      }
+      return true;
+    } catch (const SimulationDiverged&) {
+      return false;
+    }
+  }
+
+  // The data residuals at x grouped per recording and column, for the report.
+  std::vector<ResidualStatistics> Statistics(const std::vector<double>& x) const {
+    Model<double> guess = model_;
+    for (int i = 0; i < parameters_.size(); ++i) parameters_.Field(&guess, i) = ToParameter(i, x[i]);
+    std::vector<ResidualStatistics> stats;
+    for (const Observations& r : recordings_) {
+      for (const ObservedColumn& c : r.columns) stats.push_back({r.path, c.name});
+    }
+    DataResiduals<double>(guess, x, -1, [&stats](size_t group, double residual) {
+      ResidualStatistics& s = stats[group];
+      ++s.count;
+      s.rms += residual * residual;
+      s.largest = std::max(s.largest, std::abs(residual));
+    });
+    for (ResidualStatistics& s : stats) s.rms = s.count ? std::sqrt(s.rms / s.count) : 0.0;
+    return stats;
+  }
+
+ private:
+  // The model covering segment k: its duration ends at the next boundary.
+  template <typename T>
+  Model<T> TruncatedModel(const Model<T>& model, int k) const {
+    Model<T> out = model;
+    out.simulation.duration = boundaries_[k + 1] - boundaries_[k];
+    return out;
+  }
+
+  void ReplaceByData(double t, VecX<double>* q, VecX<double>* v) const {
+    for (const Observations& r : recordings_) {
+      size_t nearest = 0;
+      for (size_t row = 1; row < r.times.size(); ++row) {
+        if (std::abs(r.times[row] - t) < std::abs(r.times[nearest] - t)) nearest = row;
+      }
+      for (size_t c = 0; c < r.columns.size(); ++c) {
+        const double value = r.values[nearest][c];
+        if (std::isnan(value)) continue;
+        const ObservedColumn& column = r.columns[c];
+        if (column.source == ObservedColumn::Source::kCoordinate) (*q)[column.index] = value;
+        if (column.source == ObservedColumn::Source::kVelocity) (*v)[column.index] = value;
+        // a coordinate observed without its velocity: central difference of the neighbouring rows
+        if (column.source == ObservedColumn::Source::kCoordinate && nearest > 0 && nearest + 1 < r.times.size() &&
+            !std::isnan(r.values[nearest - 1][c]) && !std::isnan(r.values[nearest + 1][c])) {
+          (*v)[column.index] = (r.values[nearest + 1][c] - r.values[nearest - 1][c]) /
+                               (r.times[nearest + 1] - r.times[nearest - 1]);
+        }
+      }
+    }
+  }
+
+  // Calls add(group, residual) for every data residual (group: recording x column, as in Statistics), in a fixed
+  // order; returns the end state of every segment but the last (for the continuity residuals).
+  template <typename T, typename Add>
+  std::vector<std::pair<VecX<T>, VecX<T>>> DataResiduals(const Model<T>& model, const std::vector<double>& x,
+                                                         int first_seeded, Add add) const {
+    std::vector<std::pair<VecX<T>, VecX<T>>> ends;
+    const int n_params = parameters_.size();
+    for (int k = 0; k < Segments(); ++k) {
+      Model<T> segment = TruncatedModel(model, k);
+      if (k > 0) {  // this segment's start state is an unknown
+        const int offset = n_params + (k - 1) * state_size_;
+        const int n = model.NumCoordinates();
+        for (int i = 0; i < state_size_; ++i) {
+          T value(x[offset + i]);
+          SeedUnknown(offset + i, first_seeded, &value);
+          (i < n ? segment.q0[i] : segment.v0[i - n]) = value;
+        }
+      }
+      const double begin = boundaries_[k], end = boundaries_[k + 1];
+      std::vector<double> times;  // every recording's times in (begin, end] (and t = 0 in the first segment)
+      for (const Observations& r : recordings_) {
+        for (double t : r.times) {
+          if ((t > begin || (k == 0 && t == begin)) && t <= end) times.push_back(t);
+        }
+      }
+      times.push_back(end);
+      std::sort(times.begin(), times.end());
+      times.erase(std::unique(times.begin(), times.end()), times.end());
+      const States<T> states = StatesAt(segment, begin, times);
+      size_t group = 0;
+      for (const Observations& r : recordings_) {
+        for (size_t row = 0; row < r.times.size(); ++row) {
+          const double t = r.times[row];
+          if (!((t > begin || (k == 0 && t == begin)) && t <= end)) continue;
+          const size_t at = std::lower_bound(times.begin(), times.end(), t) - times.begin();
+          for (size_t c = 0; c < r.columns.size(); ++c) {
+            const double observed = r.values[row][c];
+            if (std::isnan(observed)) continue;
+            const ObservedColumn& column = r.columns[c];
+            const T simulated = column.source == ObservedColumn::Source::kCoordinate ? states.q[at][column.index]
+                                : column.source == ObservedColumn::Source::kVelocity ? states.v[at][column.index]
+                                                                                     : states.energy[at];
+            add(group + c, simulated - T(observed));
+          }
+        }
+        group += r.columns.size();
+      }
+      if (k + 1 < Segments()) ends.push_back({states.q.back(), states.v.back()});
+    }
+    return ends;
+  }
+
+  // Seeds derivative direction (unknown - first_seeded) when that unknown is in the current chunk.
+  template <typename T>
+  static void SeedUnknown(int unknown, int first_seeded, T* value) {
+    if constexpr (IsJet<T>::value) {
+      if (first_seeded >= 0 && unknown >= first_seeded && unknown < first_seeded + kJetStride) {
+        value->v[unknown - first_seeded] = 1.0;
+      }
+    }
+  }
+
+  template <typename T>
+  std::vector<T> Residuals(Model<T> model, const std::vector<double>& x, int first_seeded) const {
+    for (int i = 0; i < parameters_.size(); ++i) {  // d p / d x: p for log p, 1 otherwise
+      T& field = parameters_.Field(&model, i);
+      if constexpr (IsJet<T>::value) {
+        if (first_seeded >= 0 && i >= first_seeded && i < first_seeded + kJetStride) {
+          field.v[i - first_seeded] = log_space_[i] ? field.a : 1.0;
+        }
+      }
+    }
+    std::vector<T> out;
+    const auto ends = DataResiduals<T>(model, x, first_seeded, [&out](size_t, const T& r) { out.push_back(r); });
+    // continuity: end of segment k - start of segment k + 1
+    for (size_t k = 0; k < ends.size(); ++k) {
+      const int offset = parameters_.size() + static_cast<int>(k) * state_size_;
+      const int n = model.NumCoordinates();
+      for (int i = 0; i < state_size_; ++i) {
+        T start(x[offset + i]);
+        SeedUnknown(offset + i, first_seeded, &start);
+        out.push_back((i < n ? ends[k].first[i] : ends[k].second[i - n]) - start);
+      }
+    }
+    const double weight = std::sqrt(settings_.smooth);
+    for (const auto& [a, b] : smooth_pairs_) {
+      out.push_back(T(weight) * (parameters_.Field(&model, b) - parameters_.Field(&model, a)));
+    }
+    return out;
+  }
+
+  const Model<double>& model_;
+  const ParameterSet& parameters_;
+  const std::vector<Observations>& recordings_;
+  const IdentifySettings& settings_;
+  std::vector<bool> log_space_;
+  std::vector<double> boundaries_;
+  int state_size_ = 0;
+  std::vector<std::pair<int, int>> smooth_pairs_;
+};
+
+std::string Names(const ParameterSet& parameters, const Eigen::VectorXd& direction) {
+  std::string names;
+  for (int i = 0; i < parameters.size(); ++i) {
+    if (std::abs(direction[i]) > 0.3) names += (names.empty() ? "" : ", ") + parameters.pointers()[i];
+  }
+  return names;
+}
+
+}  // namespace
+
+bool PositiveKind(FieldRef::Kind kind) {
+  switch (kind) {
+    case Kind::kMass:
+    case Kind::kInertia:
+    case Kind::kDistanceLength:
+    case Kind::kSpringStiffness:
+    case Kind::kSpringRestLength:
+    case Kind::kSpringDamping:
+    case Kind::kDampingCoefficient:
+    case Kind::kDampingAngular:
+      return true;
+    default:
+      return false;
+  }
+}
+
+IdentifyResult Identify(const Model<double>& model, const ParameterSet& parameters,
+                        const std::vector<Observations>& recordings, const IdentifySettings& settings) {
+  const ShootingProblem problem(model, parameters, recordings, settings);
+  const int n = problem.Unknowns(), p = parameters.size();
+  IdentifyResult result;
+  result.initial = parameters.Values(model);
+
+  std::vector<double> lower(n, -kUnbounded), upper(n, kUnbounded);
+  for (int i = 0; i < p && !settings.bounds.empty(); ++i) {
+    const auto [lo, hi] = settings.bounds[i];
+    if (!(result.initial[i] >= lo && result.initial[i] <= hi)) {
+      std::ostringstream message;
+      message << "--bound " << parameters.pointers()[i] << ": the scene's value " << result.initial[i]
+              << " lies outside [" << lo << ", " << hi << "]";
+      throw InputError(message.str());
+    }
+    if (lo != -kUnbounded) lower[i] = problem.LogSpace(i) ? std::log(lo) : lo;
+    if (hi != kUnbounded) upper[i] = problem.ToUnknown(i, hi);
+  }
+  const bool global = settings.optimizer.name.rfind("nlopt:G", 0) == 0;
+  if (global) {
+    for (int i = 0; i < n; ++i) {
+      if (lower[i] == -kUnbounded || upper[i] == kUnbounded) {
+        throw InputError("--optimizer " + settings.optimizer.name +
+                         ": a global optimizer needs finite bounds (--bound PTR=LO:HI) on every parameter, and single "
+                         "shooting");
+      }
+    }
+  }
+
+  const ResidualFunction residuals = [&problem](const std::vector<double>& x, Eigen::VectorXd* r,
+                                                Eigen::MatrixXd* jacobian) { return problem.Evaluate(x, r, jacobian); };
+  const std::vector<double> start = problem.Start();
+  Eigen::VectorXd r0;
+  if (!residuals(start, &r0, nullptr)) {
+    throw InputError("the simulation diverges at the initial parameters; give a better initial guess or use --segments");
+  }
+  result.initial_cost = RobustCost(settings.optimizer.loss, r0);
+  result.optimizer = Minimize(residuals, start, lower, upper, settings.optimizer);
+  const std::vector<double>& x = result.optimizer.x;
+  for (int i = 0; i < p; ++i) result.estimate.push_back(problem.ToParameter(i, x[i]));
+  Eigen::VectorXd r;
+  residuals(x, &r, nullptr);
+  result.final_cost = RobustCost(settings.optimizer.loss, r);
+  result.residual_count = static_cast<int>(r.size());
+  result.residuals = problem.Statistics(x);
+
+  // uncertainty, with the parameters in their own units: J_p = J_x dx/dp
+  const ResidualFunction in_own_units = [&](const std::vector<double>& y, Eigen::VectorXd* res, Eigen::MatrixXd* jac) {
+    std::vector<double> unknowns = y;
+    for (int i = 0; i < p; ++i) unknowns[i] = problem.ToUnknown(i, y[i]);
+    if (!residuals(unknowns, res, jac)) return false;
+    if (jac) {
+      for (int i = 0; i < p; ++i) jac->col(i) /= problem.LogSpace(i) ? y[i] : 1.0;
+    }
+    return true;
+  };
+  std::vector<double> y = x;
+  for (int i = 0; i < p; ++i) y[i] = result.estimate[i];
+  result.standard_deviation.assign(p, NAN);
+  result.correlation = Eigen::MatrixXd::Constant(p, p, NAN);
+  Eigen::VectorXd unused;
+  Eigen::MatrixXd jacobian;
+  Eigen::MatrixXd covariance;
+  const int dof = result.residual_count - n;
+  if (in_own_units(y, &unused, &jacobian)) {
+    // identifiability: condition number of the parameters' columns scaled by their magnitudes
+    Eigen::MatrixXd scaled = jacobian.leftCols(p);
+    for (int i = 0; i < p; ++i) scaled.col(i) *= std::max(std::abs(result.estimate[i]), 1e-12);
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(scaled, Eigen::ComputeThinV);
+    const Eigen::VectorXd sigma = svd.singularValues();
+    result.condition_number = sigma[p - 1] > 0 ? sigma[0] / sigma[p - 1] : INFINITY;
+    if (!(result.condition_number <= kIdentifiabilityCondition)) {
+      std::ostringstream message;
+      message << "the parameters are not identifiable from this data (condition number " << result.condition_number
+              << "); the weakest direction involves " << Names(parameters, svd.matrixV().col(p - 1));
+      result.warnings.push_back(message.str());
+    }
+    if (dof > 0 && UnscaledCovariance(in_own_units, y, &covariance)) {
+      const double variance = 2.0 * result.final_cost / dof;
+      for (int i = 0; i < p; ++i) result.standard_deviation[i] = std::sqrt(variance * covariance(i, i));
+      for (int i = 0; i < p; ++i) {
+        for (int j = 0; j < p; ++j) {
+          result.correlation(i, j) = covariance(i, j) / std::sqrt(covariance(i, i) * covariance(j, j));
+        }
+      }
+    }
+  }
+  if (dof <= 0) {
+    result.warnings.push_back("as many unknowns as residuals: the fit is exact and no standard deviation can be estimated");
+  }
+  return result;
+}
+
+}  // namespace tether
