@@ -85,9 +85,11 @@ class ShootingProblem {
     for (int i = 0; i < parameters_.size(); ++i) x.push_back(ToUnknown(i, values[i]));
     if (Segments() == 1) return x;
     const std::vector<double> starts(boundaries_.begin() + 1, boundaries_.end() - 1);
+    Model<double> whole = model_;
+    whole.simulation.duration = boundaries_.back();
     States<double> guess;
     try {
-      guess = StatesAt(TruncatedModel(model_, 0), 0.0, starts);
+      guess = StatesAt(whole, 0.0, starts);
     } catch (const SimulationDiverged&) {  // the guess diverges: start every segment from the initial state
       guess.q.assign(starts.size(), model_.q0);
       guess.v.assign(starts.size(), model_.v0);
