@@ -390,8 +390,15 @@ IdentifyResult Identify(const Model<double>& model, const ParameterSet& paramete
       for (int i = 0; i < p; ++i) result.standard_deviation[i] = std::sqrt(variance * covariance(i, i));
       for (int i = 0; i < p; ++i) {
         for (int j = 0; j < p; ++j) {
-          result.correlation(i, j) = covariance(i, j) / std::sqrt(covariance(i, i) * covariance(j, j));
+          const double c = covariance(i, j) / std::sqrt(covariance(i, i) * covariance(j, j));
+          result.correlation(i, j) = std::clamp(c, -1.0, 1.0);
         }
+      }
+    }
+    // the pseudo-inverse drops the weak direction, so its parameters would look precise: they are not
+    if (!(result.condition_number <= kIdentifiabilityCondition)) {
+      for (int i = 0; i < p; ++i) {
+        if (std::abs(svd.matrixV()(i, p - 1)) > 0.3) result.standard_deviation[i] = NAN;
       }
     }
   }

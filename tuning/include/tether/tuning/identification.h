@@ -16,7 +16,8 @@
 // s^2 (J^T J)^-1 comes from ceres::Covariance (dense SVD, dropping directions below a reciprocal condition
 // number of 1e-14). Standard deviations and correlations are read off its parameter block. The parameters are
 // reported as not identifiable when the columns of J scaled by the parameters' magnitudes have a condition
-// number above kIdentifiabilityCondition; the warning names the parameters of the weakest direction.
+// number above kIdentifiabilityCondition; the warning names the parameters of the weakest direction, and
+// those get no standard deviation (NaN; null in JSON) rather than the small one the pseudo-inverse would give.
 #pragma once
 
 #include <string>
