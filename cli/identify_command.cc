@@ -5,6 +5,7 @@
 #include <iostream>
 #include <limits>
 
+#include "fit_plot.h"
 #include "scene_overrides.h"
 #include "tether/dynamics/errors.h"
 #include "tether/dynamics/scene_reader.h"
@@ -50,6 +51,7 @@ class IdentifyCommand final : public Command {
     app_->add_option("--optimizer", optimizer_, "ceres (default) or nlopt:ALGORITHM");
     app_->add_option("--max-evaluations", max_evaluations_, "budget of residual evaluations (default 200)");
     app_->add_option("-o,--output", output_path_, "write the scene with the estimates in place");
+    app_->add_option("--plot", plot_path_, "draw the data against the motion with the estimates (PNG or SVG)");
     if (fit) app_->add_option("--smooth", smooth_, "weight W of the penalty on changes between schedule values");
     overrides_.Register(app_);
   }
@@ -90,6 +92,11 @@ class IdentifyCommand final : public Command {
       result = Identify(scene.model, parameters, recordings, settings);
     } catch (const InputError& e) {
       throw InputError(scene_path_ + ": " + e.what());
+    }
+    if (!plot_path_.empty()) {
+      Model<double> fitted = scene.model;
+      parameters.Assign(result.estimate, &fitted);
+      PlotFit(fitted, recordings, plot_path_);
     }
     if (out) {
       nlohmann::json updated = scene.document;
@@ -138,7 +145,7 @@ class IdentifyCommand final : public Command {
 
   bool fit_;
   CLI::App* app_;
-  std::string scene_path_, output_path_, loss_, optimizer_ = "ceres";
+  std::string scene_path_, output_path_, plot_path_, loss_, optimizer_ = "ceres";
   std::vector<std::string> data_paths_, pointers_, bounds_;
   int segments_ = 1, max_evaluations_ = 200;
   double smooth_ = 0.0;
