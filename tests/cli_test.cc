@@ -1,11 +1,7 @@
 // `tether simulate` through the real binary: CSV on stdout or in -o, --every, flags that override the scene,
 // exit status 2 with a message naming the flag or file for bad input, and exit status 1 with no output file
 // left behind for a run that diverges.
-#include <dirent.h>
 #include <gtest/gtest.h>
-#include <stdlib.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
@@ -19,16 +15,13 @@
 #include "tether/dynamics/scene_reader.h"
 #include "tether/dynamics/simulator.h"
 #include "tether/dynamics/trajectory_csv.h"
+#include "test_files.h"
 
 namespace tether {
 namespace {
 
-std::string ReadText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+using testing::Outcome;
+using testing::ReadText;
 
 bool Exists(const std::string& path) { return std::ifstream(path).good(); }
 
@@ -42,63 +35,20 @@ std::vector<std::string> Lines(const std::string& text) {
 
 double FirstField(const std::string& line) { return std::strtod(line.c_str(), nullptr); }
 
-struct Outcome {
-  int status = -1;
-  std::string out, err;
-};
-
-// A scratch folder holding the scene files and outputs of one test, removed at the end; Tether() runs the
-// binary in it with stdout and stderr captured to files.
+// A scratch folder holding the scene files and outputs of one test (test_files.h); Tether() runs the binary.
 class CliTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    folder_ = ::testing::TempDir() + "tether_cli_XXXXXX";
-    ASSERT_NE(mkdtemp(folder_.data()), nullptr) << folder_;
-  }
-  void TearDown() override {
-    for (const std::string& name : Entries()) std::remove(Path(name).c_str());
-    rmdir(folder_.c_str());
-  }
-
-  std::string Path(const std::string& name) const { return folder_ + "/" + name; }
-
-  std::string WriteScene(const std::string& name, const std::string& text) const {
-    std::ofstream(Path(name)) << text;
-    return Path(name);
-  }
-
-  // Runs `tether ARGS`; ARGS is passed to the shell as written.
-  Outcome Tether(const std::string& args) const {
-    const std::string out = Path("stdout.txt"), err = Path("stderr.txt");
-    const std::string command = "'" + std::string(TETHER_EXECUTABLE) + "' " + args + " >'" + out + "' 2>'" + err + "'";
-    const int raw = std::system(command.c_str());
-    Outcome run;
-    run.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;  // -1: killed by a signal (a crash)
-    run.out = ReadText(out);
-    run.err = ReadText(err);
-    std::remove(out.c_str());
-    std::remove(err.c_str());
-    return run;
-  }
-
-  std::vector<std::string> Entries() const {
-    std::vector<std::string> names;
-    if (DIR* dir = opendir(folder_.c_str())) {
-      while (const dirent* entry = readdir(dir)) {
-        const std::string name = entry->d_name;
-        if (name != "." && name != "..") names.push_back(name);
-      }
-      closedir(dir);
-    }
-    return names;
-  }
+  std::string Path(const std::string& name) const { return folder_.Path(name); }
+  std::string WriteScene(const std::string& name, const std::string& text) const { return folder_.Write(name, text); }
+  Outcome Tether(const std::string& args) const { return testing::RunTether(args, folder_); }
+  std::vector<std::string> Entries() const { return folder_.Entries(); }
 
   // No temporary output ("NAME.partial.PID") anywhere in the folder.
   void ExpectNoPartialFiles() const {
     for (const std::string& name : Entries()) EXPECT_EQ(name.find(".partial."), std::string::npos) << name;
   }
 
-  std::string folder_;
+  testing::TempFolder folder_{"tether_cli"};
 };
 
 // The acceptance checks' pendulum: a 1 kg bob on a 0.7 m rod from 60 degrees, here for 0.1 s.

@@ -2,9 +2,6 @@
 // the method, equal to the library's; --method fd close to --method jet; exit status 2 with a message naming the
 // flag, file, pointer or CSV line for bad input; exit status 1 for a run that diverges.
 #include <gtest/gtest.h>
-#include <stdlib.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
@@ -17,21 +14,12 @@
 #include "tether/autodiff/residuals.h"
 #include "tether/dynamics/scene_reader.h"
 #include "tether/dynamics/trajectory_csv.h"
+#include "test_files.h"
 
 namespace tether {
 namespace {
 
-std::string ReadText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-struct Outcome {
-  int status = -1;
-  std::string out, err;
-};
+using testing::Outcome;
 
 // The acceptance checks' pendulum (a 1 kg bob on a 0.7 m rod from 60 degrees), here for 0.3 s, with damping.
 const char* kPendulum = R"({"dimension": 2,
@@ -44,38 +32,11 @@ const char* kPendulum = R"({"dimension": 2,
 const std::vector<std::string> kParameters = {"/bodies/0/mass", "/constraints/0/length", "/effects/0/acceleration/1",
                                               "/effects/1/coefficient"};
 
-// A scratch folder with the scene and data files of one test; Tether() runs the binary with stdout and stderr
-// captured.
+// A scratch folder with the scene and data files of one test (test_files.h); Tether() runs the binary.
 class GradientCliTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    folder_ = ::testing::TempDir() + "tether_gradient_cli_XXXXXX";
-    ASSERT_NE(mkdtemp(folder_.data()), nullptr) << folder_;
-  }
-  void TearDown() override {
-    for (const std::string& path : written_) std::remove(path.c_str());
-    rmdir(folder_.c_str());
-  }
-
-  std::string Write(const std::string& name, const std::string& text) {
-    const std::string path = folder_ + "/" + name;
-    std::ofstream(path) << text;
-    written_.push_back(path);
-    return path;
-  }
-
-  Outcome Tether(const std::string& args) {
-    const std::string out = folder_ + "/stdout.txt", err = folder_ + "/stderr.txt";
-    const std::string command = "'" + std::string(TETHER_EXECUTABLE) + "' " + args + " >'" + out + "' 2>'" + err + "'";
-    const int raw = std::system(command.c_str());
-    Outcome run;
-    run.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;  // -1: killed by a signal (a crash)
-    run.out = ReadText(out);
-    run.err = ReadText(err);
-    std::remove(out.c_str());
-    std::remove(err.c_str());
-    return run;
-  }
+  std::string Write(const std::string& name, const std::string& text) const { return folder_.Write(name, text); }
+  Outcome Tether(const std::string& args) const { return testing::RunTether(args, folder_); }
 
   // The pendulum scene and observations of its trajectory with the bob 10% heavier and the rod 2% longer, at
   // times on and off the grid, with a position, a velocity and the energy.
@@ -103,8 +64,8 @@ class GradientCliTest : public ::testing::Test {
     return out;
   }
 
-  std::string folder_, scene_, data_;
-  std::vector<std::string> written_;
+  testing::TempFolder folder_{"tether_gradient_cli"};
+  std::string scene_, data_;
 };
 
 bool Contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
@@ -199,7 +160,7 @@ TEST_F(GradientCliTest, BadDataFileExitsTwoNamingFileAndLine) {
   EXPECT_TRUE(Contains(run.err, "late.csv")) << run.err;
   EXPECT_TRUE(Contains(run.err, "line 4")) << run.err;
 
-  run = Tether("gradient '" + scene_ + "' --data '" + folder_ + "/absent.csv'" + Params());
+  run = Tether("gradient '" + scene_ + "' --data '" + folder_.Path("absent.csv") + "'" + Params());
   EXPECT_EQ(run.status, 2) << run.err;
   EXPECT_TRUE(Contains(run.err, "absent.csv")) << run.err;
 }

@@ -4,14 +4,13 @@
 #include "tether/autodiff/observations.h"
 
 #include <gtest/gtest.h>
-#include <stdlib.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <string>
 
+#include "test_files.h"
 #include "test_scenes.h"
 #include "tether/dynamics/errors.h"
 
@@ -28,25 +27,12 @@ const char* kPlanarScene = R"({
   "effects": [{"type": "gravity", "acceleration": [0.0, -9.81]}],
   "simulation": {"duration": 0.5}})";
 
-// Files in a scratch folder, removed at the end.
+// Files in a scratch folder (test_files.h), removed at the end.
 class ObservationsTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    folder_ = ::testing::TempDir() + "tether_obs_XXXXXX";
-    ASSERT_NE(mkdtemp(folder_.data()), nullptr) << folder_;
-    model_ = SceneFromJson(kPlanarScene);
-  }
-  void TearDown() override {
-    for (const std::string& path : written_) std::remove(path.c_str());
-    rmdir(folder_.c_str());
-  }
+  void SetUp() override { model_ = SceneFromJson(kPlanarScene); }
 
-  std::string Write(const std::string& name, const std::string& text) {
-    const std::string path = folder_ + "/" + name;
-    std::ofstream(path) << text;
-    written_.push_back(path);
-    return path;
-  }
+  std::string Write(const std::string& name, const std::string& text) const { return folder_.Write(name, text); }
 
   // Expects ReadObservations to refuse `text` with a message naming the file, `line` (when > 0) and `detail`.
   void ExpectRefused(const std::string& text, int line, const std::string& detail) {
@@ -62,8 +48,7 @@ class ObservationsTest : public ::testing::Test {
     }
   }
 
-  std::string folder_;
-  std::vector<std::string> written_;
+  testing::TempFolder folder_{"tether_obs"};
   Model<double> model_;
 };
 
@@ -199,7 +184,7 @@ TEST_F(ObservationsTest, EmptyFileIsRefused) {
 }
 
 TEST_F(ObservationsTest, MissingFileIsRefused) {
-  const std::string path = folder_ + "/does_not_exist.csv";
+  const std::string path = folder_.Path("does_not_exist.csv");
   try {
     ReadObservations(path, model_);
     ADD_FAILURE() << "a missing file was accepted";

@@ -2,10 +2,7 @@
 // round-trip a double exactly, and an output file that appears only when committed.
 #include "tether/dynamics/trajectory_csv.h"
 
-#include <dirent.h>
 #include <gtest/gtest.h>
-#include <stdlib.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
@@ -16,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "test_files.h"
 #include "test_scenes.h"
 #include "tether/dynamics/errors.h"
 
@@ -40,33 +38,7 @@ std::vector<std::string> Lines(const std::string& text) {
   return lines;
 }
 
-// A fresh empty folder for one test, removed with its files at the end.
-class ScratchFolder {
- public:
-  ScratchFolder() : path_(::testing::TempDir() + "tether_csv_XXXXXX") {
-    EXPECT_NE(mkdtemp(path_.data()), nullptr) << path_;
-  }
-  ~ScratchFolder() {
-    for (const std::string& name : Entries()) std::remove((path_ + "/" + name).c_str());
-    rmdir(path_.c_str());
-  }
-  const std::string& path() const { return path_; }
-
-  std::vector<std::string> Entries() const {
-    std::vector<std::string> names;
-    if (DIR* dir = opendir(path_.c_str())) {
-      while (const dirent* entry = readdir(dir)) {
-        const std::string name = entry->d_name;
-        if (name != "." && name != "..") names.push_back(name);
-      }
-      closedir(dir);
-    }
-    return names;
-  }
-
- private:
-  std::string path_;
-};
+using testing::TempFolder;
 
 bool Exists(const std::string& path) { return std::ifstream(path).good(); }
 
@@ -189,7 +161,7 @@ TEST(TrajectoryCsv, AngleIsContinuous) {
 }
 
 TEST(AtomicOutputFile, CommittedFileAppearsWithItsContents) {
-  const ScratchFolder folder;
+  const TempFolder folder("tether_csv");
   const std::string path = folder.path() + "/out.csv";
   {
     AtomicOutputFile file(path);
@@ -205,7 +177,7 @@ TEST(AtomicOutputFile, CommittedFileAppearsWithItsContents) {
 }
 
 TEST(AtomicOutputFile, UncommittedFileLeavesNothing) {
-  const ScratchFolder folder;
+  const TempFolder folder("tether_csv");
   const std::string path = folder.path() + "/out.csv";
   {
     AtomicOutputFile file(path);
@@ -218,7 +190,7 @@ TEST(AtomicOutputFile, UncommittedFileLeavesNothing) {
 
 TEST(AtomicOutputFile, UncommittedFileKeepsAnOlderFile) {
   // a failed run does not clobber the result of an earlier one
-  const ScratchFolder folder;
+  const TempFolder folder("tether_csv");
   const std::string path = folder.path() + "/out.csv";
   std::ofstream(path) << "old\n";
   {
@@ -233,7 +205,7 @@ TEST(AtomicOutputFile, UncommittedFileKeepsAnOlderFile) {
 }
 
 TEST(AtomicOutputFile, UnwritableFolderIsAnInputError) {
-  const ScratchFolder folder;
+  const TempFolder folder("tether_csv");
   try {
     AtomicOutputFile file(folder.path() + "/no/such/folder/out.csv");
     FAIL() << "opened a file in a folder that does not exist";
