@@ -28,12 +28,6 @@ double Value(const ceres::Jet<double, N>& x) {
   return x.a;
 }
 
-// Converts a double-valued quantity to T (a Jet with zero derivatives).
-template <typename T>
-T Constant(double x) {
-  return T(x);
-}
-
 template <typename T>
 using Vec3 = Eigen::Matrix<T, 3, 1>;
 template <typename T>
