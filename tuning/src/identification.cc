@@ -401,6 +401,24 @@ IdentifyResult Identify(const Model<double>& model, const ParameterSet& paramete
         if (std::abs(svd.matrixV()(i, p - 1)) > 0.3) result.standard_deviation[i] = NAN;
       }
     }
+    // a parameter whose doubling would not move the residuals measurably (a lone one has condition number 1)
+    double data_norm = 0.0;
+    for (const Observations& recording : recordings) {
+      for (const auto& row : recording.values) {
+        for (double v : row) data_norm += std::isnan(v) ? 0.0 : v * v;
+      }
+    }
+    data_norm = std::sqrt(data_norm);
+    for (int i = 0; i < p; ++i) {
+      const double effect = scaled.col(i).norm();
+      if (effect <= kNoEffect * data_norm) {
+        std::ostringstream message;
+        message << parameters.pointers()[i] << " has no measurable effect on the data (changing it by 100% moves the "
+                << "residuals by " << effect << " against data of norm " << data_norm << "): it cannot be identified";
+        result.warnings.push_back(message.str());
+        result.standard_deviation[i] = NAN;
+      }
+    }
   }
   if (dof <= 0) {
     result.warnings.push_back("as many unknowns as residuals: the fit is exact and no standard deviation can be estimated");

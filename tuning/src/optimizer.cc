@@ -6,12 +6,38 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <nlopt.hpp>
 
 #include "tether/dynamics/errors.h"
 
 namespace tether {
 namespace {
+
+// rho(s) and rho'(s) of a robust loss (the same functions as Ceres' HuberLoss and CauchyLoss).
+void EvaluateLoss(const RobustLoss& loss, double s, double rho[2]) {
+  const double b = loss.delta * loss.delta;
+  switch (loss.kind) {
+    case RobustLoss::Kind::kNone:
+      rho[0] = s;
+      rho[1] = 1.0;
+      return;
+    case RobustLoss::Kind::kHuber:
+      if (s <= b) {
+        rho[0] = s;
+        rho[1] = 1.0;
+      } else {
+        const double root = std::sqrt(s);
+        rho[0] = 2.0 * loss.delta * root - b;
+        rho[1] = loss.delta / root;
+      }
+      return;
+    case RobustLoss::Kind::kCauchy:
+      rho[0] = b * std::log1p(s / b);
+      rho[1] = 1.0 / (1.0 + s / b);
+      return;
+  }
+}
 
 // The residual function as a Ceres cost: one parameter block holding x.
 class ResidualCost final : public ceres::CostFunction {
@@ -52,12 +78,27 @@ OptimizerResult MinimizeWithCeres(const ResidualFunction& residuals, const std::
   residuals(start, &r, nullptr);  // Minimize checked that the start is feasible; this sizes the problem
   std::vector<double> x = start;
   ceres::Problem problem;
-  ceres::LossFunction* loss = nullptr;  // the problem owns it
-  if (settings.loss.kind == RobustLoss::Kind::kHuber) loss = new ceres::HuberLoss(settings.loss.delta);
-  if (settings.loss.kind == RobustLoss::Kind::kCauchy) loss = new ceres::CauchyLoss(settings.loss.delta);
-  problem.AddResidualBlock(new ResidualCost(residuals, static_cast<int>(r.size()), static_cast<int>(x.size()),
+  // A ceres::LossFunction would apply rho to the block's whole squared norm (one block holds every residual),
+  // so the loss goes into the residuals instead: r~_i = sign(r_i) sqrt(rho(r_i^2)) has sum r~_i^2 =
+  // sum rho(r_i^2) exactly, and d r~_i = rho'(r_i^2) r_i / r~_i d r_i.
+  const RobustLoss loss = settings.loss;
+  const ResidualFunction robust = [&residuals, loss](const std::vector<double>& at, Eigen::VectorXd* out,
+                                                      Eigen::MatrixXd* jacobian) {
+    if (!residuals(at, out, jacobian)) return false;
+    if (loss.kind == RobustLoss::Kind::kNone) return true;
+    for (int i = 0; i < out->size(); ++i) {
+      double rho[2];
+      const double ri = (*out)[i];
+      EvaluateLoss(loss, ri * ri, rho);
+      const double root = std::copysign(std::sqrt(rho[0]), ri);
+      if (jacobian) jacobian->row(i) *= root != 0.0 ? rho[1] * ri / root : 1.0;
+      (*out)[i] = root;
+    }
+    return true;
+  };
+  problem.AddResidualBlock(new ResidualCost(robust, static_cast<int>(r.size()), static_cast<int>(x.size()),
                                             &result.evaluations),
-                           loss, x.data());
+                           nullptr, x.data());
   for (size_t i = 0; i < x.size(); ++i) {
     problem.SetParameterLowerBound(x.data(), static_cast<int>(i), lower[i]);
     problem.SetParameterUpperBound(x.data(), static_cast<int>(i), upper[i]);
@@ -74,31 +115,6 @@ OptimizerResult MinimizeWithCeres(const ResidualFunction& residuals, const std::
   result.value = summary.final_cost;
   result.message = summary.message;
   return result;
-}
-
-// rho(s) and rho'(s) of a robust loss (the same functions as Ceres' HuberLoss and CauchyLoss).
-void EvaluateLoss(const RobustLoss& loss, double s, double rho[2]) {
-  const double b = loss.delta * loss.delta;
-  switch (loss.kind) {
-    case RobustLoss::Kind::kNone:
-      rho[0] = s;
-      rho[1] = 1.0;
-      return;
-    case RobustLoss::Kind::kHuber:
-      if (s <= b) {
-        rho[0] = s;
-        rho[1] = 1.0;
-      } else {
-        const double root = std::sqrt(s);
-        rho[0] = 2.0 * loss.delta * root - b;
-        rho[1] = loss.delta / root;
-      }
-      return;
-    case RobustLoss::Kind::kCauchy:
-      rho[0] = b * std::log1p(s / b);
-      rho[1] = 1.0 / (1.0 + s / b);
-      return;
-  }
 }
 
 bool IsMultiLevelSingleLinkage(const std::string& algorithm) { return algorithm.find("MLSL") != std::string::npos; }
@@ -140,8 +156,15 @@ OptimizerResult MinimizeWithNlopt(const ResidualFunction& residuals, const std::
     return value;
   };
   opt.set_min_objective(objective, &context);
-  opt.set_lower_bounds(lower);
-  opt.set_upper_bounds(upper);
+  // NLopt takes only true infinities as "unbounded" (with the largest double its first step would be ~1e308)
+  auto infinite = [](std::vector<double> bounds) {
+    for (double& b : bounds) {
+      if (std::abs(b) == std::numeric_limits<double>::max()) b = std::copysign(HUGE_VAL, b);
+    }
+    return bounds;
+  };
+  opt.set_lower_bounds(infinite(lower));
+  opt.set_upper_bounds(infinite(upper));
   opt.set_xtol_rel(settings.relative_tolerance);
   opt.set_ftol_rel(settings.relative_tolerance);
   opt.set_maxeval(settings.max_evaluations);
@@ -260,8 +283,10 @@ OptimizerResult Minimize(const ResidualFunction& residuals, const std::vector<do
       settings.name == "ceres"
           ? MinimizeWithCeres(scaled, start, lower, upper, scaled_settings)
           : MinimizeWithNlopt(scaled, settings.name.substr(6), start, lower, upper, scaled_settings);
-  result.value /= scale * scale;
-  result.evaluations += 1;
+  // the value at the returned point (Ceres' final cost can belong to the last trial instead)
+  Eigen::VectorXd r;
+  result.value = residuals(result.x, &r, nullptr) ? RobustCost(settings.loss, r) : result.value / (scale * scale);
+  result.evaluations += 2;
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
   return result;
 }

@@ -18,6 +18,8 @@
 // reported as not identifiable when the columns of J scaled by the parameters' magnitudes have a condition
 // number above kIdentifiabilityCondition; the warning names the parameters of the weakest direction, and
 // those get no standard deviation (NaN; null in JSON) rather than the small one the pseudo-inverse would give.
+// A parameter with no measurable effect at all (kNoEffect; a lone one has condition number 1) is reported and
+// treated the same way.
 #pragma once
 
 #include <string>
@@ -31,6 +33,9 @@
 namespace tether {
 
 inline constexpr double kIdentifiabilityCondition = 1e8;
+// A parameter whose scaled Jacobian column (the change of the residuals for a 100% change of the parameter) is
+// below this fraction of the data's norm has no measurable effect on the data.
+inline constexpr double kNoEffect = 1e-9;
 
 struct IdentifySettings {
   OptimizerSettings optimizer;

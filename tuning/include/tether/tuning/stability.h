@@ -18,7 +18,9 @@ namespace tether {
 // Spectral radius of the amplification matrix at x = h omega.
 double AmplificationRadius(Integrator integrator, double x, double zeta);
 
-// B(zeta) above (to 1e-10 relative), found by scanning x upwards and bisecting the first crossing of 1.
+// B(zeta) above, found by scanning x upwards and bisecting the first crossing of 1 (radius slack 1e-12). It is
+// good to about 1e-8 relative: near critical damping M has a double eigenvalue, which floating point resolves
+// only to the square root of the rounding error, and under light damping rho crosses 1 slowly (slope zeta).
 double StabilityBound(Integrator integrator, double zeta);
 
 }  // namespace tether
