@@ -11,28 +11,13 @@
 namespace tether {
 namespace {
 
-// The reference motion from the model's initial state: rk45 at a tight tolerance with projection.
-GainObjective::Reference ComputeReference(const Model<double>& model) {
-  Model<double> accurate = model;
-  accurate.simulation.integrator = Integrator::kRk45;
-  accurate.simulation.tolerance = kReferenceTolerance;
-  accurate.stabilization.method = Stabilization::kProjection;
-  GainObjective::Reference reference;
-  Simulate<double>(accurate, RunOptions{}, [&reference](const Sample<double>& s) {
-    reference.t.push_back(s.t);
-    reference.q.push_back(s.q);
-    reference.v.push_back(s.v);
-  });
-  return reference;
-}
-
 // Steps from the start within which two references (the given one, and one whose initial velocities are scaled
 // by 1 + kHorizonPerturbation) stay within kHorizonSeparation times the length scale (window rule).
-int HorizonSteps(const Model<double>& model, const GainObjective::Reference& reference,
+int HorizonSteps(const Model<double>& model, const ReferenceMotion& reference,
                  const std::vector<int>& translational) {
   Model<double> nudged = model;
   nudged.v0 *= 1.0 + kHorizonPerturbation;
-  const GainObjective::Reference other = ComputeReference(nudged);
+  const ReferenceMotion other = ComputeReference(nudged);
   const double separation = kHorizonSeparation * LengthScale(model);
   for (size_t k = 0; k < reference.q.size(); ++k) {
     double squared = 0.0;
@@ -79,7 +64,7 @@ GainObjective::GainObjective(const Model<double>& model, const GainObjectiveSett
       samples += static_cast<int>(std::ceil(start.simulation.duration / h - 1e-9));
       continue;
     }
-    const Reference reference = ComputeReference(start);
+    const ReferenceMotion reference = ComputeReference(start);
     const int last = static_cast<int>(reference.t.size()) - 1;
     if (s == 0) {
       reference_ = reference;

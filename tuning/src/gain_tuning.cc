@@ -30,19 +30,16 @@ GainMetrics MeasureGains(const Model<double>& model, const std::string& name, do
   m.alpha = alpha;
   m.beta = beta;
   if (beta > 0.0) m.objective = objective.Value(0.5 * std::log(beta), alpha / (2.0 * std::sqrt(beta)));
-  const GainObjective::Reference& reference = objective.reference();
-  double squared = 0.0, energy0 = 0.0, drift = 0.0, worst = 0.0;
-  int k = 0;
+  const ReferenceMotion& reference = objective.reference();
+  std::vector<Eigen::VectorXd> q;
+  double energy0 = 0.0, drift = 0.0, worst = 0.0;
   const auto begin = std::chrono::steady_clock::now();
   try {
     Simulate<double>(WithGains(model, alpha, beta), RunOptions{}, [&](const Sample<double>& s) {
-      if (k == 0) energy0 = s.energy;
+      if (q.empty()) energy0 = s.energy;
       drift = std::max(drift, std::abs(s.energy - energy0));
       worst = std::max(worst, s.constraint_error);
-      if (!reference.q.empty()) {
-        for (int i : objective.translational()) squared += std::pow(s.q[i] - reference.q[k][i], 2);
-      }
-      ++k;
+      q.push_back(s.q);
     });
   } catch (const SimulationDiverged& e) {
     m.diverged = true;
@@ -50,7 +47,7 @@ GainMetrics MeasureGains(const Model<double>& model, const std::string& name, do
     return m;
   }
   m.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
-  if (!reference.q.empty()) m.rms_position_error = std::sqrt(squared / std::max(1, k - 1));
+  if (!reference.q.empty()) m.rms_position_error = RmsPositionError(model, reference, q);
   m.max_constraint_error = worst;
   m.energy_drift = drift / std::max(std::abs(energy0), 1.0);
   return m;

@@ -3,8 +3,7 @@
 // Gains: alpha = 2 zeta omega, beta = omega^2 (Baumgarte with natural frequency omega, damping ratio zeta).
 //
 // `reference` (default): how far the stabilized run (the scene's integrator and step) strays from the true
-//   constrained motion, computed by tether itself as rk45 at tolerance kReferenceTolerance with projection,
-//   sampled on the scene's step grid. r stacks (q - q_ref) over every translational coordinate and every
+//   constrained motion, computed by tether itself (reference.h), sampled on the scene's step grid. r stacks (q - q_ref) over every translational coordinate and every
 //   sample, then the constraint rows C(q) (metres, weight 1), all divided by sqrt(number of samples x
 //   coordinates): |r| is the RMS position error combined with the RMS violation.
 //   Window rule: the run is cut into windows as long as the reference's own predictability horizon, each
@@ -24,12 +23,12 @@
 #include <vector>
 
 #include "tether/dynamics/model.h"
+#include "tether/tuning/reference.h"
 
 namespace tether {
 
 enum class GainObjectiveKind { kReference, kDrift };
 
-inline constexpr double kReferenceTolerance = 1e-10;
 inline constexpr double kHorizonPerturbation = 1e-8;
 inline constexpr double kHorizonSeparation = 1e-4;
 inline constexpr double kDriftTime = 0.1;  // s, the time scale that turns C' into metres
@@ -52,14 +51,9 @@ class GainObjective {
   double Value(double log_omega, double zeta) const;
 
   // The reference motion of the scene's own initial state on the step grid (empty for the drift objective).
-  struct Reference {
-    std::vector<double> t;
-    std::vector<Eigen::VectorXd> q, v;
-  };
-  const Reference& reference() const { return reference_; }
+  const ReferenceMotion& reference() const { return reference_; }
   // The window length in use (s): the predictability horizon of the scene's own initial state.
   double window() const { return window_; }
-  const std::vector<int>& translational() const { return translational_; }
 
  private:
   // One stretch of the run: a model starting from a reference state, and the reference at its samples.
@@ -74,7 +68,7 @@ class GainObjective {
   bool Residuals(const Model<T>& stabilized, const Window& window, std::vector<T>* out) const;
 
   GainObjectiveSettings settings_;
-  Reference reference_;
+  ReferenceMotion reference_;
   std::vector<Window> windows_;
   std::vector<int> translational_;  // indices of translational coordinates in q
   double length_scale_ = 1.0;

@@ -1,0 +1,28 @@
+// The reference motion of a model: what tether takes for the true constrained motion when it measures the error
+// of a run (gain tuning, studies). rk45 at tolerance kReferenceTolerance with projection onto the constraints,
+// sampled on the model's own step grid, so that it lines up with the model's run row for row.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "tether/dynamics/model.h"
+
+namespace tether {
+
+inline constexpr double kReferenceTolerance = 1e-10;
+
+struct ReferenceMotion {
+  std::vector<double> t;
+  std::vector<Eigen::VectorXd> q, v;
+};
+
+// Throws SimulationDiverged if even the reference diverges.
+ReferenceMotion ComputeReference(const Model<double>& model);
+
+// sqrt(mean over the samples of |x(t) - x_ref(t)|^2) over the translational coordinates, for a run sampled on
+// the same grid (q[k] at reference.t[k]).
+double RmsPositionError(const Model<double>& model, const ReferenceMotion& reference,
+                        const std::vector<Eigen::VectorXd>& q);
+
+}  // namespace tether

@@ -1,0 +1,36 @@
+#include "tether/tuning/reference.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "tether/dynamics/simulator.h"
+
+namespace tether {
+
+ReferenceMotion ComputeReference(const Model<double>& model) {
+  Model<double> accurate = model;
+  accurate.simulation.integrator = Integrator::kRk45;
+  accurate.simulation.tolerance = kReferenceTolerance;
+  accurate.stabilization.method = Stabilization::kProjection;
+  ReferenceMotion reference;
+  Simulate<double>(accurate, RunOptions{}, [&reference](const Sample<double>& s) {
+    reference.t.push_back(s.t);
+    reference.q.push_back(s.q);
+    reference.v.push_back(s.v);
+  });
+  return reference;
+}
+
+double RmsPositionError(const Model<double>& model, const ReferenceMotion& reference,
+                        const std::vector<Eigen::VectorXd>& q) {
+  double squared = 0.0;
+  const size_t samples = std::min(q.size(), reference.q.size());
+  for (size_t k = 1; k < samples; ++k) {  // the first sample is the common initial state
+    for (const Body<double>& body : model.bodies) {
+      for (int i = body.offset; i < body.offset + model.dimension; ++i) squared += std::pow(q[k][i] - reference.q[k][i], 2);
+    }
+  }
+  return std::sqrt(squared / std::max<size_t>(1, samples - 1));
+}
+
+}  // namespace tether
