@@ -16,26 +16,16 @@ namespace {
 
 // rho(s) and rho'(s) of a robust loss (the same functions as Ceres' HuberLoss and CauchyLoss).
 void EvaluateLoss(const RobustLoss& loss, double s, double rho[2]) {
+  rho[0] = s;  // no robust loss: rho(s) = s
+  rho[1] = 1.0;
   const double b = loss.delta * loss.delta;
-  switch (loss.kind) {
-    case RobustLoss::Kind::kNone:
-      rho[0] = s;
-      rho[1] = 1.0;
-      return;
-    case RobustLoss::Kind::kHuber:
-      if (s <= b) {
-        rho[0] = s;
-        rho[1] = 1.0;
-      } else {
-        const double root = std::sqrt(s);
-        rho[0] = 2.0 * loss.delta * root - b;
-        rho[1] = loss.delta / root;
-      }
-      return;
-    case RobustLoss::Kind::kCauchy:
-      rho[0] = b * std::log1p(s / b);
-      rho[1] = 1.0 / (1.0 + s / b);
-      return;
+  if (loss.kind == RobustLoss::Kind::kHuber && s > b) {
+    const double root = std::sqrt(s);
+    rho[0] = 2.0 * loss.delta * root - b;
+    rho[1] = loss.delta / root;
+  } else if (loss.kind == RobustLoss::Kind::kCauchy) {
+    rho[0] = b * std::log1p(s / b);
+    rho[1] = 1.0 / (1.0 + s / b);
   }
 }
 
