@@ -2,11 +2,10 @@
 
 #include <unistd.h>
 
-#include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
+#include "matplotlib_script.h"
 #include "tether/dynamics/errors.h"
 #include "tether/dynamics/simulator.h"
 #include "tether/dynamics/trajectory_csv.h"
@@ -45,41 +44,27 @@ fig.tight_layout()
 fig.savefig(out, dpi=110)
 )PY";
 
-std::string Quote(const std::string& s) {
-  std::string out = "'";
-  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return out + "'";
-}
-
 }  // namespace
 
 void PlotFit(const Model<double>& fitted, const std::vector<Observations>& recordings, const std::string& path) {
   namespace fs = std::filesystem;
-  char pattern[] = "/tmp/tether-plot-XXXXXX";
-  if (!mkdtemp(pattern)) throw InputError("--plot: cannot make a temporary folder");
-  const fs::path work(pattern);
-  const std::string script = (work / "plot_fit.py").string(), csv = (work / "fitted.csv").string();
-  std::ofstream(script) << kScript;
+  const fs::path csv = fs::temp_directory_path() / ("tether-fitted-" + std::to_string(::getpid()) + ".csv");
   {
     std::ofstream out(csv);
     TrajectoryCsvWriter writer(fitted, &out);
     Simulate<double>(fitted, RunOptions{}, [&writer](const Sample<double>& s) { writer.Write(s); });
   }
-  const std::string extension = fs::path(path).extension().string();
-  const std::string partial = path + ".partial" + extension;
-  const char* python = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
-  std::string command = std::string(python) + " " + Quote(script) + " " + Quote(csv) + " " + Quote(partial);
-  for (const Observations& r : recordings) command += " " + Quote(r.path);
-  command += " 2>" + Quote((work / "errors.txt").string());
-  const int status = std::system(command.c_str());
-  std::string errors;
-  std::getline(std::ifstream(work / "errors.txt"), errors, '\0');
-  fs::remove_all(work);
-  if (status != 0 || !fs::exists(partial)) {
+  const std::string partial = path + ".partial" + fs::path(path).extension().string();
+  std::vector<std::string> args = {csv.string(), partial};
+  for (const Observations& r : recordings) args.push_back(r.path);
+  try {
+    RunMatplotlib(kScript, args, "--plot");
+  } catch (...) {
+    fs::remove(csv);
     fs::remove(partial);
-    throw InputError("--plot: drawing failed (python3 with matplotlib is needed: apt-get install python3-matplotlib)" +
-                     (errors.empty() ? std::string() : ": " + errors.substr(errors.rfind('\n', errors.size() - 2) + 1)));
+    throw;
   }
+  fs::remove(csv);
   fs::rename(partial, path);
 }
 

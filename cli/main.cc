@@ -7,6 +7,7 @@
 #include "gradient_command.h"
 #include "identify_command.h"
 #include "simulate_command.h"
+#include "study_command.h"
 #include "tune_command.h"
 #include "tether/dynamics/errors.h"
 
@@ -20,6 +21,7 @@ int main(int argc, char** argv) {
   commands.push_back(cli::MakeTuneCommand(&app));
   commands.push_back(cli::MakeIdentifyCommand(&app));
   commands.push_back(cli::MakeFitCommand(&app));
+  commands.push_back(cli::MakeStudyCommand(&app));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

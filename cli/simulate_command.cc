@@ -36,7 +36,9 @@ class SimulateCommand final : public Command {
     TrajectoryCsvWriter writer(scene.model, &out);
     RunReport report;
     try {
-      report = Simulate<double>(scene.model, RunOptions{every_}, [&writer](const Sample<double>& s) { writer.Write(s); });
+      RunOptions options;
+      options.every = every_;
+      report = Simulate<double>(scene.model, options, [&writer](const Sample<double>& s) { writer.Write(s); });
     } catch (const InputError& e) {  // the scene's initial state cannot be assembled
       throw InputError(scene_path_ + ": " + e.what());
     } catch (const SimulationDiverged& e) {
