@@ -15,7 +15,8 @@ namespace tether::cli {
 namespace {
 
 // argv: results.csv folder n_pointers; one figure per metric: the metric against the first swept pointer, one
-// line per combination of the others (log scale when positive).
+// line per combination of the other pointers that take several values (log axes when values span decades;
+// diverged runs and, on a log axis, exact zeros are left out).
 constexpr const char* kPlotScript = R"PY(
 import csv, math, os, sys
 import matplotlib
@@ -31,24 +32,31 @@ pointers, metrics = header[:n], header[n:-1]
 
 def number(text):
     try:
-        return float(text)
+        value = float(text)
+        return None if math.isnan(value) else value
     except ValueError:
         return None
 
+def short(pointer):
+    return pointer.rsplit("/", 1)[-1]
+
+# pointers with several values label the lines; the first one is the x axis
+varying = [k for k in range(1, n) if len({r[k] for r in rows}) > 1]
 x_numeric = all(number(r[0]) is not None for r in rows)
 for m, metric in enumerate(metrics):
-    fig, ax = plt.subplots(figsize=(6.4, 4.2))
+    values = [v for v in (number(r[n + m]) for r in rows) if v is not None]
+    positive = [v for v in values if v > 0]
+    log = len(positive) > 1 and max(positive) / min(positive) > 100
+    fig, ax = plt.subplots(figsize=(8.0, 4.4))
     groups = {}
     for r in rows:
-        groups.setdefault(tuple(r[1:n]), []).append(r)
+        groups.setdefault(tuple(r[k] for k in varying), []).append(r)
     for key, members in groups.items():
-        xs = [number(r[0]) if x_numeric else r[0] for r in members]
-        ys = [number(r[n + m]) for r in members]
-        pts = [(x, y) for x, y in zip(xs, ys) if y is not None and not math.isnan(y)]
-        label = ", ".join("%s=%s" % (p, v) for p, v in zip(pointers[1:], key)) or metric
-        ax.plot([p[0] for p in pts], [p[1] for p in pts], "o-", label=label)
-    values = [number(r[n + m]) for r in rows]
-    if all(v is not None and v > 0 for v in values if v is not None and not math.isnan(v)) and any(values):
+        pts = [(number(r[0]) if x_numeric else r[0], number(r[n + m])) for r in members]
+        pts = [(x, y) for x, y in pts if y is not None and (y > 0 or not log)]
+        label = ", ".join("%s=%s" % (short(pointers[k]), v) for k, v in zip(varying, key)) or metric
+        ax.plot([p[0] for p in pts], [p[1] for p in pts], "o-", ms=4, label=label)
+    if log:
         ax.set_yscale("log")
     if x_numeric and all(number(r[0]) > 0 for r in rows):
         ax.set_xscale("log")
@@ -56,7 +64,7 @@ for m, metric in enumerate(metrics):
     ax.set_ylabel(metric)
     ax.grid(alpha=0.3, which="both")
     if len(groups) > 1:
-        ax.legend(fontsize=7)
+        ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5))
     fig.tight_layout()
     for ext in ("png", "svg"):
         fig.savefig(os.path.join(folder, "%s.%s" % (metric, ext)), dpi=110)
