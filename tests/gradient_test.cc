@@ -20,6 +20,7 @@
 #include <tuple>
 #include <vector>
 
+#include "test_scenes.h"
 #include "tether/autodiff/residuals.h"
 #include "tether/dynamics/kinematics.h"
 #include "tether/dynamics/schur_solver.h"
@@ -279,15 +280,7 @@ std::vector<std::string> Split(const std::string& line) {
 void WriteObservations(const Model<double>& truth, const std::vector<double>& times,
                        const std::vector<std::string>& columns, const std::string& path, int gap_row = -1,
                        int gap_column = -1) {
-  std::ostringstream full;
-  TrajectoryCsvWriter writer(truth, &full);
-  RunOptions run;
-  run.every = 1 << 30;
-  run.stops = times;
-  Simulate<double>(truth, run, [&writer](const Sample<double>& s) {
-    if (s.stop >= 0) writer.Write(s);
-  });
-  std::stringstream in(full.str());
+  std::stringstream in(tether::testing::TrajectoryCsvAt(truth, times));
   std::string line;
   std::getline(in, line);
   const std::vector<std::string> header = Split(line);

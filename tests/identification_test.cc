@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "test_files.h"
+#include "test_scenes.h"
 #include "tether/autodiff/residuals.h"
 #include "tether/dynamics/errors.h"
 #include "tether/dynamics/scene_reader.h"
@@ -95,15 +96,7 @@ std::vector<std::string> Split(const std::string& line) {
 // std::mt19937(seed), written to a CSV and read back against `fitted` (the model being fitted).
 Observations Record(const Model<double>& truth, const Model<double>& fitted, const std::vector<std::string>& columns,
                     const std::vector<double>& times, double noise, unsigned seed, const std::string& path) {
-  std::ostringstream full;
-  TrajectoryCsvWriter writer(truth, &full);
-  RunOptions run;
-  run.every = 1 << 30;
-  run.stops = times;
-  Simulate<double>(truth, run, [&writer](const Sample<double>& s) {
-    if (s.stop >= 0) writer.Write(s);
-  });
-  std::stringstream in(full.str());
+  std::stringstream in(tether::testing::TrajectoryCsvAt(truth, times));
   std::string line;
   std::getline(in, line);
   const std::vector<std::string> header = Split(line);

@@ -1,6 +1,9 @@
 #include "test_scenes.h"
 
 #include <cmath>
+#include <sstream>
+
+#include "tether/dynamics/trajectory_csv.h"
 
 namespace tether::testing {
 
@@ -18,6 +21,18 @@ Recording Record(const Model<double>& model, int every) {
     r.energy.push_back(s.energy);
   });
   return r;
+}
+
+std::string TrajectoryCsvAt(const Model<double>& model, const std::vector<double>& times) {
+  std::ostringstream csv;
+  TrajectoryCsvWriter writer(model, &csv);
+  RunOptions run;
+  run.every = 1 << 30;
+  run.stops = times;
+  Simulate<double>(model, run, [&writer](const Sample<double>& s) {
+    if (s.stop >= 0) writer.Write(s);
+  });
+  return csv.str();
 }
 
 Model<double> Pendulum60(const std::string& integrator, double step, double duration) {

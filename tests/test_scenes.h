@@ -20,6 +20,9 @@ struct Recording {
 };
 Recording Record(const Model<double>& model, int every = 1);
 
+// The trajectory CSV (header and rows) of the model sampled exactly at `times` (RunOptions::stops).
+std::string TrajectoryCsvAt(const Model<double>& model, const std::vector<double>& times);
+
 // The simple pendulum of the acceptance checks: a 1 kg bob on a 0.7 m rod, released at rest from 60 degrees.
 Model<double> Pendulum60(const std::string& integrator = "rk4", double step = 1e-3, double duration = 1.0);
 
