@@ -53,13 +53,27 @@ std::vector<nlohmann::json> Combination(const StudySpec& spec, int index) {
   return values;
 }
 
+// The scene of row `index`: the base scene with the row's values written at the swept pointers, read again with
+// the usual validation (errors name the study file and the row). Throws InputError.
+Model<double> SceneOfRow(const StudySpec& spec, int index) {
+  nlohmann::json document = spec.scene;
+  const std::vector<nlohmann::json> values = Combination(spec, index);
+  for (size_t k = 0; k < spec.pointers.size(); ++k) {
+    try {
+      document[nlohmann::json::json_pointer(spec.pointers[k])] = values[k];
+    } catch (const nlohmann::json::exception& e) {
+      throw InputError(spec.path + ": /sweep/" + spec.pointers[k] + ": cannot be written into the scene (" +
+                       std::string(e.what()).substr(std::string(e.what()).find(']') + 2) + ")");
+    }
+  }
+  return ParseScene(document, spec.path + " (row " + std::to_string(index) + ")").model;
+}
+
 StudyRow RunRow(const StudySpec& spec, int index) {
   StudyRow row;
   row.values = Combination(spec, index);
   row.metrics.assign(spec.metrics.size(), NAN);
-  nlohmann::json document = spec.scene;
-  for (size_t k = 0; k < spec.pointers.size(); ++k) document[nlohmann::json::json_pointer(spec.pointers[k])] = row.values[k];
-  const Model<double> model = ParseScene(document, spec.path + " (row " + std::to_string(index) + ")").model;
+  const Model<double> model = SceneOfRow(spec, index);
   std::vector<Eigen::VectorXd> q;
   double worst = 0.0, energy0 = 0.0, drift = 0.0;
   const auto begin = std::chrono::steady_clock::now();
@@ -172,12 +186,7 @@ StudySpec ReadStudySpec(const std::string& path) {
     spec.metrics.push_back(name);
   }
   // every combination must make a valid scene: check them now, before any run (errors name the row)
-  for (int index = 0; index < RowCount(spec); ++index) {
-    nlohmann::json document = spec.scene;
-    const std::vector<nlohmann::json> values = Combination(spec, index);
-    for (size_t k = 0; k < spec.pointers.size(); ++k) document[nlohmann::json::json_pointer(spec.pointers[k])] = values[k];
-    ParseScene(document, path + " (row " + std::to_string(index) + ")");
-  }
+  for (int index = 0; index < RowCount(spec); ++index) SceneOfRow(spec, index);
   return spec;
 }
 
