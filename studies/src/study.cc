@@ -53,19 +53,58 @@ std::vector<nlohmann::json> Combination(const StudySpec& spec, int index) {
   return values;
 }
 
+// Where a swept pointer stands in the study file: /sweep/ followed by the pointer escaped as one key (RFC 6901).
+std::string SweepEntry(const std::string& pointer) {
+  std::string key;
+  for (char c : pointer) key += c == '~' ? "~0" : c == '/' ? "~1" : std::string(1, c);
+  return "/sweep/" + key;
+}
+
+// Writes value at pointer in document. Array elements must exist (writing past the end would pad the array
+// with nulls); object keys may be created, so that e.g. /stabilization/method works on a scene without one.
+void WriteAt(nlohmann::json* document, const std::string& pointer, const nlohmann::json& value,
+             const std::string& study) {
+  auto fail = [&](const std::string& why) {
+    throw InputError(study + ": " + SweepEntry(pointer) + ": '" + pointer + "' cannot be written into the scene: " + why);
+  };
+  nlohmann::json::json_pointer at;
+  try {
+    at = nlohmann::json::json_pointer(pointer);
+  } catch (const nlohmann::json::exception&) {
+    fail("not a JSON Pointer");
+  }
+  const nlohmann::json* node = document;
+  std::string walked;
+  bool created = false;
+  for (size_t start = 1; start <= pointer.size() && !created;) {
+    const size_t slash = std::min(pointer.find('/', start), pointer.size());
+    const std::string token = pointer.substr(start, slash - start);
+    if (node->is_array()) {
+      char* end = nullptr;
+      const long i = std::strtol(token.c_str(), &end, 10);
+      if (token.empty() || *end != '\0' || i < 0 || i >= static_cast<long>(node->size())) {
+        fail(walked + " has " + std::to_string(node->size()) + " elements, and '" + token + "' is not one of them");
+      }
+      node = &(*node)[i];
+    } else if (node->is_object() && node->contains(token)) {
+      node = &(*node)[token];
+    } else if (node->is_object() || node->is_null()) {
+      created = true;  // the rest of the path is made of new objects
+    } else {
+      fail(walked + " is not an object or an array");
+    }
+    walked += "/" + token;
+    start = slash + 1;
+  }
+  (*document)[at] = value;
+}
+
 // The scene of row `index`: the base scene with the row's values written at the swept pointers, read again with
 // the usual validation (errors name the study file and the row). Throws InputError.
 Model<double> SceneOfRow(const StudySpec& spec, int index) {
   nlohmann::json document = spec.scene;
   const std::vector<nlohmann::json> values = Combination(spec, index);
-  for (size_t k = 0; k < spec.pointers.size(); ++k) {
-    try {
-      document[nlohmann::json::json_pointer(spec.pointers[k])] = values[k];
-    } catch (const nlohmann::json::exception& e) {
-      throw InputError(spec.path + ": /sweep/" + spec.pointers[k] + ": cannot be written into the scene (" +
-                       std::string(e.what()).substr(std::string(e.what()).find(']') + 2) + ")");
-    }
-  }
+  for (size_t k = 0; k < spec.pointers.size(); ++k) WriteAt(&document, spec.pointers[k], values[k], spec.path);
   return ParseScene(document, spec.path + " (row " + std::to_string(index) + ")").model;
 }
 
@@ -161,7 +200,7 @@ StudySpec ReadStudySpec(const std::string& path) {
     fail("/sweep", "expected an object {POINTER: [values]} with at least one pointer");
   }
   for (auto it = ordered["sweep"].begin(); it != ordered["sweep"].end(); ++it) {
-    const std::string where = "/sweep/" + it.key();
+    const std::string where = SweepEntry(it.key());
     if (!it.value().is_array() || it.value().empty()) fail(where, "expected a non-empty array of values");
     try {
       (void)nlohmann::json::json_pointer(it.key());
