@@ -4,6 +4,7 @@
 #include <memory>
 #include <vector>
 
+#include "check_command.h"
 #include "gradient_command.h"
 #include "identify_command.h"
 #include "simulate_command.h"
@@ -22,6 +23,7 @@ int main(int argc, char** argv) {
   commands.push_back(cli::MakeIdentifyCommand(&app));
   commands.push_back(cli::MakeFitCommand(&app));
   commands.push_back(cli::MakeStudyCommand(&app));
+  commands.push_back(cli::MakeCheckCommand(&app));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

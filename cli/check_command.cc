@@ -1,0 +1,71 @@
+#include "check_command.h"
+
+#include <cstdio>
+#include <iostream>
+
+#include "scene_overrides.h"
+#include "tether/dynamics/scene_check.h"
+#include "tether/dynamics/scene_reader.h"
+#include "tether/dynamics/simulator.h"
+
+namespace tether::cli {
+namespace {
+
+class CheckCommand final : public Command {
+ public:
+  explicit CheckCommand(CLI::App* parent) {
+    app_ = parent->add_subcommand("check", "report a scene's degrees of freedom, rank, redundancy and conditioning");
+    app_->add_option("SCENE", scene_path_, "scene file (JSON)")->required();
+    app_->add_flag("--json", json_, "print JSON instead of text");
+    overrides_.Register(app_);
+  }
+
+  CLI::App* app() const override { return app_; }
+
+  int Run() override {
+    Scene scene = ReadSceneFile(scene_path_);
+    overrides_.Apply(&scene.model);
+    const SceneCheck c = CheckScene(scene.model);
+    if (json_) {
+      nlohmann::json out = {{"coordinates", c.coordinates},
+                            {"constraint_rows", c.constraint_rows},
+                            {"rank", c.rank},
+                            {"degrees_of_freedom", c.degrees_of_freedom},
+                            {"redundant_constraints", c.redundant_constraints},
+                            {"initial_violation", c.initial_violation},
+                            {"condition_number", c.condition_number},
+                            {"solver", c.solver}};
+      if (c.worst_constraint >= 0) out["worst_constraint"] = c.worst_constraint;
+      std::cout << out.dump(2) << std::endl;
+      return 0;
+    }
+    std::printf("%s: %d coordinates, %d constraint rows of rank %d: %d degrees of freedom\n", scene_path_.c_str(),
+                c.coordinates, c.constraint_rows, c.rank, c.degrees_of_freedom);
+    if (c.redundant_constraints.empty()) {
+      std::printf("redundant constraints: none\n");
+    } else {
+      std::printf("redundant: %d rows; constraints with a row that adds nothing:", c.constraint_rows - c.rank);
+      for (int k : c.redundant_constraints) std::printf(" /constraints/%d", k);
+      std::printf("\n");
+    }
+    if (c.worst_constraint >= 0) {
+      std::printf("initial violation: %.3g m (%s)\n", c.initial_violation,
+                  DescribeConstraint(scene.model, c.worst_constraint).c_str());
+    }
+    std::printf("conditioning of J M^-1/2: %.3g (the Schur complement's is its square); KKT path: %s\n",
+                c.condition_number, c.solver.c_str());
+    return 0;
+  }
+
+ private:
+  CLI::App* app_;
+  std::string scene_path_;
+  bool json_ = false;
+  SceneOverrides overrides_;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> MakeCheckCommand(CLI::App* parent) { return std::make_unique<CheckCommand>(parent); }
+
+}  // namespace tether::cli

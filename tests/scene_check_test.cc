@@ -1,0 +1,108 @@
+// CheckScene and `tether check`: rank, degrees of freedom, redundant constraints, initial violation and
+// conditioning, on scenes whose answers are known by hand.
+#include "tether/dynamics/scene_check.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "test_files.h"
+#include "test_scenes.h"
+
+namespace tether {
+namespace {
+
+using testing::SceneFromJson;
+
+// The IFToMM A02 parallelogram (three 1 m, 1 kg bars on four pins) with its cranks at `angle` from the ground.
+std::string Parallelogram(double angle) {
+  const double c = std::cos(angle), s = std::sin(angle);
+  auto bar = [](const std::string& name, double x, double y, double a) {
+    return R"({"name": ")" + name + R"(", "type": "rigid", "mass": 1.0, "inertia": 0.0833333, "position": [)" +
+           std::to_string(x) + ", " + std::to_string(y) + R"(], "angle": )" + std::to_string(a) + "}";
+  };
+  return R"({"bodies": [)" + bar("crank0", 0.5 * c, 0.5 * s, angle) + ", " + bar("crank1", 1 + 0.5 * c, 0.5 * s, angle) +
+         ", " + bar("coupler", 0.5 + c, s, 0.0) + R"(],
+    "constraints": [
+      {"type": "pin", "bodies": ["world", "crank0"], "points": [[0.0, 0.0], [-0.5, 0.0]]},
+      {"type": "pin", "bodies": ["world", "crank1"], "points": [[1.0, 0.0], [-0.5, 0.0]]},
+      {"type": "pin", "bodies": ["coupler", "crank0"], "points": [[-0.5, 0.0], [0.5, 0.0]]},
+      {"type": "pin", "bodies": ["coupler", "crank1"], "points": [[0.5, 0.0], [0.5, 0.0]]}]})";
+}
+
+TEST(SceneCheck, PendulumHasOneDegreeOfFreedom) {
+  const Model<double> model = testing::Pendulum60();
+  const SceneCheck c = CheckScene(model);
+  EXPECT_EQ(c.coordinates, 2);
+  EXPECT_EQ(c.constraint_rows, 1);
+  EXPECT_EQ(c.rank, 1);
+  EXPECT_EQ(c.degrees_of_freedom, 1);
+  EXPECT_TRUE(c.redundant_constraints.empty());
+  EXPECT_NEAR(c.condition_number, 1.0, 1e-12);  // one row: a single singular value
+  // the helper writes the bob's position with six decimals: the violation is exactly |q0| - 0.7
+  EXPECT_NEAR(c.initial_violation, std::abs(std::hypot(model.q0[0], model.q0[1]) - 0.7), 1e-15);
+  EXPECT_EQ(c.solver, "dense");
+}
+
+TEST(SceneCheck, DuplicatedRodIsRedundant) {
+  const SceneCheck c = CheckScene(SceneFromJson(R"({
+    "bodies": [{"name": "bob", "type": "particle", "mass": 1.0, "position": [0.6, -0.8]}],
+    "constraints": [{"type": "distance", "bodies": ["world", "bob"], "length": 1.0},
+                    {"type": "distance", "bodies": ["world", "bob"], "length": 1.0}]})"));
+  EXPECT_EQ(c.rank, 1);
+  EXPECT_EQ(c.degrees_of_freedom, 1);
+  ASSERT_EQ(c.redundant_constraints.size(), 1u);  // either copy may be named; exactly one of them
+  EXPECT_TRUE(c.redundant_constraints[0] == 0 || c.redundant_constraints[0] == 1);
+}
+
+TEST(SceneCheck, ParallelogramGainsAFreedomWhenCollinear) {
+  // generic position: 9 coordinates, 8 independent rows, 1 degree of freedom
+  const SceneCheck generic = CheckScene(SceneFromJson(Parallelogram(1.0)));
+  EXPECT_EQ(generic.rank, 8);
+  EXPECT_EQ(generic.degrees_of_freedom, 1);
+  EXPECT_TRUE(generic.redundant_constraints.empty());
+  // cranks along the ground: all bars collinear, one row becomes dependent and a second freedom appears
+  const SceneCheck collinear = CheckScene(SceneFromJson(Parallelogram(0.0)));
+  EXPECT_EQ(collinear.rank, 7);
+  EXPECT_EQ(collinear.degrees_of_freedom, 2);
+  EXPECT_EQ(collinear.redundant_constraints.size(), 1u);
+}
+
+TEST(SceneCheck, NoConstraintsLeaveEveryCoordinateFree) {
+  const SceneCheck c = CheckScene(SceneFromJson(R"({"dimension": 3,
+    "bodies": [{"name": "a", "type": "particle", "mass": 1.0, "position": [0, 0, 0]}]})"));
+  EXPECT_EQ(c.coordinates, 3);
+  EXPECT_EQ(c.rank, 0);
+  EXPECT_EQ(c.degrees_of_freedom, 3);
+  EXPECT_EQ(c.worst_constraint, -1);
+}
+
+TEST(SceneCheck, ReportsTheInitialViolation) {
+  Model<double> model = testing::Pendulum60();
+  model.q0[0] += 0.01;  // 1 cm along x, off a 0.7 m rod
+  const SceneCheck c = CheckScene(model);
+  const double moved = std::hypot(model.q0[0], model.q0[1]) - 0.7;
+  EXPECT_NEAR(c.initial_violation, std::abs(moved), 1e-12);
+  EXPECT_EQ(c.worst_constraint, 0);
+}
+
+TEST(SceneCheck, CommandLinePrintsJsonAndText) {
+  const testing::TempFolder folder("tether_check");
+  const std::string scene = folder.Write("parallelogram.json", Parallelogram(0.0));
+  const testing::Outcome json = testing::RunTether("check '" + scene + "' --json", folder);
+  ASSERT_EQ(json.status, 0) << json.err;
+  const nlohmann::json out = nlohmann::json::parse(json.out);
+  EXPECT_EQ(out["degrees_of_freedom"], 2);
+  EXPECT_EQ(out["rank"], 7);
+  EXPECT_EQ(out["redundant_constraints"].size(), 1u);
+  const testing::Outcome text = testing::RunTether("check '" + scene + "'", folder);
+  ASSERT_EQ(text.status, 0) << text.err;
+  EXPECT_NE(text.out.find("2 degrees of freedom"), std::string::npos) << text.out;
+  const testing::Outcome missing = testing::RunTether("check '" + folder.Path("absent.json") + "'", folder);
+  EXPECT_EQ(missing.status, 2);
+  EXPECT_NE(missing.err.find("absent.json"), std::string::npos) << missing.err;
+}
+
+}  // namespace
+}  // namespace tether
