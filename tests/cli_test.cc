@@ -20,18 +20,12 @@
 namespace tether {
 namespace {
 
+using ::tether::testing::Lines;
+
 using testing::Outcome;
 using testing::ReadText;
 
 bool Exists(const std::string& path) { return std::ifstream(path).good(); }
-
-std::vector<std::string> Lines(const std::string& text) {
-  std::vector<std::string> lines;
-  std::stringstream in(text);
-  std::string line;
-  while (std::getline(in, line)) lines.push_back(line);
-  return lines;
-}
 
 double FirstField(const std::string& line) { return std::strtod(line.c_str(), nullptr); }
 

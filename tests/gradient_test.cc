@@ -20,6 +20,7 @@
 #include <tuple>
 #include <vector>
 
+#include "test_files.h"
 #include "test_scenes.h"
 #include "tether/autodiff/residuals.h"
 #include "tether/dynamics/kinematics.h"
@@ -29,6 +30,8 @@
 
 namespace tether {
 namespace {
+
+using ::tether::testing::CsvCells;
 
 using nlohmann::json;
 
@@ -252,28 +255,13 @@ json Configured(const GradientScene& scene, Integrator integrator, Stabilization
 // A scratch file removed at the end of its scope.
 class ScratchFile {
  public:
-  explicit ScratchFile(const std::string& name) {
-    std::string folder = ::testing::TempDir() + "tether_gradient_XXXXXX";
-    if (mkdtemp(folder.data()) != nullptr) folder_ = folder;
-    path_ = folder_ + "/" + name;
-  }
-  ~ScratchFile() {
-    std::remove(path_.c_str());
-    rmdir(folder_.c_str());
-  }
+  explicit ScratchFile(const std::string& name) : path_(folder_.Path(name)) {}
   const std::string& path() const { return path_; }
 
  private:
-  std::string folder_, path_;
+  ::tether::testing::TempFolder folder_{"tether_gradient"};
+  std::string path_;
 };
-
-std::vector<std::string> Split(const std::string& line) {
-  std::vector<std::string> cells;
-  std::stringstream in(line);
-  std::string cell;
-  while (std::getline(in, cell, ',')) cells.push_back(cell);
-  return cells;
-}
 
 // Simulates `truth` with stops at `times` and writes its `columns` there as an observation CSV, rows in reverse
 // time order (the reader sorts them); the cell (gap_row, gap_column) is left empty when gap_row >= 0.
@@ -283,7 +271,7 @@ void WriteObservations(const Model<double>& truth, const std::vector<double>& ti
   std::stringstream in(tether::testing::TrajectoryCsvAt(truth, times));
   std::string line;
   std::getline(in, line);
-  const std::vector<std::string> header = Split(line);
+  const std::vector<std::string> header = CsvCells(line);
   std::vector<size_t> picked = {0};  // t
   for (const std::string& name : columns) {
     for (size_t c = 0; c < header.size(); ++c) {
@@ -293,7 +281,7 @@ void WriteObservations(const Model<double>& truth, const std::vector<double>& ti
   ASSERT_EQ(picked.size(), columns.size() + 1) << "a column is not in the trajectory CSV";
   std::vector<std::string> rows;
   for (int row = 0; std::getline(in, line); ++row) {
-    const std::vector<std::string> cells = Split(line);
+    const std::vector<std::string> cells = CsvCells(line);
     std::string out;
     for (size_t k = 0; k < picked.size(); ++k) {
       const bool gap = row == gap_row && static_cast<int>(k) == gap_column + 1;

@@ -32,6 +32,8 @@
 namespace tether {
 namespace {
 
+using ::tether::testing::CsvCells;
+
 using nlohmann::json;
 using testing::TempFolder;
 
@@ -84,14 +86,6 @@ std::vector<double> Grid(double first, double spacing, double last) {
   return times;
 }
 
-std::vector<std::string> Split(const std::string& line) {
-  std::vector<std::string> cells;
-  std::stringstream in(line);
-  std::string cell;
-  while (std::getline(in, cell, ',')) cells.push_back(cell);
-  return cells;
-}
-
 // A recording of `truth`: the trajectory columns `columns` at `times`, each cell plus N(0, noise^2) drawn from
 // std::mt19937(seed), written to a CSV and read back against `fitted` (the model being fitted).
 Observations Record(const Model<double>& truth, const Model<double>& fitted, const std::vector<std::string>& columns,
@@ -99,7 +93,7 @@ Observations Record(const Model<double>& truth, const Model<double>& fitted, con
   std::stringstream in(tether::testing::TrajectoryCsvAt(truth, times));
   std::string line;
   std::getline(in, line);
-  const std::vector<std::string> header = Split(line);
+  const std::vector<std::string> header = CsvCells(line);
   std::vector<size_t> picked;
   for (const std::string& name : columns) {
     for (size_t c = 0; c < header.size(); ++c) {
@@ -116,7 +110,7 @@ Observations Record(const Model<double>& truth, const Model<double>& fitted, con
   file << "\n";
   int rows = 0;
   while (std::getline(in, line)) {
-    const std::vector<std::string> cells = Split(line);
+    const std::vector<std::string> cells = CsvCells(line);
     file << cells[0];
     for (size_t c : picked) file << "," << std::stod(cells[c]) + gaussian(generator);
     file << "\n";

@@ -14,6 +14,9 @@
 namespace tether {
 namespace {
 
+using ::tether::testing::Lines;
+using ::tether::testing::CsvCells;
+
 using testing::Outcome;
 using testing::ReadText;
 using testing::TempFolder;
@@ -29,28 +32,14 @@ const char* kPendulum = R"({"dimension": 2,
 
 bool Contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
-std::vector<std::string> Lines(const std::string& text) {
-  std::vector<std::string> lines;
-  std::stringstream in(text);
-  for (std::string line; std::getline(in, line);) lines.push_back(line);
-  return lines;
-}
-
-std::vector<std::string> Cells(const std::string& line) {
-  std::vector<std::string> cells;
-  std::stringstream in(line);
-  for (std::string cell; std::getline(in, cell, ',');) cells.push_back(cell);
-  return cells;
-}
-
 // results.csv with the column named `drop` removed from every line.
 std::string WithoutColumn(const std::string& csv, const std::string& drop) {
   const std::vector<std::string> lines = Lines(csv);
   if (lines.empty()) return "";
-  const std::vector<std::string> header = Cells(lines[0]);
+  const std::vector<std::string> header = CsvCells(lines[0]);
   std::string out;
   for (const std::string& line : lines) {
-    const std::vector<std::string> cells = Cells(line);
+    const std::vector<std::string> cells = CsvCells(line);
     for (size_t k = 0; k < cells.size(); ++k) {
       if (k < header.size() && header[k] == drop) continue;
       out += cells[k] + ";";
@@ -93,7 +82,7 @@ TEST_F(StudyCliTest, WritesResultsSummaryAndFiguresWithAProgressBar) {
   const std::vector<std::string> expected_keys = {"0.01,rk4,", "0.01,euler,", "0.005,rk4,", "0.005,euler,"};
   for (size_t i = 0; i < expected_keys.size(); ++i) {
     EXPECT_EQ(lines[i + 1].rfind(expected_keys[i], 0), 0u) << lines[i + 1];
-    EXPECT_EQ(Cells(lines[i + 1]).back(), "ok") << lines[i + 1];
+    EXPECT_EQ(CsvCells(lines[i + 1]).back(), "ok") << lines[i + 1];
   }
   EXPECT_FALSE(std::filesystem::exists(out_.Path("results.partial.csv")));
 
@@ -139,8 +128,8 @@ TEST_F(StudyCliTest, DivergedRowIsReportedAndTheStudyStillSucceeds) {
   ASSERT_EQ(run.status, 0) << run.err;
   const std::vector<std::string> lines = Lines(ReadText(out_.Path("results.csv")));
   ASSERT_EQ(lines.size(), 3u);
-  EXPECT_EQ(Cells(lines[1]).back(), "ok") << lines[1];
-  const std::vector<std::string> diverged = Cells(lines[2]);
+  EXPECT_EQ(CsvCells(lines[1]).back(), "ok") << lines[1];
+  const std::vector<std::string> diverged = CsvCells(lines[2]);
   ASSERT_GE(diverged.size(), 4u) << lines[2];
   EXPECT_EQ(diverged[2], "nan") << lines[2];
   EXPECT_EQ(diverged[3].rfind("diverged", 0), 0u) << lines[2];

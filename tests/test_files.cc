@@ -19,6 +19,20 @@ std::string ReadText(const std::string& path) {
   return text.str();
 }
 
+std::vector<std::string> Lines(const std::string& text) {
+  std::vector<std::string> lines;
+  std::stringstream in(text);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+std::vector<std::string> CsvCells(const std::string& line) {
+  std::vector<std::string> cells;
+  std::stringstream in(line);
+  for (std::string cell; std::getline(in, cell, ',');) cells.push_back(cell);
+  return cells;
+}
+
 TempFolder::TempFolder(const std::string& prefix) : path_(::testing::TempDir() + prefix + "_XXXXXX") {
   if (!mkdtemp(path_.data())) ADD_FAILURE() << "cannot make the temporary folder " << path_;
 }

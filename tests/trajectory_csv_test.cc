@@ -20,23 +20,10 @@
 namespace tether {
 namespace {
 
+using ::tether::testing::CsvCells;
+using ::tether::testing::Lines;
+
 using testing::SceneFromJson;
-
-std::vector<std::string> Split(const std::string& line) {
-  std::vector<std::string> fields;
-  std::stringstream in(line);
-  std::string field;
-  while (std::getline(in, field, ',')) fields.push_back(field);
-  return fields;
-}
-
-std::vector<std::string> Lines(const std::string& text) {
-  std::vector<std::string> lines;
-  std::stringstream in(text);
-  std::string line;
-  while (std::getline(in, line)) lines.push_back(line);
-  return lines;
-}
 
 using testing::TempFolder;
 
@@ -80,9 +67,9 @@ TEST(TrajectoryCsv, WriterHeaderAndRowMatchTheColumns) {
   const std::vector<std::string> lines = Lines(out.str());
   ASSERT_EQ(lines.size(), 2u);
   const std::vector<std::string> columns = TrajectoryColumns(model);
-  EXPECT_EQ(Split(lines[0]), columns);
+  EXPECT_EQ(CsvCells(lines[0]), columns);
   // per body: coordinates, then velocities
-  EXPECT_EQ(Split(lines[1]), (std::vector<std::string>{"0.5", "1", "2", "3", "6", "7", "8", "4", "5", "9", "10",
+  EXPECT_EQ(CsvCells(lines[1]), (std::vector<std::string>{"0.5", "1", "2", "3", "6", "7", "8", "4", "5", "9", "10",
                                                        "1e-09", "-2"}));
 }
 
@@ -112,7 +99,7 @@ TEST(TrajectoryCsv, NumbersRoundTripExactly) {
   const std::vector<std::string> lines = Lines(out.str());
   ASSERT_EQ(lines.size(), 3u);
   for (size_t row = 0; row < 2; ++row) {
-    const std::vector<std::string> fields = Split(lines[row + 1]);
+    const std::vector<std::string> fields = CsvCells(lines[row + 1]);
     ASSERT_EQ(fields.size(), 7u);
     for (size_t i = 0; i < fields.size(); ++i) {
       EXPECT_EQ(std::strtod(fields[i].c_str(), nullptr), value(row, i)) << fields[i];
@@ -134,7 +121,7 @@ TEST(TrajectoryCsv, SimulatedRowsRoundTrip) {
   ASSERT_EQ(lines.size(), rows.size() + 1);
   ASSERT_EQ(rows.size(), 11u);
   for (size_t r = 0; r < rows.size(); ++r) {
-    const std::vector<std::string> fields = Split(lines[r + 1]);
+    const std::vector<std::string> fields = CsvCells(lines[r + 1]);
     ASSERT_EQ(fields.size(), rows[r].size());
     for (size_t i = 0; i < fields.size(); ++i) EXPECT_EQ(std::strtod(fields[i].c_str(), nullptr), rows[r][i]);
   }
@@ -151,7 +138,7 @@ TEST(TrajectoryCsv, AngleIsContinuous) {
   ASSERT_EQ(lines.size(), 12u);
   double previous = -1.0;
   for (size_t row = 1; row < lines.size(); ++row) {
-    const std::vector<std::string> fields = Split(lines[row]);
+    const std::vector<std::string> fields = CsvCells(lines[row]);
     ASSERT_EQ(fields.size(), 9u);
     const double t = std::strtod(fields[0].c_str(), nullptr), angle = std::strtod(fields[3].c_str(), nullptr);
     EXPECT_NEAR(angle, 10.0 * t, 1e-12);
