@@ -1,0 +1,60 @@
+"""Runs tether_bench with --benchmark_format=json and picks its measurements; shared by bench/gradient_cost.py
+and the studies that draw benchmark figures (studies/gradient_cost, studies/scaling). Standard library only.
+"""
+import json
+import os
+import subprocess
+import sys
+
+# google benchmark's time units, in milliseconds
+MILLISECONDS = {"ns": 1e-6, "us": 1e-3, "ms": 1.0, "s": 1e3}
+
+
+def run(binary, pattern, min_time, repetitions, extra=()):
+    """Runs the benchmarks whose names match the regular expression `pattern`; returns the parsed JSON report."""
+    if not os.path.exists(binary):
+        sys.exit(f"{binary} not found: build it (scripts/dev run builds build/bench/tether_bench) or pass --binary")
+    command = [binary, f"--benchmark_filter={pattern}", "--benchmark_format=json",
+               f"--benchmark_min_time={min_time}", f"--benchmark_repetitions={repetitions}"] + list(extra)
+    print("running: " + " ".join(command), file=sys.stderr)
+    done = subprocess.run(command, check=True, stdout=subprocess.PIPE, text=True)
+    return json.loads(done.stdout)
+
+
+def load(path):
+    with open(path) as f:
+        return json.load(f)
+
+
+def save(report, path):
+    with open(path, "w") as f:
+        json.dump(report, f, indent=1)
+        f.write("\n")
+
+
+def measurements(report):
+    """The report's benchmarks worth reading, each once: with --benchmark_repetitions, the medians of the
+    repetitions; otherwise the single runs. Runs that reported an error are left out. Each entry's "run_name"
+    is the benchmark's name without the aggregate suffix."""
+    medians = any(b.get("aggregate_name") == "median" for b in report["benchmarks"])
+    picked = []
+    for b in report["benchmarks"]:
+        wanted = b.get("aggregate_name") == "median" if medians else b.get("run_type", "iteration") == "iteration"
+        if wanted and not b.get("error_occurred"):
+            name = b.get("run_name", b["name"])
+            if name.endswith("_median"):
+                name = name[: -len("_median")]
+            picked.append(dict(b, run_name=name))
+    return picked
+
+
+def cpu_milliseconds(entry):
+    """The entry's CPU time per iteration, in milliseconds."""
+    return entry["cpu_time"] * MILLISECONDS[entry.get("time_unit", "ns")]
+
+
+def host(report):
+    """One line on the machine and its load while the benchmark ran."""
+    context = report.get("context", {})
+    return (f"{context.get('num_cpus', '?')} CPUs at {context.get('mhz_per_cpu', '?')} MHz, "
+            f"load average {context.get('load_avg', '?')}, {context.get('date', '')}")

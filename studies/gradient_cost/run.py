@@ -1,0 +1,94 @@
+#!/usr/bin/env python3
+"""What one loss gradient costs against the number of parameters, as a figure (issue 6, "gradient cost").
+
+    python3 studies/gradient_cost/run.py [--binary build/bench/tether_bench] [--min-time 0.2] [--repetitions 3]
+    python3 studies/gradient_cost/run.py --json studies/gradient_cost/results.json    # redraw only
+
+Runs the gradient benchmark (bench/gradient_bench.cc, through bench/gradient_cost.py, which also prints the
+README's table), writes its JSON output to results.json and draws gradient_cost.png and .svg beside it (or in
+--out): the CPU time of one gradient as a multiple of one plain simulation of the same model, against the number
+of parameters P, one line per method and chain size. With the defaults it takes 1.5 to 2.5 minutes on two cores.
+Python 3 with matplotlib (Debian: python3-matplotlib).
+"""
+import argparse
+import os
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, os.path.join(ROOT, "bench"))
+
+import bench_json  # noqa: E402
+import gradient_cost  # noqa: E402
+
+COLORS = {"implicit": "tab:blue", "jet_factor": "tab:purple", "central": "tab:orange"}
+STYLES = ["-o", "--s", ":^", "-.D"]  # one per chain size
+
+
+def draw(report, out):
+    try:
+        import matplotlib
+    except ImportError:
+        sys.exit("run.py: drawing needs matplotlib (Debian: apt-get install python3-matplotlib)")
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.ticker import FixedLocator, FuncFormatter, NullLocator, ScalarFormatter
+
+    plt.rcParams["svg.hashsalt"] = "tether"  # the same SVG for the same numbers
+    parsed = gradient_cost.parse(report)
+    cells, counts, sizes = parsed["cells"], parsed["counts"], parsed["sizes"]
+    figure, axes = plt.subplots(figsize=(7.5, 5.2))
+    p = [counts[0], counts[-1]]
+    axes.plot(p, [1 + 2 * x for x in p], color="0.6", linewidth=4, alpha=0.35,
+              label="1 + 2P (central differences' plain runs)")
+    for method, label in gradient_cost.METHODS:
+        for n, style in zip(sizes, STYLES):
+            points = [(x, cells[(n, method, x)][0]) for x in counts if (n, method, x) in cells]
+            if points:
+                axes.plot(*zip(*points), style, color=COLORS[method], markersize=5, label=f"{label}, n = {n}")
+    axes.set_xscale("log", base=2)
+    axes.set_yscale("log")
+    axes.xaxis.set_major_locator(FixedLocator(counts))
+    axes.xaxis.set_major_formatter(ScalarFormatter())
+    axes.xaxis.set_minor_locator(NullLocator())
+    axes.yaxis.set_major_locator(FixedLocator([1, 2, 3, 5, 10, 20, 30, 50, 100, 200, 300, 500]))
+    axes.yaxis.set_major_formatter(FuncFormatter(lambda y, _: f"{y:g}x"))
+    axes.yaxis.set_minor_locator(NullLocator())
+    axes.set_xlabel("parameters P (alternately a mass and a link length)")
+    axes.set_ylabel("one gradient / one plain simulation (CPU time)")
+    durations = sorted(set(parsed["durations"].values()))
+    span = ", ".join(f"{d:g}" for d in durations)
+    axes.set_title(f"Cost of one loss gradient: falling chain of n particles, rk4, h = 1 ms, {span} s",
+                   fontsize=10)
+    axes.grid(True, which="both", color="0.9")
+    axes.legend(fontsize=8, loc="upper left")
+    figure.text(0.99, 0.01, "host: " + bench_json.host(report), fontsize=6, color="0.5", ha="right")
+    figure.tight_layout(rect=(0, 0.02, 1, 1))
+    for extension in ("png", "svg"):
+        path = os.path.join(out, "gradient_cost." + extension)
+        figure.savefig(path, dpi=120, metadata={"Date": None} if extension == "svg" else {})
+        print("wrote " + path, file=sys.stderr)
+
+
+def main(argv):
+    parser = argparse.ArgumentParser(description="Runs the gradient-cost benchmark and draws it.")
+    parser.add_argument("--binary", default=os.path.join(ROOT, "build", "bench", "tether_bench"),
+                        help="the tether_bench program (default: build/bench/tether_bench)")
+    parser.add_argument("--min-time", default=gradient_cost.MIN_TIME, help="--benchmark_min_time, seconds")
+    parser.add_argument("--repetitions", type=int, default=gradient_cost.REPETITIONS,
+                        help="--benchmark_repetitions (figures are the medians)")
+    parser.add_argument("--json", help="redraw from this saved results.json instead of running the benchmark")
+    parser.add_argument("--out", default=HERE, help="folder for results.json and the figures (default: here)")
+    args, extra = parser.parse_known_args(argv)
+    extra = [a for a in extra if a != "--"]
+    if args.json:
+        report = bench_json.load(args.json)
+    else:
+        report = gradient_cost.run(args.binary, args.min_time, args.repetitions, extra)
+        bench_json.save(report, os.path.join(args.out, "results.json"))
+    print(gradient_cost.table(report))
+    draw(report, args.out)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])

@@ -1,0 +1,174 @@
+#!/usr/bin/env python3
+"""Time per step against system size for each KKT solver path, as a figure (issue 6, "scaling").
+
+    python3 studies/scaling/run.py [--binary build/bench/tether_bench] [--min-time 0.2] [--repetitions 3]
+    python3 studies/scaling/run.py --json studies/scaling/results.json    # redraw only
+
+Runs the step benchmarks of bench/chain_bench.cc (StepChain: a chain of n particles, rk4 and symplectic Euler;
+StepFourBar: the IFToMM A02 N-four-bar, rk4; each with the sparse and the dense KKT path), writes their JSON
+output to results.json and draws scaling.png and .svg beside it (or in --out): CPU time per step against the
+number of constraint rows m (the size of the KKT system: n for the chain, 6N + 2 for the four-bars), log-log,
+with the slope of each line fitted over m >= 100 and reference slopes O(m) and O(m^3). It also prints the
+slopes and where the dense path stops being faster (dense time / sparse time around there). With the defaults it
+takes about 1.5 minutes on two cores.
+Python 3 with matplotlib (Debian: python3-matplotlib).
+"""
+import argparse
+import math
+import os
+import re
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, os.path.join(ROOT, "bench"))
+
+import bench_json  # noqa: E402
+
+NAME = re.compile(r"^Step(Chain|FourBar)/(rk4|symplectic_euler)_(sparse|dense)/(\d+)$")
+MIN_TIME, REPETITIONS = "0.2", 3
+FIT_FROM = 100  # constraint rows: slopes are fitted from here on, where the per-step overhead no longer counts
+MODELS = [("Chain", "chain of n particles: m = n"), ("FourBar", "N-four-bar (IFToMM A02): m = 6N + 2")]
+INTEGRATORS = {"rk4": "rk4", "symplectic_euler": "symplectic Euler"}
+COLORS = {"sparse": "tab:blue", "dense": "tab:red"}
+STYLES = {"rk4": "-o", "symplectic_euler": "--s"}
+
+
+def parse(report):
+    """{(model, integrator, path): [(rows, size, microseconds per step), ...] sorted by rows}."""
+    series = {}
+    for b in bench_json.measurements(report):
+        match = NAME.match(b["run_name"])
+        if match:
+            model, integrator, path, size = match.group(1), match.group(2), match.group(3), int(match.group(4))
+            point = (int(b["rows"]), size, 1e3 * bench_json.cpu_milliseconds(b))
+            series.setdefault((model, integrator, path), []).append(point)
+    return {key: sorted(points) for key, points in series.items()}
+
+
+def slope(points):
+    """Least-squares slope of log(time) against log(rows) over rows >= FIT_FROM; None with fewer than 2 points."""
+    xy = [(math.log(m), math.log(t)) for m, _, t in points if m >= FIT_FROM]
+    if len(xy) < 2:
+        return None
+    mx = sum(x for x, _ in xy) / len(xy)
+    my = sum(y for _, y in xy) / len(xy)
+    return sum((x - mx) * (y - my) for x, y in xy) / sum((x - mx) ** 2 for x, _ in xy)
+
+
+def crossover(sparse, dense):
+    """Where the dense path stops being faster, in words, with the ratio dense / sparse at the sizes around it."""
+    times = {m: t for m, _, t in sparse}
+    common = [(m, t / times[m]) for m, _, t in dense if m in times]  # dense time / sparse time
+    if not common:
+        return "no common sizes"
+    wins = [i for i, (_, ratio) in enumerate(common) if ratio < 1]
+    if not wins:
+        return f"sparse is faster at every size (dense x{common[0][1]:.2f} at m = {common[0][0]})"
+    if wins[-1] + 1 == len(common):
+        return "dense is faster at every size"
+    (m0, r0), (m1, r1) = common[wins[-1]], common[wins[-1] + 1]
+    # the ratio interpolated log-linearly in m: where it crosses 1
+    even = math.exp(math.log(m0) + math.log(r0) / (math.log(r0) - math.log(r1)) * (math.log(m1) - math.log(m0)))
+    return (f"dense faster up to m = {m0} (x{r0:.2f}), sparse from m = {m1} (dense x{r1:.2f}); "
+            f"break-even near m = {even:.0f}")
+
+
+def microseconds(value):
+    return f"{value / 1e3:.3g} ms" if value >= 1e3 else f"{value:.3g} us"
+
+
+def summary(series):
+    lines = []
+    for model, title in MODELS:
+        for integrator, name in INTEGRATORS.items():
+            sparse, dense = series.get((model, integrator, "sparse")), series.get((model, integrator, "dense"))
+            if not sparse and not dense:
+                continue
+            words = []
+            for path, points in (("sparse", sparse), ("dense", dense)):
+                if points:
+                    s = slope(points)
+                    m, _, t = points[-1]
+                    words.append(f"{path} slope " + ("n/a" if s is None else f"{s:.2f}") +
+                                 f" ({microseconds(t)} at m = {m})")
+            if sparse and dense:
+                words.append(crossover(sparse, dense))
+            lines.append(f"{title.split(':')[0]}, {name}: " + "; ".join(words))
+    return "\n".join(lines)
+
+
+def draw(report, out):
+    try:
+        import matplotlib
+    except ImportError:
+        sys.exit("run.py: drawing needs matplotlib (Debian: apt-get install python3-matplotlib)")
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    plt.rcParams["svg.hashsalt"] = "tether"  # the same SVG for the same numbers
+    series = parse(report)
+    figure, panels = plt.subplots(1, 2, figsize=(11, 5), sharey=True)
+    for axes, (model, title) in zip(panels, MODELS):
+        keys = [k for k in series if k[0] == model]
+        for _, integrator, path in sorted(keys, key=lambda k: (list(INTEGRATORS).index(k[1]), k[2] == "dense")):
+            points = series[(model, integrator, path)]
+            s = slope(points)
+            label = f"{INTEGRATORS[integrator]}, {path}" + (f" (slope {s:.2f})" if s is not None else "")
+            axes.plot([m for m, _, _ in points], [t for _, _, t in points], STYLES[integrator],
+                      color=COLORS[path], markersize=4, label=label)
+        # reference slopes ending at the largest size of the path, a factor 3 above the slowest sparse line
+        # and below the fastest dense line there
+        for path, power, text, first in (("sparse", 1, "O(m)", 10), ("dense", 3, "O(m³)", 30)):
+            ends = [series[k][-1] for k in keys if k[2] == path]
+            if not ends:
+                continue
+            m_end = max(m for m, _, _ in ends)
+            pick = max if path == "sparse" else min
+            t_end = (3.0 if path == "sparse" else 1 / 3.0) * pick(t for m, _, t in ends if m == m_end)
+            start = min(m for k in keys if k[2] == path for m, _, _ in series[k] if m >= first)
+            xs = [start, m_end]
+            axes.plot(xs, [t_end * (x / m_end) ** power for x in xs], ":", color="0.45", linewidth=1.5)
+            axes.annotate(text, (start, t_end * (start / m_end) ** power), textcoords="offset points",
+                          xytext=(-4, 2), ha="right", fontsize=9, color="0.3")
+        axes.set_xscale("log")
+        axes.set_yscale("log")
+        axes.set_title(title, fontsize=10)
+        axes.set_xlabel("constraint rows m (size of the KKT system)")
+        axes.grid(True, which="major", color="0.85")
+        axes.grid(True, which="minor", color="0.95")
+        axes.legend(fontsize=8, loc="upper left")
+    panels[0].set_ylabel("CPU time per step (µs)")
+    figure.suptitle(f"Time per step against size for each KKT path (h = 1 ms; slopes fitted over m ≥ {FIT_FROM})",
+                    fontsize=11)
+    figure.text(0.99, 0.01, "host: " + bench_json.host(report), fontsize=6, color="0.5", ha="right")
+    figure.tight_layout(rect=(0, 0.02, 1, 1))
+    for extension in ("png", "svg"):
+        path = os.path.join(out, "scaling." + extension)
+        figure.savefig(path, dpi=110, metadata={"Date": None} if extension == "svg" else {})
+        print("wrote " + path, file=sys.stderr)
+
+
+def main(argv):
+    parser = argparse.ArgumentParser(description="Runs the step benchmarks and draws time per step against size.")
+    parser.add_argument("--binary", default=os.path.join(ROOT, "build", "bench", "tether_bench"),
+                        help="the tether_bench program (default: build/bench/tether_bench)")
+    parser.add_argument("--min-time", default=MIN_TIME, help=f"--benchmark_min_time, seconds (default {MIN_TIME})")
+    parser.add_argument("--repetitions", type=int, default=REPETITIONS,
+                        help=f"--benchmark_repetitions, figures are the medians (default {REPETITIONS})")
+    parser.add_argument("--json", help="redraw from this saved results.json instead of running the benchmark")
+    parser.add_argument("--out", default=HERE, help="folder for results.json and the figures (default: here)")
+    args, extra = parser.parse_known_args(argv)
+    extra = [a for a in extra if a != "--"]
+    if args.json:
+        report = bench_json.load(args.json)
+    else:
+        report = bench_json.run(args.binary, "^Step(Chain|FourBar)/", args.min_time, args.repetitions, extra)
+        bench_json.save(report, os.path.join(args.out, "results.json"))
+    print(summary(parse(report)))
+    print("host: " + bench_json.host(report))
+    draw(report, args.out)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
