@@ -19,8 +19,8 @@ Model<double> HorizontalChain(int n, Integrator integrator, KktSolver solver);
 // (/bodies/k/mass, /constraints/k/length). Parse it with tether::ParseScene.
 nlohmann::json HorizontalChainScene(int n, double duration);
 
-// The IFToMM A02 N-four-bar: n parallelograms of uniform 1 m, 1 kg bars (2n + 1 rigid bodies, 4n + 2 pin
-// constraints, 8n + 4 rows), cranks vertical and turning at -1 rad/s, under gravity.
+// The IFToMM A02 N-four-bar: n parallelograms of uniform 1 m, 1 kg bars (2n + 1 rigid bodies, 3n + 1 pin
+// constraints, 6n + 2 rows), cranks vertical and turning at -1 rad/s, under gravity.
 Model<double> FourBar(int n, KktSolver solver);
 
 // scenes/pendulum.json's pendulum (1 kg, 1 m, released from 60 degrees) with the given integrator and step.

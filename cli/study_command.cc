@@ -8,73 +8,22 @@
 #include <thread>
 
 #include "matplotlib_script.h"
+#include "study_figures_script.h"
 #include "tether/dynamics/errors.h"
+#include "tether/studies/gain_map.h"
 #include "tether/studies/study.h"
+#include "tether/studies/study_mpi.h"
 
 namespace tether::cli {
 namespace {
 
-// argv: results.csv folder n_pointers; one figure per metric: the metric against the first swept pointer, one
-// line per combination of the other pointers that take several values (log axes when values span decades;
-// diverged runs and, on a log axis, exact zeros are left out).
-constexpr const char* kPlotScript = R"PY(
-import csv, math, os, sys
-import matplotlib
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
-
-path, folder, n = sys.argv[1], sys.argv[2], int(sys.argv[3])
-with open(path) as f:
-    reader = csv.reader(f)
-    header = next(reader)
-    rows = list(reader)
-pointers, metrics = header[:n], header[n:-1]
-
-def number(text):
-    try:
-        value = float(text)
-        return None if math.isnan(value) else value
-    except ValueError:
-        return None
-
-def short(pointer):
-    return pointer.rsplit("/", 1)[-1]
-
-# pointers with several values label the lines; the first one is the x axis
-varying = [k for k in range(1, n) if len({r[k] for r in rows}) > 1]
-x_numeric = all(number(r[0]) is not None for r in rows)
-for m, metric in enumerate(metrics):
-    values = [v for v in (number(r[n + m]) for r in rows) if v is not None]
-    positive = [v for v in values if v > 0]
-    log = len(positive) > 1 and max(positive) / min(positive) > 100
-    fig, ax = plt.subplots(figsize=(8.0, 4.4))
-    groups = {}
-    for r in rows:
-        groups.setdefault(tuple(r[k] for k in varying), []).append(r)
-    for key, members in groups.items():
-        pts = [(number(r[0]) if x_numeric else r[0], number(r[n + m])) for r in members]
-        pts = [(x, y) for x, y in pts if y is not None and (y > 0 or not log)]
-        label = ", ".join("%s=%s" % (short(pointers[k]), v) for k, v in zip(varying, key)) or metric
-        ax.plot([p[0] for p in pts], [p[1] for p in pts], "o-", ms=4, label=label)
-    if log:
-        ax.set_yscale("log")
-    if x_numeric and all(number(r[0]) > 0 for r in rows):
-        ax.set_xscale("log")
-    ax.set_xlabel(pointers[0])
-    ax.set_ylabel(metric)
-    ax.grid(alpha=0.3, which="both")
-    if len(groups) > 1:
-        ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5))
-    fig.tight_layout()
-    for ext in ("png", "svg"):
-        fig.savefig(os.path.join(folder, "%s.%s" % (metric, ext)), dpi=110)
-    plt.close(fig)
-)PY";
-
 void WriteSummary(const StudySpec& spec, const std::vector<StudyRow>& rows, const std::string& folder) {
   std::ofstream out(std::filesystem::path(folder) / "summary.md");
-  out << "# Study " << spec.path << "\n\nScene: `" << spec.scene_path << "`; " << rows.size()
-      << " runs over the sweep of";
+  out << "# Study " << spec.path << "\n\nScene" << (spec.scene_paths.size() > 1 ? "s:" : ":");
+  for (size_t k = 0; k < spec.scene_paths.size(); ++k) {
+    out << (k ? ", `" : " `") << spec.scene_paths[k] << "`" << (spec.scene_labels.empty() ? "" : " (" + spec.scene_labels[k] + ")");
+  }
+  out << "; " << rows.size() << " runs over the sweep of";
   for (const std::string& p : spec.pointers) out << " `" << p << "`";
   out << ".\n\n|";
   for (const std::string& p : spec.pointers) out << " " << p << " |";
@@ -85,7 +34,7 @@ void WriteSummary(const StudySpec& spec, const std::vector<StudyRow>& rows, cons
   char number[32];
   for (const StudyRow& row : rows) {
     out << "|";
-    for (const nlohmann::json& v : row.values) out << " " << (v.is_string() ? v.get<std::string>() : v.dump()) << " |";
+    for (const nlohmann::json& v : row.values) out << " " << CellText(v) << " |";
     for (double m : row.metrics) {
       std::snprintf(number, sizeof number, "%.3g", m);
       out << " " << number << " |";
@@ -101,8 +50,31 @@ void WriteSummary(const StudySpec& spec, const std::vector<StudyRow>& rows, cons
     if (!best) continue;
     out << "- Smallest " << spec.metrics[m] << ": " << best->metrics[m] << " at";
     for (size_t k = 0; k < spec.pointers.size(); ++k) out << " " << spec.pointers[k] << " = " << best->values[k].dump();
-    out << ". Figure: `" << spec.metrics[m] << ".png`.\n";
+    out << ".\n";
   }
+}
+
+// Draws the study's figures into `folder` (study_figures.py); gain maps first get their marks, written to
+// folder/gain_map_marks.json.
+void DrawFigures(const StudySpec& spec, const std::string& folder) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> args = {(fs::path(folder) / "results.csv").string(), folder,
+                                   std::to_string(spec.pointers.size()), nlohmann::json(spec.figures).dump()};
+  for (const nlohmann::json& figure : spec.figures) {
+    if (figure["type"] != "gain_map") continue;
+    std::cerr << "tether: tuning the gains of each gain map panel\n";
+    args.push_back((fs::path(folder) / "gain_map_marks.json").string());
+    std::ofstream(args.back()) << GainMapMarks(spec).dump(1) << "\n";
+    break;
+  }
+  RunMatplotlib(kStudyFiguresScript, args, "study");
+}
+
+void ShowProgress(int done, int total, double seconds_left) {
+  const int width = 30, filled = total ? width * done / total : width;
+  std::fprintf(stderr, "\r[%s%s] %d/%d runs, about %.0f s left   ", std::string(filled, '#').c_str(),
+               std::string(width - filled, '.').c_str(), done, total, seconds_left);
+  if (done == total) std::fprintf(stderr, "\n");
 }
 
 class StudyCommand final : public Command {
@@ -111,31 +83,53 @@ class StudyCommand final : public Command {
     app_ = parent->add_subcommand("study", "run a study: a scene over swept values, with metrics and figures");
     app_->add_option("STUDY", study_path_, "study file (JSON): scene, sweep, metrics")->required();
     app_->add_option("--out", folder_, "output folder (results.csv, figures, summary.md)")->required();
-    app_->add_option("--threads", threads_, "parallel runs (default: all cores)");
+    threads_option_ = app_->add_option("--threads", threads_,
+                                       "parallel runs (default: all cores; under mpirun, the cores per rank)");
   }
 
   CLI::App* app() const override { return app_; }
 
   int Run() override {
-    if (threads_ < 1) throw InputError("--threads: must be a whole number >= 1, got " + std::to_string(threads_));
+    if (threads_option_->count() > 0 && threads_ < 1) {
+      throw InputError("--threads: must be a whole number >= 1, got " + std::to_string(threads_));
+    }
+    if (LaunchedByMpirun()) return RunOverMpi();
     const StudySpec spec = ReadStudySpec(study_path_);
-    const std::vector<StudyRow> rows = RunStudy(spec, folder_, threads_, [](int done, int total, double left) {
-      const int width = 30, filled = total ? width * done / total : width;
-      std::fprintf(stderr, "\r[%s%s] %d/%d runs, about %.0f s left   ", std::string(filled, '#').c_str(),
-                   std::string(width - filled, '.').c_str(), done, total, left);
-      if (done == total) std::fprintf(stderr, "\n");
-    });
-    const std::string results = (std::filesystem::path(folder_) / "results.csv").string();
-    RunMatplotlib(kPlotScript, {results, folder_, std::to_string(spec.pointers.size())}, "study");
-    WriteSummary(spec, rows, folder_);
-    std::cerr << "tether: wrote " << results << ", one figure per metric and summary.md in " << folder_ << "\n";
+    Finish(spec, RunStudy(spec, folder_, threads_option_->count() > 0 ? threads_ : AllCores(), ShowProgress));
     return 0;
   }
 
  private:
+  static int AllCores() { return std::max(1u, std::thread::hardware_concurrency()); }
+
+  // Every rank reads the study; rank 0 alone reports a bad one (the others would repeat its message), runs its
+  // share, collects the rows and draws.
+  int RunOverMpi() {
+    const MpiSession session;
+    StudySpec spec;
+    try {
+      spec = ReadStudySpec(study_path_);
+    } catch (const InputError&) {
+      if (session.rank() == 0) throw;
+      return 2;
+    }
+    const int threads = threads_option_->count() > 0 ? threads_ : session.threads_per_rank();
+    const std::vector<StudyRow> rows = RunStudyOverMpi(session, spec, folder_, threads, ShowProgress);
+    if (session.rank() == 0) Finish(spec, rows);
+    return 0;
+  }
+
+  void Finish(const StudySpec& spec, const std::vector<StudyRow>& rows) const {
+    DrawFigures(spec, folder_);
+    WriteSummary(spec, rows, folder_);
+    std::cerr << "tether: wrote " << (std::filesystem::path(folder_) / "results.csv").string()
+              << ", the figures and summary.md in " << folder_ << "\n";
+  }
+
   CLI::App* app_;
+  CLI::Option* threads_option_;
   std::string study_path_, folder_;
-  int threads_ = std::max(1u, std::thread::hardware_concurrency());
+  int threads_ = 0;
 };
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "csv_columns.h"
 #include "test_files.h"
 
 namespace tether {
@@ -20,6 +21,7 @@ using ::tether::testing::CsvCells;
 using testing::Outcome;
 using testing::ReadText;
 using testing::TempFolder;
+using testing::WithoutColumn;
 
 // The acceptance checks' pendulum (1 kg bob, 0.7 m rod, released at rest from 60 degrees), rk4 at h = 0.01
 // with explicit Baumgarte gains, for 0.5 s.
@@ -31,23 +33,6 @@ const char* kPendulum = R"({"dimension": 2,
   "stabilization": {"method": "baumgarte", "alpha": 10.0, "beta": 25.0}})";
 
 bool Contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
-
-// results.csv with the column named `drop` removed from every line.
-std::string WithoutColumn(const std::string& csv, const std::string& drop) {
-  const std::vector<std::string> lines = Lines(csv);
-  if (lines.empty()) return "";
-  const std::vector<std::string> header = CsvCells(lines[0]);
-  std::string out;
-  for (const std::string& line : lines) {
-    const std::vector<std::string> cells = CsvCells(line);
-    for (size_t k = 0; k < cells.size(); ++k) {
-      if (k < header.size() && header[k] == drop) continue;
-      out += cells[k] + ";";
-    }
-    out += "\n";
-  }
-  return out;
-}
 
 class StudyCliTest : public ::testing::Test {
  protected:
@@ -102,6 +87,35 @@ TEST_F(StudyCliTest, WritesResultsSummaryAndFiguresWithAProgressBar) {
   EXPECT_TRUE(Contains(run.err, "\r[")) << run.err;
   EXPECT_TRUE(Contains(run.err, "4/4 runs")) << run.err;
   EXPECT_TRUE(Contains(run.err, "[##############################]")) << run.err;  // full bar, 30 wide
+}
+
+TEST_F(StudyCliTest, DrawsParetoAndGainMapFiguresAndWritesTheMarks) {
+  folder_.Write("pendulum.json", kPendulum);
+  const std::string study = folder_.Write("figures.json", R"({"scene": "pendulum.json",
+    "sweep": {"/simulation/integrator": ["rk4", "symplectic_euler"], "/stabilization/alpha": [1, 10, 100],
+              "/stabilization/beta": [10, 1000, 1.0e7]},
+    "metrics": ["max_constraint_error", "seconds_per_simulated_second"],
+    "figures": [{"type": "pareto", "x": "seconds_per_simulated_second", "y": "max_constraint_error"},
+                {"type": "gain_map", "color": "max_constraint_error"}]})");
+  const Outcome run = Study(study, out_);
+  ASSERT_EQ(run.status, 0) << run.err;
+  for (const std::string name : {"pareto_max_constraint_error_vs_seconds_per_simulated_second",
+                                 "gain_map_max_constraint_error"}) {
+    ExpectFigure(out_.Path(name + ".png"));
+    ExpectFigure(out_.Path(name + ".svg"));
+  }
+  // no lines figure was asked for
+  EXPECT_FALSE(std::filesystem::exists(out_.Path("max_constraint_error.png")));
+  // the Pareto front: at least one run, no run on it beaten in both metrics by another run on it
+  const std::vector<std::string> front =
+      Lines(ReadText(out_.Path("pareto_max_constraint_error_vs_seconds_per_simulated_second.csv")));
+  ASSERT_GE(front.size(), 2u);
+  for (size_t i = 2; i < front.size(); ++i) {  // sorted by time, so the error must fall along the front
+    EXPECT_LT(std::stod(CsvCells(front[i])[3]), std::stod(CsvCells(front[i - 1])[3])) << front[i];
+  }
+  const std::string marks = ReadText(out_.Path("gain_map_marks.json"));
+  EXPECT_TRUE(Contains(marks, "\"tuned\"")) << marks;
+  EXPECT_TRUE(Contains(marks, "\"bound\"")) << marks;
 }
 
 TEST_F(StudyCliTest, ResultsDoNotDependOnTheThreadCount) {

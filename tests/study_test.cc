@@ -2,7 +2,8 @@
 // every combination of the sweep, naming the file and the JSON Pointer (and the row) at fault; RunStudy runs the
 // cartesian product with the first swept pointer varying slowest, in the file's key order, measures each run
 // against the reference motion, marks a diverged row with NaN metrics without touching the others, and resumes
-// from results.partial.csv.
+// from results.partial.csv. Labelled scenes add a leading `scene` column; "tuned" runs the tuner's gains; the
+// figures list is validated.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -12,10 +13,12 @@
 #include <string>
 #include <vector>
 
+#include "tether/dynamics/default_gains.h"
 #include "tether/dynamics/errors.h"
 #include "tether/dynamics/scene_reader.h"
 #include "tether/dynamics/simulator.h"
 #include "tether/studies/study.h"
+#include "tether/tuning/gain_tuning.h"
 #include "tether/tuning/reference.h"
 #include "test_files.h"
 #include "test_scenes.h"
@@ -349,6 +352,77 @@ TEST_F(StudyTest, SweptPointerPastTheEndOfAnArrayIsAnInputErrorNamingThatPointer
   // message must blame the swept pointer, not a null body the writing created
   const std::string study = WriteStudy(R"({"/bodies/3/mass": [1.0]})", R"(["seconds"])");
   ExpectInputError(study, {study, "/bodies/3/mass"});
+}
+
+TEST_F(StudyTest, EnergyDriftIsMeasuredWithoutTheReferenceMetric) {
+  // euler at h = 0.01 gains energy visibly; the row must show it even when no reference is asked for
+  const std::string study = WriteStudy(R"({"/simulation/integrator": ["euler"]})", R"(["energy_drift"])", 1.0);
+  const std::vector<StudyRow> rows = Run(study, out_);
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_GT(rows[0].metrics[0], 1e-4);
+}
+
+TEST_F(StudyTest, TunedRowsRunWithTheTunersGainsAndReportTheGainsInUse) {
+  // the pendulum without gains: "baumgarte" takes the default rule's
+  nlohmann::json scene = ParseJsonText(PendulumScene(1.0), "p.json");
+  scene.erase("stabilization");
+  folder_.Write("pendulum.json", scene.dump());
+  const std::string study = folder_.Write("study.json", R"({"scene": "pendulum.json",
+    "sweep": {"/stabilization/method": ["none", "baumgarte", "tuned", "projection"]},
+    "metrics": ["alpha", "beta", "seconds", "seconds_per_simulated_second"]})");
+  const std::vector<StudyRow> rows = Run(study, out_);
+  ASSERT_EQ(rows.size(), 4u);
+  const Model<double> model = ParseScene(scene, "p.json").model;
+  const TuneResult tuned = TuneGains(model, TuneSettings{});
+  const Gains rule = DefaultGains(Integrator::kRk4, 0.01);
+  const std::vector<std::pair<double, double>> gains = {
+      {0.0, 0.0}, {rule.alpha, rule.beta}, {tuned.alpha, tuned.beta}, {0.0, 0.0}};
+  for (size_t i = 0; i < rows.size(); ++i) {
+    EXPECT_EQ(rows[i].status, "ok") << "row " << i;
+    EXPECT_NEAR(rows[i].metrics[0], gains[i].first, 1e-9 * (1.0 + gains[i].first)) << "row " << i;
+    EXPECT_NEAR(rows[i].metrics[1], gains[i].second, 1e-9 * (1.0 + gains[i].second)) << "row " << i;
+    // the scene lasts 1 s: seconds per simulated second equals the seconds (to the 17 digits printed)
+    EXPECT_NEAR(rows[i].metrics[3], rows[i].metrics[2], 1e-15) << "row " << i;
+  }
+  EXPECT_GT(tuned.alpha, 0.0);
+}
+
+TEST_F(StudyTest, LabelledScenesMakeALeadingSceneColumnAndEachRowRunsItsScene) {
+  folder_.Write("short.json", PendulumScene(0.2));
+  folder_.Write("long.json", PendulumScene(0.6));
+  const std::string study = folder_.Write("scenes.json", R"({"scene": {"short": "short.json", "long": "long.json"},
+    "sweep": {"/simulation/integrator": ["rk4", "euler"]}, "metrics": ["max_constraint_error"]})");
+  const StudySpec spec = ReadStudySpec(study);
+  EXPECT_EQ(spec.pointers, (std::vector<std::string>{"scene", "/simulation/integrator"}));
+  const std::vector<StudyRow> rows = Run(study, out_);
+  ASSERT_EQ(rows.size(), 4u);
+  const auto csv = ReadCsv(out_.Path("results.csv"));
+  ASSERT_EQ(csv.size(), 5u);
+  EXPECT_EQ(csv[0][0], "scene");
+  const std::vector<std::string> scenes = {"short", "short", "long", "long"};
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(csv[i + 1][0], scenes[i]) << "row " << i;
+  // each row ran its own scene: euler's violation grows with the duration
+  EXPECT_GT(rows[3].metrics[0], rows[1].metrics[0]);
+}
+
+TEST_F(StudyTest, BadFiguresAreInputErrorsNamingTheFigure) {
+  folder_.Write("pendulum.json", PendulumScene(0.5));
+  const struct {
+    std::string figures;
+    std::string part;
+  } cases[] = {
+      {R"([{"type": "contour"}])", "/figures/0/type"},
+      {R"([{"type": "lines"}, {"type": "pareto", "x": "seconds", "y": "accuracy"}])", "/figures/1/y"},
+      {R"([{"type": "pareto", "x": "seconds"}])", "/figures/0/y"},
+      {R"([{"type": "gain_map", "color": "seconds"}])", "/figures/0"},
+      {R"([{"type": "lines", "color": "seconds"}])", "/figures/0/color"},
+      {R"([])", "/figures"},
+  };
+  for (const auto& c : cases) {
+    const std::string study = folder_.Write("figures.json", R"({"scene": "pendulum.json",
+      "sweep": {"/simulation/step": [0.01]}, "metrics": ["seconds"], "figures": )" + c.figures + "}");
+    ExpectInputError(study, {"figures.json", c.part});
+  }
 }
 
 }  // namespace

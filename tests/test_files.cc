@@ -59,9 +59,10 @@ std::vector<std::string> TempFolder::Entries() const {
   return names;
 }
 
-Outcome RunTether(const std::string& args, const TempFolder& folder) {
+Outcome RunTether(const std::string& args, const TempFolder& folder, const std::string& launcher) {
   const std::string out = folder.Path(".stdout"), err = folder.Path(".stderr");
-  const std::string command = "'" + std::string(TETHER_EXECUTABLE) + "' " + args + " >'" + out + "' 2>'" + err + "'";
+  const std::string command =
+      launcher + " '" + std::string(TETHER_EXECUTABLE) + "' " + args + " >'" + out + "' 2>'" + err + "'";
   const int raw = std::system(command.c_str());
   Outcome run;
   run.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;

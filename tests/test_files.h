@@ -36,7 +36,8 @@ struct Outcome {
   std::string out, err;
 };
 
-// Runs `tether ARGS` (ARGS reach the shell as written), capturing stdout and stderr through files in `folder`.
-Outcome RunTether(const std::string& args, const TempFolder& folder);
+// Runs `LAUNCHER tether ARGS` (both reach the shell as written; the launcher is e.g. mpirun with its flags),
+// capturing stdout and stderr through files in `folder`.
+Outcome RunTether(const std::string& args, const TempFolder& folder, const std::string& launcher = "");
 
 }  // namespace tether::testing

@@ -93,11 +93,15 @@ TuneResult TuneGains(const Model<double>& model, const TuneSettings& settings) {
   result.margin = 1.0 - h * result.omega / result.bound;
 
   result.comparison.push_back(MeasureGains(model, "tuned", result.alpha, result.beta, objective));
-  result.comparison.push_back(MeasureGains(model, "none", 0.0, 0.0, objective));
-  result.comparison.push_back(MeasureGains(model, "rbdl", 20.0, 100.0, objective));
-  result.comparison.push_back(MeasureGains(model, "mujoco", 100.0, 2500.0, objective));
-  result.comparison.push_back(MeasureGains(model, "default_rule", rule.alpha, rule.beta, objective));
+  for (const NamedGains& preset : GainPresets(integrator, h)) {
+    result.comparison.push_back(MeasureGains(model, preset.name, preset.alpha, preset.beta, objective));
+  }
   return result;
+}
+
+std::vector<NamedGains> GainPresets(Integrator integrator, double step) {
+  const Gains rule = DefaultGains(integrator, step);
+  return {{"none", 0.0, 0.0}, {"rbdl", 20.0, 100.0}, {"mujoco", 100.0, 2500.0}, {"default_rule", rule.alpha, rule.beta}};
 }
 
 }  // namespace tether

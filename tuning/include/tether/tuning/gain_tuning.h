@@ -52,6 +52,14 @@ struct TuneResult {
 
 TuneResult TuneGains(const Model<double>& model, const TuneSettings& settings);
 
+// The gains the tuned ones are compared with: none (0, 0); RBDL-style (20, 100); MuJoCo-style (100, 2500); the
+// default rule's for the integrator and step (default_gains.h).
+struct NamedGains {
+  std::string name;
+  double alpha = 0.0, beta = 0.0;
+};
+std::vector<NamedGains> GainPresets(Integrator integrator, double step);
+
 // Runs the model with the gains over its whole duration and measures it (reference may be empty).
 GainMetrics MeasureGains(const Model<double>& model, const std::string& name, double alpha, double beta,
                          const GainObjective& objective);

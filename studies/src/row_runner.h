@@ -1,0 +1,27 @@
+// Running the rows of a study: measuring one row, and a pool of threads that runs a list of rows and hands each
+// finished row, as one results.csv line, to the calling thread (so that only that thread writes files or talks
+// to MPI).
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "tether/studies/study.h"
+
+namespace tether {
+
+// A finished row: its index and its results.csv line (swept values, metrics, status).
+struct FinishedRow {
+  int index = 0;
+  std::string line;
+};
+
+// Runs rows `indices` of the study on `threads` threads. `on_row` is called on the calling thread for each
+// finished row, in the order they finish; `idle` is called on the calling thread about every 10 ms while it waits.
+// A row that throws (other than a diverged simulation, which is a row's result) ends the run: the exception is
+// rethrown here once the running rows have finished.
+void RunRows(const StudySpec& spec, const std::vector<int>& indices, int threads,
+             const std::function<void(const FinishedRow&)>& on_row, const std::function<void()>& idle);
+
+}  // namespace tether
