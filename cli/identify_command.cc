@@ -49,7 +49,7 @@ class IdentifyCommand final : public Command {
     app_->add_option("--segments", segments_, "multiple shooting with K segments (default 1: single shooting)");
     app_->add_option("--loss", loss_, "robust loss: huber:DELTA or cauchy:DELTA (default: squares)");
     app_->add_option("--optimizer", optimizer_, "ceres (default) or nlopt:ALGORITHM");
-    app_->add_option("--max-evaluations", max_evaluations_, "budget of residual evaluations (default 200)");
+    app_->add_option("--max-evaluations", max_evaluations_, "budget of residual evaluations for NLopt; Ceres gets half as many iterations (default 200)");
     app_->add_option("-o,--output", output_path_, "write the scene with the estimates in place");
     app_->add_option("--plot", plot_path_, "draw the data against the motion with the estimates (PNG or SVG)");
     if (fit) app_->add_option("--smooth", smooth_, "weight W of the penalty on changes between schedule values");

@@ -21,7 +21,8 @@ void WriteSummary(const StudySpec& spec, const std::vector<StudyRow>& rows, cons
   std::ofstream out(std::filesystem::path(folder) / "summary.md");
   out << "# Study " << spec.path << "\n\nScene" << (spec.scene_paths.size() > 1 ? "s:" : ":");
   for (size_t k = 0; k < spec.scene_paths.size(); ++k) {
-    out << (k ? ", `" : " `") << spec.scene_paths[k] << "`" << (spec.scene_labels.empty() ? "" : " (" + spec.scene_labels[k] + ")");
+    out << (k ? ", `" : " `") << spec.scene_paths[k] << "`";
+    if (!spec.scene_labels.empty()) out << " (" << spec.scene_labels[k] << ")";
   }
   out << "; " << rows.size() << " runs over the sweep of";
   for (const std::string& p : spec.pointers) out << " `" << p << "`";

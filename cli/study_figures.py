@@ -109,12 +109,14 @@ def pareto_front(points):
 def pareto(results, folder, x_name, y_name):
     cols = results.columns
     scene = cols.index("scene") if "scene" in cols else None
-    others = [k for k in results.varying(exclude=("scene",))]
-    colour_col = cols.index("/stabilization/method") if "/stabilization/method" in cols else (others[0] if others else None)
+    others = results.varying(exclude=("scene",))
+    colour_col = others[0] if others else None
+    if "/stabilization/method" in cols:
+        colour_col = cols.index("/stabilization/method")
     marker_col = cols.index("/simulation/integrator") if "/simulation/integrator" in cols else None
     if marker_col == colour_col:
         marker_col = None
-    panels = sorted({r[scene] for r in results.rows}, key=[r[scene] for r in results.rows].index) if scene is not None else [None]
+    panels = list(dict.fromkeys(r[scene] for r in results.rows)) if scene is not None else [None]
     fig, axes = plt.subplots(1, len(panels), figsize=(4.6 * len(panels) + 1.8, 4.4), squeeze=False)
     colour_values = list(dict.fromkeys(r[colour_col] for r in results.rows)) if colour_col is not None else [None]
     marker_values = list(dict.fromkeys(r[marker_col] for r in results.rows)) if marker_col is not None else [None]

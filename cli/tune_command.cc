@@ -53,7 +53,7 @@ class TuneCommand final : public Command {
     app_->add_option("--objective", objective_, "reference (default: error against an accurate reference) or drift");
     app_->add_option("--optimizer", optimizer_, "ceres (default) or nlopt:ALGORITHM (NLopt's name, e.g. nlopt:LN_BOBYQA)");
     app_->add_option("--samples", samples_, "number of initial states (the scene's and perturbed ones; default 1)");
-    app_->add_option("--max-evaluations", max_evaluations_, "budget of objective evaluations (default 200)");
+    app_->add_option("--max-evaluations", max_evaluations_, "budget of objective evaluations for NLopt; Ceres gets half as many iterations (default 200)");
     app_->add_option("--write-scene", write_scene_, "write the scene with the tuned gains here");
     overrides_.Register(app_);
   }

@@ -38,7 +38,8 @@ bool IsMetric(const std::string& name) {
 void WriteAt(nlohmann::json* document, const std::string& pointer, const nlohmann::json& value,
              const std::string& study) {
   auto fail = [&](const std::string& why) {
-    throw InputError(study + ": " + SweepEntry(pointer) + ": '" + pointer + "' cannot be written into the scene: " + why);
+    throw InputError(study + ": " + SweepEntry(pointer) + ": '" + pointer +
+                     "' cannot be written into the scene: " + why);
   };
   nlohmann::json::json_pointer at;
   try {
@@ -131,7 +132,9 @@ class SpecReader {
   }
 
   void ReadSweep(const nlohmann::ordered_json& sweep) {
-    if (!sweep.is_object() || sweep.empty()) Fail("/sweep", "expected an object {POINTER: [values]} with at least one pointer");
+    if (!sweep.is_object() || sweep.empty()) {
+      Fail("/sweep", "expected an object {POINTER: [values]} with at least one pointer");
+    }
     for (auto it = sweep.begin(); it != sweep.end(); ++it) {
       const std::string where = SweepEntry(it.key());
       if (!it.value().is_array() || it.value().empty()) Fail(where, "expected a non-empty array of values");

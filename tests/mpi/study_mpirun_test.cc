@@ -31,7 +31,8 @@ TEST(StudyOverMpirun, TwoRanksWriteTheSingleProcessResults) {
     "metrics": ["rms_position_error", "max_constraint_error", "energy_drift", "seconds"]})");
   const Outcome single = testing::RunTether("study '" + study + "' --out '" + alone.path() + "' --threads 1", folder);
   ASSERT_EQ(single.status, 0) << single.err;
-  const Outcome spread = testing::RunTether("study '" + study + "' --out '" + ranks.path() + "' --threads 1", folder, kMpirun);
+  const Outcome spread =
+      testing::RunTether("study '" + study + "' --out '" + ranks.path() + "' --threads 1", folder, kMpirun);
   ASSERT_EQ(spread.status, 0) << spread.err;
   const std::string expected = testing::WithoutColumn(testing::ReadText(alone.Path("results.csv")), "seconds");
   EXPECT_EQ(testing::Lines(expected).size(), 10u);  // header + 9 rows

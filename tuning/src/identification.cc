@@ -128,6 +128,8 @@ class ShootingProblem {
       return true;
     } catch (const SimulationDiverged&) {
       return false;
+    } catch (const InputError&) {  // a trial start state that cannot be assembled onto the constraints
+      return false;
     }
   }
 

@@ -14,6 +14,8 @@
 namespace tether {
 namespace {
 
+constexpr unsigned long kNloptSeed = 20261123;  // NLopt's random generator, seeded for repeatable runs
+
 // rho(s) and rho'(s) of a robust loss (the same functions as Ceres' HuberLoss and CauchyLoss).
 void EvaluateLoss(const RobustLoss& loss, double s, double rho[2]) {
   rho[0] = s;  // no robust loss: rho(s) = s
@@ -115,13 +117,16 @@ OptimizerResult MinimizeWithNlopt(const ResidualFunction& residuals, const std::
   const nlopt_algorithm algorithm = nlopt_algorithm_from_string(algorithm_name.c_str());
   OptimizerResult result;
   nlopt::opt opt(static_cast<nlopt::algorithm>(algorithm), static_cast<unsigned>(start.size()));
+  // the best point seen: some algorithms (COBYLA in NLopt 2.7) return their last point instead
   struct Context {
     const ResidualFunction* residuals;
     const RobustLoss* loss;
     int* evaluations;
-  } context{&residuals, &settings.loss, &result.evaluations};
+    std::vector<double> best_x;
+    double best_value;
+  } context{&residuals, &settings.loss, &result.evaluations, start, INFINITY};
   auto objective = [](const std::vector<double>& x, std::vector<double>& gradient, void* data) -> double {
-    const Context& c = *static_cast<Context*>(data);
+    Context& c = *static_cast<Context*>(data);
     Eigen::VectorXd r;
     Eigen::MatrixXd jacobian;
     ++*c.evaluations;
@@ -142,6 +147,10 @@ OptimizerResult MinimizeWithNlopt(const ResidualFunction& residuals, const std::
     if (want_gradient) {
       const Eigen::VectorXd g = jacobian.transpose() * weight;
       for (size_t i = 0; i < gradient.size(); ++i) gradient[i] = g[static_cast<int>(i)];
+    }
+    if (value < c.best_value) {
+      c.best_value = value;
+      c.best_x = x;
     }
     return value;
   };
@@ -165,6 +174,7 @@ OptimizerResult MinimizeWithNlopt(const ResidualFunction& residuals, const std::
     local.set_ftol_rel(settings.relative_tolerance);
     opt.set_local_optimizer(local);
   }
+  nlopt::srand(kNloptSeed);  // randomized algorithms (CRS2, MLSL, ...) repeat their runs
   std::vector<double> x = start;
   double value = 0.0;
   try {
@@ -176,6 +186,10 @@ OptimizerResult MinimizeWithNlopt(const ResidualFunction& residuals, const std::
   } catch (const std::runtime_error& e) {  // nlopt's failure codes arrive as exceptions
     value = opt.last_optimum_value();
     result.message = std::string("nlopt stopped: ") + e.what();
+  }
+  if (context.best_value < value) {
+    x = context.best_x;
+    value = context.best_value;
   }
   result.x = x;
   result.value = value;

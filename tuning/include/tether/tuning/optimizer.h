@@ -40,7 +40,7 @@ RobustLoss ParseRobustLoss(const std::string& text, const std::string& flag);
 struct OptimizerSettings {
   std::string name = "ceres";
   RobustLoss loss;
-  int max_evaluations = 200;
+  int max_evaluations = 200;  // NLopt's budget of evaluations; Ceres gets max_evaluations / 2 iterations
   double relative_tolerance = 1e-8;  // on x (NLopt) and on the cost decrease (Ceres)
 };
 
