@@ -1,0 +1,21 @@
+# Instrumented builds (docs/robustness.md), set up before any target so that every library, the command line
+# and the tests are compiled the same way:
+#   TETHER_SANITIZE  AddressSanitizer + UndefinedBehaviorSanitizer (scripts/dev sanitize, build-asan/)
+#   TETHER_FUZZ      the same sanitizers plus libFuzzer's coverage instrumentation, and the targets in fuzz/
+#                    (clang only; scripts/dev fuzz, build-fuzz/)
+# Any undefined behaviour is fatal (-fno-sanitize-recover), so a report fails the test or the fuzzing run.
+option(TETHER_SANITIZE "Build with -fsanitize=address,undefined" OFF)
+option(TETHER_FUZZ "Build the libFuzzer targets in fuzz/ (clang only; implies the sanitizers)" OFF)
+
+set(TETHER_SANITIZER_FLAGS -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer)
+if(TETHER_SANITIZE OR TETHER_FUZZ)
+  add_compile_options(${TETHER_SANITIZER_FLAGS})
+  add_link_options(-fsanitize=address,undefined)
+endif()
+if(TETHER_FUZZ)
+  if(NOT CMAKE_CXX_COMPILER_ID MATCHES "Clang")
+    message(FATAL_ERROR "TETHER_FUZZ needs clang (libFuzzer): configure with -DCMAKE_CXX_COMPILER=clang++")
+  endif()
+  # coverage feedback for everything; only the fuzz targets link libFuzzer's main
+  add_compile_options(-fsanitize=fuzzer-no-link)
+endif()
