@@ -215,6 +215,36 @@ TEST(SchurSolver, DuplicatedRowGivesEqualSplitAndTheRightAcceleration) {
 
 // The Jet oracle: lambda from the regularized Schur matrix (schur_system.h) held as a dense matrix of Jets and
 // factored with Eigen's LDLT over Jets, then q'' = M^-1 (f - J^T lambda).
+// The conditioning the factorization reveals (schur_solver.h): a particle held by two rods from anchors on
+// either side, their lines at `angle` radians: the rows' pivot ratio is sin^2(angle); at 0 the particle could
+// move across both rods (a singular configuration).
+bool SawNearSingular(double angle, bool duplicate_first_rod, KktSolver kind) {
+  Model<double> model = WithGravity();
+  model.simulation.solver = kind;
+  const int p = AddBody<double>(&model, "p", BodyKind::kParticle, 1.0, 0.0, Vec3<double>::Zero(), 0.0,
+                                Vec3<double>::Zero(), 0.0);
+  const Vec3<double> left(-1.0, 0.0, 0.0), right(std::cos(angle), std::sin(angle), 0.0);
+  model.distances.push_back({0, {kWorld, left}, {p, Vec3<double>::Zero()}, 1.0});
+  model.distances.push_back({1, {kWorld, right}, {p, Vec3<double>::Zero()}, 1.0});
+  if (duplicate_first_rod) model.distances.push_back({2, {kWorld, left}, {p, Vec3<double>::Zero()}, 1.0});
+  Workspace<double> ws(model);
+  Eigen::VectorXd acceleration(model.NumCoordinates());
+  EXPECT_TRUE(ComputeAcceleration(model, 0.0, model.q0, model.v0, &ws, &acceleration));
+  return ws.solver.saw_near_singular();
+}
+
+TEST(SchurSolver, FlagsRowsNearDependenceButNotRedundantOrWellConditionedOnes) {
+  for (KktSolver kind : {KktSolver::kDense, KktSolver::kSparse}) {
+    SCOPED_TRACE(kind == KktSolver::kDense ? "dense" : "sparse");
+    EXPECT_FALSE(SawNearSingular(1.5, false, kind));   // rods nearly at right angles
+    EXPECT_FALSE(SawNearSingular(0.02, false, kind));  // ratio 4e-4: above the 1e-4 mark
+    EXPECT_TRUE(SawNearSingular(5e-3, false, kind));   // 2.5e-5: near the singular configuration
+    EXPECT_TRUE(SawNearSingular(1e-4, false, kind));   // 1e-8
+    // a third rod duplicating the first is exactly redundant (ratio at the regularization's 1e-12): not flagged
+    EXPECT_FALSE(SawNearSingular(1.5, true, kind));
+  }
+}
+
 void JetOracle(const Model<Jet>& model, const VecX<Jet>& q, const VecX<Jet>& v, VecX<Jet>* a, VecX<Jet>* lambda) {
   const KktPieces<Jet> p = Pieces(model, q, v);
   const int m = static_cast<int>(p.gamma.size());

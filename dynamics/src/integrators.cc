@@ -105,7 +105,8 @@ double DormandPrinceTrial(const Model<T>& model, double t, double h, double tole
 }
 
 template <typename T>
-StepStatus Rk45(const Model<T>& model, double t, double h, Workspace<T>* ws, VecX<T>* q, VecX<T>* v) {
+StepStatus Rk45(const Model<T>& model, double t, double h, Workspace<T>* ws, VecX<T>* q, VecX<T>* v,
+                const SettleState<T>& settle) {
   const double tolerance = model.simulation.tolerance;
   const double t_end = t + h;
   const double smallest = 1e-12 * h;
@@ -122,6 +123,7 @@ StepStatus Rk45(const Model<T>& model, double t, double h, Workspace<T>* ws, Vec
       v->swap(ws->next_v);
       std::swap(ws->stage_q[0], ws->stage_q[6]);  // first same as last
       std::swap(ws->stage_v[0], ws->stage_v[6]);
+      if (settle && settle(t, q, v)) ws->rk45_first_stage_valid = false;
       // a step cut short to land on the grid says nothing about the next one
       if (trial == ws->rk45_step || factor < 1.0) ws->rk45_step = trial * factor;
     } else {
@@ -136,22 +138,29 @@ StepStatus Rk45(const Model<T>& model, double t, double h, Workspace<T>* ws, Vec
 }  // namespace
 
 template <typename T>
-StepStatus Advance(const Model<T>& model, double t, double h, Workspace<T>* ws, VecX<T>* q, VecX<T>* v) {
+StepStatus Advance(const Model<T>& model, double t, double h, Workspace<T>* ws, VecX<T>* q, VecX<T>* v,
+                   const SettleState<T>& settle) {
+  StepStatus status = StepStatus::kOk;
   switch (model.simulation.integrator) {
     case Integrator::kEuler:
-      return Euler(model, t, h, ws, q, v);
+      status = Euler(model, t, h, ws, q, v);
+      break;
     case Integrator::kSymplecticEuler:
-      return SymplecticEuler(model, t, h, ws, q, v);
+      status = SymplecticEuler(model, t, h, ws, q, v);
+      break;
     case Integrator::kRk4:
-      return Rk4(model, t, h, ws, q, v);
+      status = Rk4(model, t, h, ws, q, v);
+      break;
     case Integrator::kRk45:
-      return Rk45(model, t, h, ws, q, v);
+      return Rk45(model, t, h, ws, q, v, settle);  // settles after each of its internal steps
   }
-  return StepStatus::kOk;
+  if (status == StepStatus::kOk && settle) settle(t + h, q, v);
+  return status;
 }
 
 #define TETHER_INSTANTIATE_INTEGRATORS(T) \
-  template StepStatus Advance<T>(const Model<T>&, double, double, Workspace<T>*, VecX<T>*, VecX<T>*);
+  template StepStatus Advance<T>(const Model<T>&, double, double, Workspace<T>*, VecX<T>*, VecX<T>*, \
+                                 const SettleState<T>&);
 TETHER_FOR_EACH_SCALAR(TETHER_INSTANTIATE_INTEGRATORS)
 
 }  // namespace tether

@@ -38,11 +38,27 @@ bool SchurSolver::Factor(const std::vector<double>& values) {
     const std::vector<int>& column = pattern_->column_index();
     for (size_t k = 0; k < values.size(); ++k) dense_(row[k], column[k]) = values[k];
     dense_factor_.compute(dense_);
-    return dense_factor_.info() == Eigen::Success;
+    if (dense_factor_.info() != Eigen::Success) return false;
+    pivots_ = dense_factor_.matrixLLT().diagonal().cwiseAbs2();
+    NoteConditioning(values, pivots_, nullptr);
+    return true;
   }
   std::copy(values.begin(), values.end(), sparse_.valuePtr());
   sparse_factor_.factorize(sparse_);
-  return sparse_factor_.info() == Eigen::Success;
+  if (sparse_factor_.info() != Eigen::Success) return false;
+  NoteConditioning(values, sparse_factor_.vectorD(), &sparse_factor_.permutationPinv().indices());
+  return true;
+}
+
+// pivot i belongs to row order[i] of S (the identity without an ordering)
+void SchurSolver::NoteConditioning(const std::vector<double>& values, const Eigen::VectorXd& pivots,
+                                   const Eigen::VectorXi* order) {
+  const std::vector<int>& diagonal = pattern_->diagonal();
+  for (int i = 0; i < pivots.size() && !saw_near_singular_; ++i) {
+    const int row = order ? (*order)[i] : i;
+    const double ratio = pivots[i] / values[diagonal[row]];
+    saw_near_singular_ = ratio < kNearSingularPivotRatio && ratio > kRedundantPivotRatio;
+  }
 }
 
 void SchurSolver::SolveInPlace(Eigen::VectorXd* x) {

@@ -136,6 +136,7 @@ RunReport Simulate(const Model<T>& model, const RunOptions& options,
   const double h = model.simulation.step;
   const int steps = std::max(1, static_cast<int>(std::ceil(duration / h - 1e-9)));
   const bool project = model.stabilization.method == Stabilization::kProjection;
+  const bool guard_singular = model.stabilization.method == Stabilization::kBaumgarte;
 
   VecX<T> q = model.q0, v = model.v0;
   AssembleInitialState(model, scale, &ws, &q, &v, &report);
@@ -160,18 +161,40 @@ RunReport Simulate(const Model<T>& model, const RunOptions& options,
     return SimulationDiverged(message, t, worst.scene_index);
   };
 
+  // After every integrator step (rk45: every internal step): the projection stabilization; or, for Baumgarte,
+  // when the step's Schur factorizations saw a configuration near a singular one (schur_solver.h), the same
+  // projection, adopted only when it converges (there it can stall a little above its rounding-level tolerance,
+  // and the Baumgarte state is then kept as it is).
+  VecX<T> q_projected = q, v_projected = v;
+  const SettleState<T> settle = [&](double t, VecX<T>* q_now, VecX<T>* v_now) {
+    bool changed = false;
+    if (project) {
+      if (!ProjectPositions(model, kProjectionTolerance * scale, &ws, q_now).converged ||
+          !ProjectVelocities(model, *q_now, &ws, v_now)) {
+        throw diverged(t, "the projection onto the constraints did not converge");
+      }
+      changed = true;
+    } else if (guard_singular && ws.solver.saw_near_singular()) {
+      q_projected = *q_now;
+      v_projected = *v_now;
+      if (ProjectPositions(model, kProjectionTolerance * scale, &ws, &q_projected).converged &&
+          ProjectVelocities(model, q_projected, &ws, &v_projected)) {
+        q_now->swap(q_projected);
+        v_now->swap(v_projected);
+        changed = true;
+      }
+    }
+    ws.solver.ForgetConditioning();  // the next step starts afresh (the projection's own solves included)
+    return changed;
+  };
+
   // one step of the run, with its stabilization and divergence checks
   auto advance = [&](double t, double dt) {
-    const StepStatus status = Advance(model, t, dt, &ws, &q, &v);
+    ws.solver.ForgetConditioning();
+    const StepStatus status = Advance(model, t, dt, &ws, &q, &v, settle);
     const double t_next = t + dt;
     if (status == StepStatus::kSolveFailed) throw diverged(t_next, "the constraint system became singular or non-finite");
     if (status == StepStatus::kStepSizeUnderflow) throw diverged(t_next, "rk45's step size collapsed");
-    if (project) {
-      if (!ProjectPositions(model, kProjectionTolerance * scale, &ws, &q).converged ||
-          !ProjectVelocities(model, q, &ws, &v)) {
-        throw diverged(t_next, "the projection onto the constraints did not converge");
-      }
-    }
     if (!AllFinite(q) || !AllFinite(v)) throw diverged(t_next, "the state became non-finite (NaN or infinity)");
     const Violation worst = LargestViolation(ws.infos, ws.rows);
     if (worst.largest > scale) {

@@ -9,7 +9,13 @@
 //                     output lies on the grid t_k = k h. The error control looks at values only: with Jets the
 //                     derivatives are those of the accepted steps.
 // The stable range of h * omega for the Baumgarte error dynamics depends on the method (default_gains.h).
+//
+// After every step that an integrator takes (for rk45: every accepted internal step), `settle` may move the
+// state back onto the constraints (the projection stabilization, or the guard near singular configurations in
+// simulator.cc); it returns whether it changed the state.
 #pragma once
+
+#include <functional>
 
 #include "tether/dynamics/workspace.h"
 
@@ -17,8 +23,12 @@ namespace tether {
 
 enum class StepStatus { kOk, kSolveFailed, kStepSizeUnderflow };
 
-// Advances (q, v) from t to t + h with the model's integrator.
 template <typename T>
-StepStatus Advance(const Model<T>& model, double t, double h, Workspace<T>* ws, VecX<T>* q, VecX<T>* v);
+using SettleState = std::function<bool(double t, VecX<T>* q, VecX<T>* v)>;
+
+// Advances (q, v) from t to t + h with the model's integrator; `settle` may be empty.
+template <typename T>
+StepStatus Advance(const Model<T>& model, double t, double h, Workspace<T>* ws, VecX<T>* q, VecX<T>* v,
+                   const SettleState<T>& settle = {});
 
 }  // namespace tether

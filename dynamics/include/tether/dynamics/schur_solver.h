@@ -13,6 +13,14 @@
 // solves. The right-hand sides db_k - dS_k x0 are the derivative parts of the Jet residual b - S x0.
 // Factoring the matrix of Jets itself (same dense or sparse method, in Jet arithmetic) is kept only as a test
 // oracle and a benchmark baseline (factor_jet_matrices).
+//
+// Conditioning. Every factorization S = P^T L D L^T P (D = diag(L)^2 for the dense Cholesky) also reveals how
+// close the rows are to dependence: the pivot ratio d_i / S_ii (ordered as the factorization orders the rows) is
+// sin^2 of the angle, in the M^-1 metric, between row i's Jacobian and the span of the rows before it. A ratio
+// below kNearSingularPivotRatio but above kRedundantPivotRatio marks a configuration near a singular one (a
+// mechanism at a dead centre or a bifurcation, a light body between nearly collinear rods): the solver records
+// it, and the simulator then projects the state back onto the constraints (simulator.cc). Ratios at the
+// regularization's floor belong to exactly redundant rows, which the regularization already handles.
 #pragma once
 
 #include <Eigen/Cholesky>
@@ -23,7 +31,9 @@
 
 namespace tether {
 
-inline constexpr int kDenseMaxRows = 16;  // measured crossover: bench/chain_bench.cc (README)
+inline constexpr int kDenseMaxRows = 16;
+inline constexpr double kNearSingularPivotRatio = 1e-4;
+inline constexpr double kRedundantPivotRatio = 1e-9;  // measured crossover: bench/chain_bench.cc (README)
 
 KktSolver ResolveSolver(KktSolver requested, int rows);
 
@@ -34,6 +44,10 @@ class SchurSolver {
 
   KktSolver kind() const { return kind_; }
 
+  // Whether a factorization since the last call to ForgetConditioning() was near a singular configuration.
+  bool saw_near_singular() const { return saw_near_singular_; }
+  void ForgetConditioning() { saw_near_singular_ = false; }
+
   // x = S^-1 b, S given by its stored values (AssembleSchur). Returns false, leaving x unchanged, when the
   // factorization fails (a non-finite or indefinite matrix: the run is diverging).
   template <typename T>
@@ -41,6 +55,8 @@ class SchurSolver {
 
  private:
   bool Factor(const std::vector<double>& values);
+  void NoteConditioning(const std::vector<double>& values, const Eigen::VectorXd& pivots,
+                        const Eigen::VectorXi* order);
   void SolveInPlace(Eigen::VectorXd* x);
   bool SolveByFactoringJets(const std::vector<Jet>& values, const VecX<Jet>& b, VecX<Jet>* x);
 
@@ -51,6 +67,8 @@ class SchurSolver {
   Eigen::SparseMatrix<double> sparse_;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>> sparse_factor_;
   Eigen::VectorXd solution_;  // sparse solve output, swapped with its input
+  Eigen::VectorXd pivots_;
+  bool saw_near_singular_ = false;
   // scratch for the Jet path
   std::vector<double> value_part_;
   Eigen::VectorXd x0_, column_;
