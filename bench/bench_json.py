@@ -1,10 +1,14 @@
 """Runs tether_bench with --benchmark_format=json and picks its measurements; shared by bench/gradient_cost.py
 and the studies that draw benchmark figures (studies/gradient_cost, studies/scaling). Standard library only.
 """
+import argparse
 import json
 import os
 import subprocess
 import sys
+
+DEFAULT_BINARY = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "build", "bench",
+                              "tether_bench")
 
 # google benchmark's time units, in milliseconds
 MILLISECONDS = {"ns": 1e-6, "us": 1e-3, "ms": 1.0, "s": 1e3}
@@ -58,3 +62,34 @@ def host(report):
     context = report.get("context", {})
     return (f"{context.get('num_cpus', '?')} CPUs at {context.get('mhz_per_cpu', '?')} MHz, "
             f"load average {context.get('load_avg', '?')}, {context.get('date', '')}")
+
+
+def study_report(argv, description, out, min_time, repetitions, run_benchmarks):
+    """The command line of a study drawn from benchmarks: --binary, --min-time, --repetitions, --json, --out.
+    Returns (report, out folder): the report saved earlier when --json names it, else a fresh
+    run_benchmarks(binary, min_time, repetitions, extra flags), saved as OUT/results.json."""
+    parser = argparse.ArgumentParser(description=description)
+    parser.add_argument("--binary", default=DEFAULT_BINARY,
+                        help="the tether_bench program (default: build/bench/tether_bench)")
+    parser.add_argument("--min-time", default=min_time, help=f"--benchmark_min_time, seconds (default {min_time})")
+    parser.add_argument("--repetitions", type=int, default=repetitions,
+                        help=f"--benchmark_repetitions, figures are the medians (default {repetitions})")
+    parser.add_argument("--json", help="redraw from this saved results.json instead of running the benchmark")
+    parser.add_argument("--out", default=out, help="folder for results.json and the figures (default: the study's)")
+    args, extra = parser.parse_known_args(argv)
+    if args.json:
+        return load(args.json), args.out
+    report = run_benchmarks(args.binary, args.min_time, args.repetitions, [a for a in extra if a != "--"])
+    save(report, os.path.join(args.out, "results.json"))
+    return report, args.out
+
+
+def save_figure(figure, report, out, name, dpi):
+    """Signs the figure with the benchmark's host and writes out/name.png and .svg (the SVG without a date, so
+    that a redraw changes nothing)."""
+    figure.text(0.99, 0.01, "host: " + host(report), fontsize=6, color="0.5", ha="right")
+    figure.tight_layout(rect=(0, 0.02, 1, 1))
+    for extension in ("png", "svg"):
+        path = os.path.join(out, name + "." + extension)
+        figure.savefig(path, dpi=dpi, metadata={"Date": None} if extension == "svg" else {})
+        print("wrote " + path, file=sys.stderr)

@@ -1,5 +1,5 @@
-// Hard cases of conditioning (issue 7): mass ratios up to 1e6, lengths from 1 mm to 100 m in one scene, a
-// redundant parallelogram through its singular passes, a chain of 1000 particles.
+// Hard cases of conditioning (issue 7): mass ratios up to 1e6 and lengths from 1 mm to 100 m in one scene, a
+// chain of 1000 particles.
 //
 // The double pendulums are checked against the reduced equations in the two angles phi1, phi2 from the downward
 // vertical (Lagrange; Delta = phi1 - phi2, D = 2 m1 + m2 - m2 cos 2 Delta):
@@ -101,50 +101,6 @@ INSTANTIATE_TEST_SUITE_P(
                       Case{"long_then_short_1e5", {1.0, 1.0, 100.0, 1e-3, 0.5, 1.0}, 1e-4, 1.0, 1e-8},
                       Case{"short_then_long_1e5", {1.0, 1.0, 1e-3, 100.0, 1.0, 0.5}, 1e-4, 1.0, 1e-8}),
     [](const ::testing::TestParamInfo<Case>& info) { return std::string(info.param.name); });
-
-// A parallelogram whose coupler is pinned to three cranks: one rank too many (12 rows for 12 coordinates, one
-// degree of freedom), and all bars collinear at every horizontal pass. On its branch it is the reduction
-// I theta'' = -G cos theta with three cranks (1/3 each about its pin) and a 2 m, 2 kg coupler that translates:
-// I = 1 + 2, G = g (3/2 + 2).
-TEST(RedundantParallelogram, FollowsItsOneDegreeOfFreedomThroughTheHorizontalPasses) {
-  nlohmann::json bodies = nlohmann::json::array(), constraints = nlohmann::json::array();
-  const double pi = std::acos(-1.0);
-  for (int i = 0; i < 3; ++i) {
-    const std::string crank = "crank" + std::to_string(i);
-    bodies.push_back({{"name", crank}, {"type", "rigid"}, {"mass", 1.0}, {"inertia", 1.0 / 12.0},
-                      {"position", {1.0 * i, 0.5}}, {"angle", pi / 2}, {"velocity", {0.5, 0.0}},
-                      {"angular_velocity", -1.0}});
-    constraints.push_back({{"type", "pin"}, {"bodies", {"world", crank}}, {"points", {{1.0 * i, 0.0}, {-0.5, 0.0}}}});
-    constraints.push_back({{"type", "pin"}, {"bodies", {"coupler", crank}}, {"points", {{i - 1.0, 0.0}, {0.5, 0.0}}}});
-  }
-  bodies.push_back({{"name", "coupler"}, {"type", "rigid"}, {"mass", 2.0}, {"inertia", 2.0 * 4.0 / 12.0},
-                    {"position", {1.0, 1.0}}, {"angle", 0.0}, {"velocity", {1.0, 0.0}}, {"angular_velocity", 0.0}});
-  const nlohmann::json scene = {{"dimension", 2}, {"bodies", bodies}, {"constraints", constraints},
-                                {"effects", {{{"type", "gravity"}, {"acceleration", {0.0, -kGravity}}}}},
-                                {"simulation", {{"integrator", "rk4"}, {"step", 1e-3}, {"duration", 4.0}}},
-                                {"stabilization", {{"method", "baumgarte"}, {"alpha", 10.0}, {"beta", 25.0}}}};
-  const Model<double> model = ParseScene(scene, "redundant_parallelogram.json").model;
-  double theta = 0.0, worst = 0.0;
-  Simulate<double>(model, RunOptions{}, [&](const Sample<double>& s) {
-    theta = s.q[2];
-    worst = std::max(worst, s.constraint_error);
-  });
-  // the reduction, by RK4 at 1e-5 s
-  const double inertia = 3.0, load = kGravity * 3.5, h = 1e-5;
-  double angle = pi / 2, omega = -1.0;
-  auto accel = [&](double a) { return -load / inertia * std::cos(a); };
-  for (int k = 0; k < 400000; ++k) {
-    const double k1t = omega, k1w = accel(angle);
-    const double k2t = omega + 0.5 * h * k1w, k2w = accel(angle + 0.5 * h * k1t);
-    const double k3t = omega + 0.5 * h * k2w, k3w = accel(angle + 0.5 * h * k2t);
-    const double k4t = omega + h * k3w, k4w = accel(angle + h * k3t);
-    angle += h / 6.0 * (k1t + 2 * k2t + 2 * k3t + k4t);
-    omega += h / 6.0 * (k1w + 2 * k2w + 2 * k3w + k4w);
-  }
-  EXPECT_LT(angle, -2.0 * pi);  // it went through at least two horizontal passes
-  EXPECT_NEAR(theta, angle, 1e-6);
-  EXPECT_LT(worst, 1e-9);
-}
 
 // 1000 particles on 1 mm links (a 1 m chain) falling from horizontal for 50 ms: the sparse KKT path keeps the
 // links to rounding and the energy to the integrator's accuracy.

@@ -1,6 +1,6 @@
 // Mechanisms through singular configurations (issue 7, hard cases).
 //
-// The IFToMM A02 N-four-bar: N parallelograms of uniform 1 m, 1 kg bars, N + 1 cranks pinned to the ground at
+// The IFToMM A02 N-four-bar (and a redundant parallelogram below): N parallelograms of uniform 1 m, 1 kg bars, N + 1 cranks pinned to the ground at
 // x = 0, 1, ..., N and N couplers joining their tips. Every time the cranks pass the horizontal all bars are
 // collinear: the Jacobian loses N ranks and the parallelogram and anti-parallelogram branches cross. On the
 // parallelogram branch the mechanism has one degree of freedom, the crank angle theta, with
@@ -49,21 +49,22 @@ nlohmann::json FourBars(int n) {
           {"stabilization", {{"method", "baumgarte"}, {"alpha", 10.0}, {"beta", 25.0}}}};
 }
 
-// theta at t = 0.5, 1.0, ..., 5.0 from I theta'' = -G cos theta, theta(0) = pi/2, theta'(0) = -1.
-std::vector<double> ReducedCrankAngles(int n) {
-  const double inertia = (n + 1) / 3.0 + n, load = kGravity * ((n + 1) / 2.0 + n);
+// theta at t = every, 2 every, ... up to `duration` from I theta'' = -G cos theta, theta(0) = pi/2,
+// theta'(0) = -1, by classical RK4 at h = 1e-5 s.
+std::vector<double> ReducedCrankAngles(double inertia, double load, double every, double duration) {
   auto accel = [&](double theta) { return -load / inertia * std::cos(theta); };
   double theta = kPi / 2, omega = -1.0;
   const double h = 1e-5;
+  const int per_sample = static_cast<int>(std::lround(every / h)), steps = static_cast<int>(std::lround(duration / h));
   std::vector<double> angles;
-  for (int k = 1; k <= 500000; ++k) {
+  for (int k = 1; k <= steps; ++k) {
     const double k1t = omega, k1w = accel(theta);
     const double k2t = omega + 0.5 * h * k1w, k2w = accel(theta + 0.5 * h * k1t);
     const double k3t = omega + 0.5 * h * k2w, k3w = accel(theta + 0.5 * h * k2t);
     const double k4t = omega + h * k3w, k4w = accel(theta + h * k3t);
     theta += h / 6.0 * (k1t + 2 * k2t + 2 * k3t + k4t);
     omega += h / 6.0 * (k1w + 2 * k2w + 2 * k3w + k4w);
-    if (k % 50000 == 0) angles.push_back(theta);
+    if (k % per_sample == 0) angles.push_back(theta);
   }
   return angles;
 }
@@ -73,7 +74,7 @@ class NFourBar : public ::testing::TestWithParam<int> {};
 TEST_P(NFourBar, FollowsTheOneDegreeOfFreedomReductionThroughEveryHorizontalPass) {
   const int n = GetParam();
   const Model<double> model = ParseScene(FourBars(n), "four_bars.json").model;
-  const std::vector<double> expected = ReducedCrankAngles(n);
+  const std::vector<double> expected = ReducedCrankAngles((n + 1) / 3.0 + n, kGravity * ((n + 1) / 2.0 + n), 0.5, 5.0);
   RunOptions options;
   for (int k = 1; k <= 10; ++k) options.stops.push_back(0.5 * k);
   std::vector<double> angles, spreads;
@@ -100,6 +101,38 @@ TEST_P(NFourBar, FollowsTheOneDegreeOfFreedomReductionThroughEveryHorizontalPass
 }
 
 INSTANTIATE_TEST_SUITE_P(HardCases, NFourBar, ::testing::Values(1, 10, 40));
+
+// A parallelogram whose coupler is pinned to three cranks: one rank too many (12 rows for 12 coordinates, one
+// degree of freedom), and all bars collinear at every horizontal pass. On its branch it is the reduction
+// I theta'' = -G cos theta with three cranks (1/3 each about its pin) and a 2 m, 2 kg coupler that translates:
+// I = 1 + 2, G = g (3/2 + 2).
+TEST(RedundantParallelogram, FollowsItsOneDegreeOfFreedomThroughTheHorizontalPasses) {
+  nlohmann::json bodies = nlohmann::json::array(), constraints = nlohmann::json::array();
+  for (int i = 0; i < 3; ++i) {
+    const std::string crank = "crank" + std::to_string(i);
+    bodies.push_back({{"name", crank}, {"type", "rigid"}, {"mass", 1.0}, {"inertia", 1.0 / 12.0},
+                      {"position", {1.0 * i, 0.5}}, {"angle", kPi / 2}, {"velocity", {0.5, 0.0}},
+                      {"angular_velocity", -1.0}});
+    constraints.push_back({{"type", "pin"}, {"bodies", {"world", crank}}, {"points", {{1.0 * i, 0.0}, {-0.5, 0.0}}}});
+    constraints.push_back({{"type", "pin"}, {"bodies", {"coupler", crank}}, {"points", {{i - 1.0, 0.0}, {0.5, 0.0}}}});
+  }
+  bodies.push_back({{"name", "coupler"}, {"type", "rigid"}, {"mass", 2.0}, {"inertia", 2.0 * 4.0 / 12.0},
+                    {"position", {1.0, 1.0}}, {"angle", 0.0}, {"velocity", {1.0, 0.0}}, {"angular_velocity", 0.0}});
+  const nlohmann::json scene = {{"dimension", 2}, {"bodies", bodies}, {"constraints", constraints},
+                                {"effects", {{{"type", "gravity"}, {"acceleration", {0.0, -kGravity}}}}},
+                                {"simulation", {{"integrator", "rk4"}, {"step", 1e-3}, {"duration", 4.0}}},
+                                {"stabilization", {{"method", "baumgarte"}, {"alpha", 10.0}, {"beta", 25.0}}}};
+  const Model<double> model = ParseScene(scene, "redundant_parallelogram.json").model;
+  double theta = 0.0, worst = 0.0;
+  Simulate<double>(model, RunOptions{}, [&](const Sample<double>& s) {
+    theta = s.q[2];
+    worst = std::max(worst, s.constraint_error);
+  });
+  const double angle = ReducedCrankAngles(3.0, kGravity * 3.5, 4.0, 4.0).back();
+  EXPECT_LT(angle, -2.0 * kPi);  // it went through at least two horizontal passes
+  EXPECT_NEAR(theta, angle, 1e-6);
+  EXPECT_LT(worst, 1e-9);
+}
 
 }  // namespace
 }  // namespace tether

@@ -10,7 +10,6 @@ README's table), writes its JSON output to results.json and draws gradient_cost.
 of parameters P, one line per method and chain size. With the defaults it takes 1.5 to 2.5 minutes on two cores.
 Python 3 with matplotlib (Debian: python3-matplotlib).
 """
-import argparse
 import os
 import sys
 
@@ -62,32 +61,14 @@ def draw(report, out):
                    fontsize=10)
     axes.grid(True, which="both", color="0.9")
     axes.legend(fontsize=8, loc="upper left")
-    figure.text(0.99, 0.01, "host: " + bench_json.host(report), fontsize=6, color="0.5", ha="right")
-    figure.tight_layout(rect=(0, 0.02, 1, 1))
-    for extension in ("png", "svg"):
-        path = os.path.join(out, "gradient_cost." + extension)
-        figure.savefig(path, dpi=120, metadata={"Date": None} if extension == "svg" else {})
-        print("wrote " + path, file=sys.stderr)
+    bench_json.save_figure(figure, report, out, "gradient_cost", 120)
 
 
 def main(argv):
-    parser = argparse.ArgumentParser(description="Runs the gradient-cost benchmark and draws it.")
-    parser.add_argument("--binary", default=os.path.join(ROOT, "build", "bench", "tether_bench"),
-                        help="the tether_bench program (default: build/bench/tether_bench)")
-    parser.add_argument("--min-time", default=gradient_cost.MIN_TIME, help="--benchmark_min_time, seconds")
-    parser.add_argument("--repetitions", type=int, default=gradient_cost.REPETITIONS,
-                        help="--benchmark_repetitions (figures are the medians)")
-    parser.add_argument("--json", help="redraw from this saved results.json instead of running the benchmark")
-    parser.add_argument("--out", default=HERE, help="folder for results.json and the figures (default: here)")
-    args, extra = parser.parse_known_args(argv)
-    extra = [a for a in extra if a != "--"]
-    if args.json:
-        report = bench_json.load(args.json)
-    else:
-        report = gradient_cost.run(args.binary, args.min_time, args.repetitions, extra)
-        bench_json.save(report, os.path.join(args.out, "results.json"))
+    report, out = bench_json.study_report(argv, "Runs the gradient-cost benchmark and draws it.", HERE,
+                                          gradient_cost.MIN_TIME, gradient_cost.REPETITIONS, gradient_cost.run)
     print(gradient_cost.table(report))
-    draw(report, args.out)
+    draw(report, out)
 
 
 if __name__ == "__main__":

@@ -13,7 +13,6 @@ slopes and where the dense path stops being faster (dense time / sparse time aro
 takes about 1.5 minutes on two cores.
 Python 3 with matplotlib (Debian: python3-matplotlib).
 """
-import argparse
 import math
 import os
 import re
@@ -141,33 +140,18 @@ def draw(report, out):
     panels[0].set_ylabel("CPU time per step (µs)")
     figure.suptitle(f"Time per step against size for each KKT path (h = 1 ms; slopes fitted over m ≥ {FIT_FROM})",
                     fontsize=11)
-    figure.text(0.99, 0.01, "host: " + bench_json.host(report), fontsize=6, color="0.5", ha="right")
-    figure.tight_layout(rect=(0, 0.02, 1, 1))
-    for extension in ("png", "svg"):
-        path = os.path.join(out, "scaling." + extension)
-        figure.savefig(path, dpi=110, metadata={"Date": None} if extension == "svg" else {})
-        print("wrote " + path, file=sys.stderr)
+    bench_json.save_figure(figure, report, out, "scaling", 110)
 
 
 def main(argv):
-    parser = argparse.ArgumentParser(description="Runs the step benchmarks and draws time per step against size.")
-    parser.add_argument("--binary", default=os.path.join(ROOT, "build", "bench", "tether_bench"),
-                        help="the tether_bench program (default: build/bench/tether_bench)")
-    parser.add_argument("--min-time", default=MIN_TIME, help=f"--benchmark_min_time, seconds (default {MIN_TIME})")
-    parser.add_argument("--repetitions", type=int, default=REPETITIONS,
-                        help=f"--benchmark_repetitions, figures are the medians (default {REPETITIONS})")
-    parser.add_argument("--json", help="redraw from this saved results.json instead of running the benchmark")
-    parser.add_argument("--out", default=HERE, help="folder for results.json and the figures (default: here)")
-    args, extra = parser.parse_known_args(argv)
-    extra = [a for a in extra if a != "--"]
-    if args.json:
-        report = bench_json.load(args.json)
-    else:
-        report = bench_json.run(args.binary, "^Step(Chain|FourBar)/", args.min_time, args.repetitions, extra)
-        bench_json.save(report, os.path.join(args.out, "results.json"))
+    def run_steps(binary, min_time, repetitions, extra):
+        return bench_json.run(binary, "^Step(Chain|FourBar)/", min_time, repetitions, extra)
+
+    report, out = bench_json.study_report(argv, "Runs the step benchmarks and draws time per step against size.",
+                                          HERE, MIN_TIME, REPETITIONS, run_steps)
     print(summary(parse(report)))
     print("host: " + bench_json.host(report))
-    draw(report, args.out)
+    draw(report, out)
 
 
 if __name__ == "__main__":
