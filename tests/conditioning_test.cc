@@ -111,9 +111,8 @@ TEST(LongChain, ThousandParticlesHoldTheirLinksAndEnergy) {
   for (int k = 0; k < kParticles; ++k) {
     bodies.push_back({{"name", "p" + std::to_string(k)}, {"type", "particle"}, {"mass", 1e-3},
                       {"position", {(k + 1) * link, 0.0}}});
-    constraints.push_back({{"type", "distance"},
-                           {"bodies", {k == 0 ? std::string("world") : "p" + std::to_string(k - 1), "p" + std::to_string(k)}},
-                           {"length", link}});
+    const std::string previous = k == 0 ? std::string("world") : "p" + std::to_string(k - 1);
+    constraints.push_back({{"type", "distance"}, {"bodies", {previous, "p" + std::to_string(k)}}, {"length", link}});
   }
   const nlohmann::json scene = {{"dimension", 2}, {"bodies", bodies}, {"constraints", constraints},
                                 {"effects", {{{"type", "gravity"}, {"acceleration", {0.0, -kGravity}}}}},
