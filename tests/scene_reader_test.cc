@@ -204,6 +204,20 @@ TEST(SceneReader, SyntaxErrorNamesLineAndColumn) {
   EXPECT_EQ(unfinished.rfind("bad.json: line 1, column ", 0), 0u) << unfinished;
 }
 
+TEST(SceneReader, NestingDeeperThanTheLimitIsRefusedBeforeParsing) {
+  // 100000 brackets would exhaust the stack of a recursive parser (found by fuzz/scene_reader_fuzzer.cc); the
+  // object is level 1, so the 256th bracket opens level 257
+  const std::string deep = ErrorOf("{\"a\": " + std::string(100000, '['));
+  EXPECT_EQ(deep.rfind("bad.json: line 1, column " + std::to_string(6 + kMaxJsonDepth) + ": ", 0), 0u) << deep;
+  EXPECT_NE(deep.find("nested deeper than 256 levels"), std::string::npos) << deep;
+  // brackets inside strings (escaped quotes included) do not count
+  const std::string in_strings = "{\"name\": \"\\\"" + std::string(1000, '[') + "\"}";
+  EXPECT_EQ(ErrorOf(in_strings).find("nested deeper"), std::string::npos) << ErrorOf(in_strings);
+  // at the limit the JSON is read (and then judged as a scene)
+  const std::string at_limit = std::string(kMaxJsonDepth, '[') + std::string(kMaxJsonDepth, ']');
+  EXPECT_NE(ErrorOf(at_limit).find("expected an object"), std::string::npos) << ErrorOf(at_limit);
+}
+
 TEST(SceneReader, NumberOverflowIsAnInputError) {
   // valid JSON syntax, but 1e400 is no double: an InputError naming the file, like any other bad number
   try {

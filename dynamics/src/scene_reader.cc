@@ -413,28 +413,58 @@ class SceneBuilder {
   std::map<std::string, int> names_;
 };
 
+// "line L, column C" of byte `end` (0-based) of the text.
+std::string LineAndColumn(const std::string& text, size_t end) {
+  size_t line = 1, column = 1;
+  for (size_t k = 0; k < end && k < text.size(); ++k) {
+    if (text[k] == '\n') {
+      ++line;
+      column = 1;
+    } else {
+      ++column;
+    }
+  }
+  return "line " + std::to_string(line) + ", column " + std::to_string(column);
+}
+
+// Throws InputError at the first bracket that opens a level deeper than kMaxJsonDepth (strings skipped).
+void CheckNesting(const std::string& text, const std::string& path) {
+  int depth = 0;
+  bool in_string = false;
+  for (size_t k = 0; k < text.size(); ++k) {
+    const char c = text[k];
+    if (in_string) {
+      if (c == '\\') {
+        ++k;  // the escaped character
+      } else if (c == '"') {
+        in_string = false;
+      }
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > kMaxJsonDepth) {
+        throw InputError(path + ": " + LineAndColumn(text, k) + ": not valid JSON here: nested deeper than " +
+                         std::to_string(kMaxJsonDepth) + " levels");
+      }
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+}
+
 }  // namespace
 
 json ParseJsonText(const std::string& text, const std::string& path) {
+  CheckNesting(text, path);
   try {
     return json::parse(text);
   } catch (const json::parse_error& e) {
     // the byte offset is 1-based and points just past the offending character
     const size_t end = std::min(text.size(), e.byte == 0 ? size_t{0} : e.byte - 1);
-    size_t line = 1, column = 1;
-    for (size_t k = 0; k < end; ++k) {
-      if (text[k] == '\n') {
-        ++line;
-        column = 1;
-      } else {
-        ++column;
-      }
-    }
     std::string what = e.what();
     const size_t colon = what.find(": ");
     if (colon != std::string::npos) what = what.substr(colon + 2);
-    throw InputError(path + ": line " + std::to_string(line) + ", column " + std::to_string(column) +
-                     ": not valid JSON: " + what);
+    throw InputError(path + ": " + LineAndColumn(text, end) + ": not valid JSON: " + what);
   } catch (const json::exception& e) {  // e.g. a number too large for a double
     std::string what = e.what();
     const size_t bracket = what.find("] ");

@@ -25,7 +25,10 @@ Scene ReadSceneFile(const std::string& path);
 // Validates an already parsed document; `path` only names it in messages. Throws InputError.
 Scene ParseScene(const nlohmann::json& document, const std::string& path);
 
-// Parses JSON text, turning a syntax error into an InputError naming `path`, the line and the column.
+// Parses JSON text, turning a syntax error into an InputError naming `path`, the line and the column. Arrays and
+// objects nested deeper than kMaxJsonDepth are refused the same way before parsing (a scene needs five levels;
+// tens of thousands would exhaust the stack of the recursive parts of the JSON library).
+inline constexpr int kMaxJsonDepth = 256;
 nlohmann::json ParseJsonText(const std::string& text, const std::string& path);
 
 }  // namespace tether
