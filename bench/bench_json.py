@@ -93,3 +93,17 @@ def save_figure(figure, report, out, name, dpi):
         path = os.path.join(out, name + "." + extension)
         figure.savefig(path, dpi=dpi, metadata={"Date": None} if extension == "svg" else {})
         print("wrote " + path, file=sys.stderr)
+
+
+def pyplot():
+    """matplotlib.pyplot for files (the Agg backend), with a fixed SVG hash salt so that the same numbers give the
+    same SVG; exits with a hint when matplotlib is missing."""
+    try:
+        import matplotlib
+    except ImportError:
+        sys.exit("run.py: drawing needs matplotlib (Debian: apt-get install python3-matplotlib)")
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    plt.rcParams["svg.hashsalt"] = "tether"
+    return plt

@@ -25,15 +25,9 @@ STYLES = ["-o", "--s", ":^", "-.D"]  # one per chain size
 
 
 def draw(report, out):
-    try:
-        import matplotlib
-    except ImportError:
-        sys.exit("run.py: drawing needs matplotlib (Debian: apt-get install python3-matplotlib)")
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = bench_json.pyplot()
     from matplotlib.ticker import FixedLocator, FuncFormatter, NullLocator, ScalarFormatter
 
-    plt.rcParams["svg.hashsalt"] = "tether"  # the same SVG for the same numbers
     parsed = gradient_cost.parse(report)
     cells, counts, sizes = parsed["cells"], parsed["counts"], parsed["sizes"]
     figure, axes = plt.subplots(figsize=(7.5, 5.2))

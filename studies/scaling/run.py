@@ -98,14 +98,7 @@ def summary(series):
 
 
 def draw(report, out):
-    try:
-        import matplotlib
-    except ImportError:
-        sys.exit("run.py: drawing needs matplotlib (Debian: apt-get install python3-matplotlib)")
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    plt.rcParams["svg.hashsalt"] = "tether"  # the same SVG for the same numbers
+    plt = bench_json.pyplot()
     series = parse(report)
     figure, panels = plt.subplots(1, 2, figsize=(11, 5), sharey=True)
     for axes, (model, title) in zip(panels, MODELS):
