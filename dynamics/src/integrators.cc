@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "tether/dynamics/constrained_dynamics.h"
+#include "tether/dynamics/projection.h"
 
 namespace tether {
 namespace {
@@ -64,7 +65,7 @@ constexpr double kE[7] = {71.0 / 57600,      0, -71.0 / 16695, 71.0 / 1920, -172
                           22.0 / 525, -1.0 / 40};
 
 // One Dormand-Prince trial step of size h from (q, v); the result is left in ws->next_q/next_v and the
-// scaled error norm is returned (infinity when a stage failed).
+// scaled error norm is returned (infinity when a stage or the error's projection failed).
 template <typename T>
 double DormandPrinceTrial(const Model<T>& model, double t, double h, double tolerance, const VecX<T>& q,
                           const VecX<T>& v, Workspace<T>* ws) {
@@ -88,14 +89,24 @@ double DormandPrinceTrial(const Model<T>& model, double t, double h, double tole
   }
   ws->next_q = ws->trial_q;  // stage 6 is evaluated at the fifth-order solution
   ws->next_v = ws->trial_v;
+  VecX<T>& error_q = ws->error_q;
+  VecX<T>& error_v = ws->error_v;
+  error_q.setZero();
+  error_v.setZero();
+  for (int s = 0; s < 7; ++s) {
+    error_q += kE[s] * kq[s];
+    error_v += kE[s] * kv[s];
+  }
+  if (model.stabilization.method == Stabilization::kProjection) {
+    // the projection after the step removes the error's part normal to the constraints: control the rest
+    if (!ProjectVelocities(model, ws->next_q, ws, &error_q) || !ProjectVelocities(model, ws->next_q, ws, &error_v)) {
+      return INFINITY;
+    }
+  }
   double sum = 0.0;
   const int n = static_cast<int>(q.size());
   for (int i = 0; i < n; ++i) {
-    double eq = 0.0, ev = 0.0;
-    for (int s = 0; s < 7; ++s) {
-      eq += kE[s] * Value(kq[s][i]);
-      ev += kE[s] * Value(kv[s][i]);
-    }
+    const double eq = Value(error_q[i]), ev = Value(error_v[i]);
     const double scale_q = tolerance * (1.0 + std::max(std::abs(Value(q[i])), std::abs(Value(ws->next_q[i]))));
     const double scale_v = tolerance * (1.0 + std::max(std::abs(Value(v[i])), std::abs(Value(ws->next_v[i]))));
     sum += (h * eq / scale_q) * (h * eq / scale_q) + (h * ev / scale_v) * (h * ev / scale_v);

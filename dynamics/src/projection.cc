@@ -46,13 +46,13 @@ ProjectionResult ProjectPositions(const Model<T>& model, double tolerance, Works
     }
     if (result.iterations == kMaxIterations) break;
     // S mu = C(q_k) + J (q_t - q_k)
-    ws->next_q = ws->trial_q - *q;
-    MultiplyJacobian(model, ws->next_q, ws);
+    ws->reaction = ws->trial_q - *q;
+    MultiplyJacobian(model, ws->reaction, ws);
     for (size_t i = 0; i < ws->rows.size(); ++i) ws->rhs[i] += ws->rows[i].value;
     AssembleSchur(model, ws->pattern, ws->rows, ws->inverse_mass, &ws->schur);
     if (!ws->solver.Solve(ws->schur, ws->rhs, &ws->lambda)) break;
-    ApplyReaction(model, ws, &ws->next_q);
-    *q = ws->trial_q - ws->next_q;
+    ApplyReaction(model, ws, &ws->reaction);
+    *q = ws->trial_q - ws->reaction;
   }
   return result;
 }
@@ -64,8 +64,8 @@ bool ProjectVelocities(const Model<T>& model, const VecX<T>& q, Workspace<T>* ws
   MultiplyJacobian(model, *v, ws);
   AssembleSchur(model, ws->pattern, ws->rows, ws->inverse_mass, &ws->schur);
   if (!ws->solver.Solve(ws->schur, ws->rhs, &ws->lambda)) return false;
-  ApplyReaction(model, ws, &ws->next_v);
-  *v -= ws->next_v;
+  ApplyReaction(model, ws, &ws->reaction);
+  *v -= ws->reaction;
   return true;
 }
 

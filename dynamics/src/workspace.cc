@@ -15,6 +15,7 @@ Workspace<T>::Workspace(const Model<T>& model, bool factor_jet_matrices)
   const int n = model.NumCoordinates();
   const int m = static_cast<int>(infos.size());
   force.setZero(n);
+  reaction.setZero(n);
   rhs.setZero(m);
   lambda.setZero(m);
   for (int s = 0; s < 7; ++s) {
@@ -25,6 +26,8 @@ Workspace<T>::Workspace(const Model<T>& model, bool factor_jet_matrices)
   trial_v.setZero(n);
   next_q.setZero(n);
   next_v.setZero(n);
+  error_q.setZero(n);
+  error_v.setZero(n);
 }
 
 template struct Workspace<double>;

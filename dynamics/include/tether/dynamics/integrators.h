@@ -7,7 +7,13 @@
 //                     components of e_i / (tol (1 + max(|y_i|, |y_new_i|))) is at most 1, and the next step is
 //                     h * min(5, max(0.2, 0.9 err^(-1/5))). Internal steps never cross an output step, so the
 //                     output lies on the grid t_k = k h. The error control looks at values only: with Jets the
-//                     derivatives are those of the accepted steps.
+//                     derivatives are those of the accepted steps. With the projection stabilization the
+//                     error (e_q, e_v) is first projected onto the tangent space at the new state,
+//                     e <- e - M^-1 J^T S^-1 J e, because the projection after the step removes the normal
+//                     part: only the tangential part stays in the solution. Near a singular configuration the
+//                     normal part is large (stage states off the constraints carry drift C into motion of
+//                     order C / sigma); controlling it would shrink the steps until the stages sit on the
+//                     singularity, and each of the many projections there costs energy (docs/numerics.md).
 // The stable range of h * omega for the Baumgarte error dynamics depends on the method (default_gains.h).
 //
 // After every step that an integrator takes (for rk45: every accepted internal step), `settle` may move the

@@ -28,10 +28,12 @@ struct Workspace {
   std::vector<T> schur;                 // S at the last evaluation (pattern.nonzeros())
   VecX<T> force;                        // generalized force f (size n)
   VecX<T> rhs, lambda;                  // Schur right-hand side and multipliers (size m)
+  VecX<T> reaction;                     // M^-1 J^T lambda (size n)
 
   // integrator scratch: stage derivatives and trial states (size n each)
   std::array<VecX<T>, 7> stage_q, stage_v;
   VecX<T> trial_q, trial_v, next_q, next_v;
+  VecX<T> error_q, error_v;             // rk45's local error estimate
   double rk45_step = 0.0;               // rk45's current internal step (0: not started)
   bool rk45_first_stage_valid = false;  // first-same-as-last: stage 0 holds f at the current state
 };
