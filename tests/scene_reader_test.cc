@@ -218,6 +218,16 @@ TEST(SceneReader, NestingDeeperThanTheLimitIsRefusedBeforeParsing) {
   EXPECT_NE(ErrorOf(at_limit).find("expected an object"), std::string::npos) << ErrorOf(at_limit);
 }
 
+TEST(SceneReader, ControlCharactersInTheInputAreEscapedInMessages) {
+  // a key holding NUL, ESC (a colour escape sequence) and a line break: the message keeps all of the key after
+  // the NUL and carries no control character, so it can neither be cut short nor drive the terminal
+  const std::string message = ErrorOf(WithBodies(R"("x\u0000y\u001b[31mz\nw": 1)"));
+  EXPECT_NE(message.find("unknown key 'x\\u0000y\\u001b[31mz\\u000aw'"), std::string::npos) << message;
+  for (const char c : message) EXPECT_FALSE(static_cast<unsigned char>(c) < 0x20 || c == 0x7f) << message;
+  EXPECT_EQ(Printable(std::string("a\0b\x7f\x1b", 5)), "a\\u0000b\\u007f\\u001b");
+  EXPECT_EQ(Printable("caf\xc3\xa9 \\ ok"), "caf\xc3\xa9 \\ ok");  // UTF-8 and backslashes pass through
+}
+
 TEST(SceneReader, NumberOverflowIsAnInputError) {
   // valid JSON syntax, but 1e400 is no double: an InputError naming the file, like any other bad number
   try {

@@ -7,17 +7,22 @@
 
 namespace tether {
 
+// `text` with every control character (NUL, ESC, line breaks) written as \u00XX, as JSON writes it. Messages
+// quote the user's keys and names; printed raw, a NUL would cut them short and an escape sequence would drive
+// the terminal. Both exceptions below pass their message through it.
+std::string Printable(const std::string& text);
+
 // The input cannot be used as given; what() names the place (JSON Pointer, flag) and what is wrong.
 class InputError : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  explicit InputError(const std::string& message) : std::runtime_error(Printable(message)) {}
 };
 
 // The state became non-finite or a constraint ran away; what() says when and which constraint.
 class SimulationDiverged : public std::runtime_error {
  public:
   SimulationDiverged(const std::string& message, double time, int constraint)
-      : std::runtime_error(message), time_(time), constraint_(constraint) {}
+      : std::runtime_error(Printable(message)), time_(time), constraint_(constraint) {}
   double time() const { return time_; }
   int constraint() const { return constraint_; }  // scene index, or -1 when no constraint is at fault
 
