@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "tether/dynamics/default_gains.h"
 #include "tether/dynamics/integrators.h"
@@ -42,6 +43,26 @@ nlohmann::json HorizontalChainScene(int n, double duration) {
           {"effects", nlohmann::json::array({{{"type", "gravity"}, {"acceleration", {0.0, -9.81}}}})},
           {"simulation", {{"integrator", "rk4"}, {"step", 1e-3}, {"duration", duration}}},
           {"stabilization", {{"method", "baumgarte"}, {"alpha", 20.0}, {"beta", 100.0}}}};
+}
+
+Model<double> BinaryTree(int n, KktSolver solver) {
+  Model<double> model;
+  std::vector<Vec3<double>> position;
+  for (int k = 0; k < n; ++k) {
+    const int parent = k == 0 ? kWorld : (k - 1) / 2;
+    const double angle = k % 2 == 1 ? -0.4 : 0.8;  // from the downward vertical
+    const Vec3<double> top = parent == kWorld ? Vec3<double>::Zero() : position[parent];
+    position.push_back(top + Vec3<double>(std::sin(angle), -std::cos(angle), 0));
+    AddBody<double>(&model, "p" + std::to_string(k), BodyKind::kParticle, 1.0, 0.0, position.back(), 0.0,
+                    Vec3<double>::Zero(), 0.0);
+    model.distances.push_back({k, BodyPoint<double>{parent}, BodyPoint<double>{k}, 1.0});
+  }
+  model.gravity.push_back({0, Vec3<double>(0, -9.81, 0)});
+  model.simulation.solver = solver;
+  model.stabilization.alpha = 20.0;
+  model.stabilization.beta = 100.0;
+  model.stabilization.gains_from_rule = false;
+  return model;
 }
 
 Model<double> FourBar(int n, KktSolver solver) {

@@ -19,6 +19,13 @@ Model<double> HorizontalChain(int n, Integrator integrator, KktSolver solver);
 // (/bodies/k/mass, /constraints/k/length). Parse it with tether::ParseScene.
 nlohmann::json HorizontalChainScene(int n, double duration);
 
+// A planar binary tree of n unit-mass particles on 1 m links: particle 0 hangs from the origin, particle k from
+// particle (k - 1) / 2, left children 0.4 rad and right children 0.8 rad off the downward vertical, at rest
+// under gravity; rk4, Baumgarte alpha = 20, beta = 100, the given KKT solver path. Its Schur complement has a
+// dense block where a parent meets its children (the line graph of the tree), so an elimination order from the
+// leaves up factors it without fill.
+Model<double> BinaryTree(int n, KktSolver solver);
+
 // The IFToMM A02 N-four-bar: n parallelograms of uniform 1 m, 1 kg bars (2n + 1 rigid bodies, 3n + 1 pin
 // constraints, 6n + 2 rows), cranks vertical and turning at -1 rad/s, under gravity.
 Model<double> FourBar(int n, KktSolver solver);

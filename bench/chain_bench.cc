@@ -1,7 +1,7 @@
-// Time per step against system size for each KKT solver path: chains of particles (two integrators) and
-// N-four-bars of rigid bars (closed loops). The systems move during the benchmark, so every step works on a
-// changing configuration. Linear growth on the sparse path is the goal (a chain's Schur complement is
-// tridiagonal); the four-bars show where the dense path pays.
+// Time per step against system size for each KKT solver path: chains of particles (two integrators), binary
+// trees of particles and N-four-bars of rigid bars (closed loops). The systems move during the benchmark, so
+// every step works on a changing configuration. Linear growth on the sparse path is the goal (a chain's Schur
+// complement is tridiagonal, a tree's factors without fill); the four-bars show where the dense path pays.
 #include <benchmark/benchmark.h>
 
 #include "bench_models.h"
@@ -11,6 +11,10 @@ namespace {
 
 void StepChain(benchmark::State& state, Integrator integrator, KktSolver solver) {
   StepModel(state, HorizontalChain(static_cast<int>(state.range(0)), integrator, solver));
+}
+
+void StepTree(benchmark::State& state, KktSolver solver) {
+  StepModel(state, BinaryTree(static_cast<int>(state.range(0)), solver));
 }
 
 void StepFourBar(benchmark::State& state, KktSolver solver) {
@@ -31,6 +35,9 @@ BENCHMARK_CAPTURE(StepChain, symplectic_euler_sparse, Integrator::kSymplecticEul
     ->Apply([](auto* b) { Sizes(b, 5000); });
 BENCHMARK_CAPTURE(StepChain, symplectic_euler_dense, Integrator::kSymplecticEuler, KktSolver::kDense)
     ->Apply([](auto* b) { Sizes(b, 1000); });
+
+BENCHMARK_CAPTURE(StepTree, rk4_sparse, KktSolver::kSparse)->Apply([](auto* b) { Sizes(b, 5000); });
+BENCHMARK_CAPTURE(StepTree, rk4_dense, KktSolver::kDense)->Apply([](auto* b) { Sizes(b, 500); });
 
 BENCHMARK_CAPTURE(StepFourBar, rk4_sparse, KktSolver::kSparse)->Apply([](auto* b) { Sizes(b, 500); });
 BENCHMARK_CAPTURE(StepFourBar, rk4_dense, KktSolver::kDense)->Apply([](auto* b) { Sizes(b, 100); });

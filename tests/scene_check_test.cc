@@ -42,7 +42,7 @@ TEST(SceneCheck, PendulumHasOneDegreeOfFreedom) {
   EXPECT_NEAR(c.condition_number, 1.0, 1e-12);  // one row: a single singular value
   // the helper writes the bob's position with six decimals: the violation is exactly |q0| - 0.7
   EXPECT_NEAR(c.initial_violation, std::abs(std::hypot(model.q0[0], model.q0[1]) - 0.7), 1e-15);
-  EXPECT_EQ(c.solver, "dense");
+  EXPECT_EQ(c.solver, "sparse");  // what "auto" takes at every size
 }
 
 TEST(SceneCheck, DuplicatedRodIsRedundant) {

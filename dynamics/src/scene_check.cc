@@ -15,7 +15,7 @@ SceneCheck CheckScene(const Model<double>& model) {
   std::vector<ConstraintRow<double>> rows(infos.size());
   check.coordinates = model.NumCoordinates();
   check.constraint_rows = static_cast<int>(rows.size());
-  check.solver = ResolveSolver(model.simulation.solver, check.constraint_rows) == KktSolver::kDense ? "dense" : "sparse";
+  check.solver = ResolveSolver(model.simulation.solver) == KktSolver::kDense ? "dense" : "sparse";
   check.degrees_of_freedom = check.coordinates;
   if (rows.empty()) return check;
   EvaluateConstraintRows(model, model.q0, model.v0, false, &rows);

@@ -1,32 +1,19 @@
 #include "tether/dynamics/schur_solver.h"
 
+#include <Eigen/SparseCholesky>
 #include <cmath>
 
 namespace tether {
 
-KktSolver ResolveSolver(KktSolver requested, int rows) {
-  if (requested != KktSolver::kAuto) return requested;
-  return rows <= kDenseMaxRows ? KktSolver::kDense : KktSolver::kSparse;
-}
+KktSolver ResolveSolver(KktSolver requested) { return requested == KktSolver::kAuto ? KktSolver::kSparse : requested; }
 
 SchurSolver::SchurSolver(const SchurPattern& pattern, KktSolver kind, bool factor_jet_matrices)
-    : pattern_(&pattern), kind_(ResolveSolver(kind, pattern.size())), factor_jet_matrices_(factor_jet_matrices) {
-  const int n = pattern.size();
+    : pattern_(&pattern), kind_(ResolveSolver(kind)), factor_jet_matrices_(factor_jet_matrices) {
   if (kind_ == KktSolver::kDense) {
-    dense_.setZero(n, n);
-    return;
+    dense_.setZero(pattern.size(), pattern.size());
+  } else {
+    sparse_factor_ = SparseLdlt(pattern);
   }
-  sparse_.resize(n, n);
-  Eigen::VectorXi per_column(n);
-  for (int j = 0; j < n; ++j) per_column[j] = pattern.column_start()[j + 1] - pattern.column_start()[j];
-  sparse_.reserve(per_column);
-  for (int j = 0; j < n; ++j) {
-    for (int k = pattern.column_start()[j]; k < pattern.column_start()[j + 1]; ++k) {
-      sparse_.insert(pattern.row_index()[k], j) = 1.0;
-    }
-  }
-  sparse_.makeCompressed();
-  sparse_factor_.analyzePattern(sparse_);
 }
 
 bool SchurSolver::Factor(const std::vector<double>& values) {
@@ -43,10 +30,8 @@ bool SchurSolver::Factor(const std::vector<double>& values) {
     NoteConditioning(values, pivots_, nullptr);
     return true;
   }
-  std::copy(values.begin(), values.end(), sparse_.valuePtr());
-  sparse_factor_.factorize(sparse_);
-  if (sparse_factor_.info() != Eigen::Success) return false;
-  NoteConditioning(values, sparse_factor_.vectorD(), &sparse_factor_.permutationPinv().indices());
+  if (!sparse_factor_.Factor(values)) return false;
+  NoteConditioning(values, sparse_factor_.pivots(), &sparse_factor_.order());
   return true;
 }
 
@@ -65,8 +50,7 @@ void SchurSolver::SolveInPlace(Eigen::VectorXd* x) {
   if (kind_ == KktSolver::kDense) {
     dense_factor_.solveInPlace(*x);
   } else {
-    solution_ = sparse_factor_.solve(*x);
-    x->swap(solution_);
+    sparse_factor_.SolveInPlace(x);
   }
 }
 

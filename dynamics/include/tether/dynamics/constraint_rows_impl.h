@@ -86,7 +86,7 @@ void EvaluateConstraintRows(const Model<T>& model, const VecX<T>& q, const VecX<
     if (velocity_terms) {
       const Vec3<T> dv = pb.velocity - pa.velocity;
       const T along = n.dot(dv);
-      row->bias = (dv.squaredNorm() - along * along) / segment.length + n.dot(pb.centripetal - pa.centripetal);
+      row->bias = (dv.squaredNorm() - along * along) * segment.inverse_length + n.dot(pb.centripetal - pa.centripetal);
     }
     ++row;
   }

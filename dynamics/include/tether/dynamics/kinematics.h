@@ -32,11 +32,11 @@ Vec3<T> Rotate(const T& angle, const Vec3<T>& u) {
 }
 
 // Translational part of a body's coordinates (or velocities) in q.
+// (Written out for d = 2 or 3: a loop over d compiles to a call of memcpy, a third of the time of a Dot.)
 template <typename T>
 Vec3<T> Translation(const Body<T>& body, int dimension, const VecX<T>& q) {
-  Vec3<T> p = Vec3<T>::Zero();
-  for (int k = 0; k < dimension; ++k) p[k] = q[body.offset + k];
-  return p;
+  const T* x = q.data() + body.offset;
+  return Vec3<T>(x[0], x[1], dimension == 3 ? x[2] : T(0.0));
 }
 
 // Angle (or angular velocity) of a planar rigid body; zero for a particle.
@@ -90,6 +90,7 @@ template <typename T>
 struct Segment {
   Vec3<T> d;
   T length;
+  T inverse_length;  // 1 / |d|: one division serves n and the callers
   Vec3<T> n;
 };
 
@@ -99,7 +100,8 @@ Segment<T> Between(const PointMotion<T>& a, const PointMotion<T>& b) {
   Segment<T> s;
   s.d = b.position - a.position;
   s.length = sqrt(s.d.squaredNorm());
-  s.n = s.d / s.length;
+  s.inverse_length = T(1.0) / s.length;
+  s.n = s.d * s.inverse_length;
   return s;
 }
 
@@ -114,7 +116,11 @@ template <typename T>
 T Dot(const Model<T>& model, const BodyVector<T>& g, const VecX<T>& x) {
   if (g.body == kWorld) return T(0.0);
   const Body<T>& body = model.bodies[g.body];
-  return g.translation.dot(Translation(body, model.dimension, x)) + g.rotation * Rotation(body, x);
+  const T* x_b = x.data() + body.offset;
+  T sum = g.translation[0] * x_b[0] + g.translation[1] * x_b[1];
+  if (model.dimension == 3) sum += g.translation[2] * x_b[2];
+  if (body.kind == BodyKind::kRigid) sum += g.rotation * x_b[2];
+  return sum;
 }
 
 // x += scale * g on the body's slice.
@@ -122,8 +128,11 @@ template <typename T>
 void AddScaled(const Model<T>& model, const BodyVector<T>& g, const T& scale, VecX<T>* x) {
   if (g.body == kWorld) return;
   const Body<T>& body = model.bodies[g.body];
-  for (int k = 0; k < model.dimension; ++k) (*x)[body.offset + k] += scale * g.translation[k];
-  if (body.kind == BodyKind::kRigid) (*x)[body.offset + 2] += scale * g.rotation;
+  T* x_b = x->data() + body.offset;
+  x_b[0] += scale * g.translation[0];
+  x_b[1] += scale * g.translation[1];
+  if (model.dimension == 3) x_b[2] += scale * g.translation[2];
+  if (body.kind == BodyKind::kRigid) x_b[2] += scale * g.rotation;
 }
 
 }  // namespace tether

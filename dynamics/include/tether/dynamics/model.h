@@ -20,7 +20,7 @@ class UserConstraint;
 enum class BodyKind { kParticle, kRigid };
 enum class Integrator { kEuler, kSymplecticEuler, kRk4, kRk45 };
 enum class Stabilization { kNone, kBaumgarte, kProjection };
-// kAuto picks kDense for small constraint systems and kSparse otherwise (see schur_solver.h).
+// kAuto is kSparse, the faster path at every size (see schur_solver.h).
 enum class KktSolver { kAuto, kDense, kSparse };
 
 // Body index of the fixed ground frame.

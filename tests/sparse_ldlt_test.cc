@@ -1,0 +1,131 @@
+// SparseLdlt (sparse_ldlt.h) on Schur patterns of chains, trees and loops, against Eigen's dense LDL^T:
+//   - the solution of S x = b, for random symmetric positive definite S with the pattern, to 1e-12 relative;
+//   - the pivots D equal those of the dense factorization of P S P^T (the same matrix, the same order);
+//   - a chain's factor has no fill (one entry of L per row), a closed loop some;
+//   - a zero pivot is refused, and the next factorization is unaffected.
+#include "tether/dynamics/sparse_ldlt.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <random>
+#include <utility>
+#include <vector>
+
+namespace tether {
+namespace {
+
+constexpr double kAgreement = 1e-12;
+
+// A pattern of rows between the given body pairs (kWorld allowed), one row each.
+SchurPattern PatternOf(const std::vector<std::pair<int, int>>& links, int bodies) {
+  std::vector<RowInfo> infos;
+  for (size_t i = 0; i < links.size(); ++i) infos.push_back({static_cast<int>(i), links[i].first, links[i].second});
+  return SchurPattern(infos, bodies);
+}
+
+std::vector<std::pair<int, int>> Chain(int n) {
+  std::vector<std::pair<int, int>> links;
+  for (int k = 0; k < n; ++k) links.push_back({k - 1, k});  // body -1 is the world
+  return links;
+}
+
+// A binary tree of particles hanging from the world: body k hangs from body (k - 1) / 2.
+std::vector<std::pair<int, int>> Tree(int n) {
+  std::vector<std::pair<int, int>> links{{kWorld, 0}};
+  for (int k = 1; k < n; ++k) links.push_back({(k - 1) / 2, k});
+  return links;
+}
+
+// A ring of n bodies with spokes to a hub (body n): loops everywhere.
+std::vector<std::pair<int, int>> Wheel(int n) {
+  std::vector<std::pair<int, int>> links;
+  for (int k = 0; k < n; ++k) {
+    links.push_back({k, (k + 1) % n});
+    links.push_back({k, n});
+  }
+  links.push_back({kWorld, n});
+  return links;
+}
+
+// Random values with the pattern, diagonally dominant (so positive definite).
+std::vector<double> RandomValues(const SchurPattern& pattern, unsigned seed) {
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::vector<double> values(pattern.nonzeros());
+  std::vector<double> dominance(pattern.size(), 1.0);
+  for (int k = 0; k < pattern.nonzeros(); ++k) {
+    const int i = pattern.row_index()[k], j = pattern.column_index()[k];
+    if (i == j) continue;
+    values[k] = unit(random);
+    dominance[i] += std::abs(values[k]);
+    dominance[j] += std::abs(values[k]);
+  }
+  for (int i = 0; i < pattern.size(); ++i) values[pattern.diagonal()[i]] = dominance[i];
+  return values;
+}
+
+Eigen::MatrixXd Dense(const SchurPattern& pattern, const std::vector<double>& values) {
+  Eigen::MatrixXd s = Eigen::MatrixXd::Zero(pattern.size(), pattern.size());
+  for (int k = 0; k < pattern.nonzeros(); ++k) {
+    s(pattern.row_index()[k], pattern.column_index()[k]) = values[k];
+    s(pattern.column_index()[k], pattern.row_index()[k]) = values[k];
+  }
+  return s;
+}
+
+void ExpectAgreesWithDense(const SchurPattern& pattern, unsigned seed) {
+  const std::vector<double> values = RandomValues(pattern, seed);
+  const Eigen::MatrixXd s = Dense(pattern, values);
+  SparseLdlt ldlt(pattern);
+  ASSERT_TRUE(ldlt.Factor(values));
+
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(pattern.size(), -1.0, 2.0);
+  Eigen::VectorXd x = b;
+  ldlt.SolveInPlace(&x);
+  const Eigen::VectorXd expected = s.ldlt().solve(b);
+  EXPECT_LE((x - expected).cwiseAbs().maxCoeff(), kAgreement * expected.cwiseAbs().maxCoeff());
+
+  // P S P^T in the factorization's order, factored densely without pivoting (Cholesky: D = diag(L)^2)
+  const int n = pattern.size();
+  Eigen::MatrixXd permuted(n, n);
+  for (int a = 0; a < n; ++a) {
+    for (int c = 0; c < n; ++c) permuted(a, c) = s(ldlt.order()[a], ldlt.order()[c]);
+  }
+  const Eigen::VectorXd pivots = permuted.llt().matrixLLT().diagonal().cwiseAbs2();
+  for (int k = 0; k < n; ++k) EXPECT_NEAR(ldlt.pivots()[k], pivots[k], kAgreement * pivots[k]) << "pivot " << k;
+}
+
+TEST(SparseLdlt, SolvesChainsTreesAndLoopsAsTheDenseFactorizationDoes) {
+  ExpectAgreesWithDense(PatternOf(Chain(50), 50), 1);
+  ExpectAgreesWithDense(PatternOf(Tree(63), 63), 2);
+  ExpectAgreesWithDense(PatternOf(Wheel(20), 21), 3);
+  ExpectAgreesWithDense(PatternOf({{kWorld, 0}}, 1), 4);
+}
+
+TEST(SparseLdlt, AChainFactorsWithoutFillAndALoopWithSome) {
+  const SparseLdlt chain(PatternOf(Chain(100), 100));
+  EXPECT_EQ(chain.nonzeros(), 99);  // S and L are both tridiagonal
+  const SchurPattern wheel = PatternOf(Wheel(20), 21);
+  const int below_diagonal = wheel.nonzeros() - wheel.size();
+  EXPECT_GT(SparseLdlt(wheel).nonzeros(), below_diagonal);
+}
+
+TEST(SparseLdlt, RefusesZeroAndNonFinitePivotsAndRecovers) {
+  const SchurPattern pattern = PatternOf(Tree(15), 15);
+  SparseLdlt ldlt(pattern);
+  EXPECT_FALSE(ldlt.Factor(std::vector<double>(pattern.nonzeros(), 0.0)));
+  std::vector<double> broken = RandomValues(pattern, 5);
+  broken[pattern.diagonal()[ldlt.order()[pattern.size() - 1]]] = std::nan("");  // the last pivot
+  EXPECT_FALSE(ldlt.Factor(broken));
+  const std::vector<double> values = RandomValues(pattern, 6);
+  ASSERT_TRUE(ldlt.Factor(values));
+  const Eigen::VectorXd ones = Eigen::VectorXd::Ones(pattern.size());
+  Eigen::VectorXd x = ones;
+  ldlt.SolveInPlace(&x);
+  EXPECT_LE((Dense(pattern, values) * x - ones).cwiseAbs().maxCoeff(), kAgreement);
+}
+
+}  // namespace
+}  // namespace tether
