@@ -1,5 +1,6 @@
 #include "mujoco_models.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -7,30 +8,36 @@
 namespace tether::bench {
 namespace {
 
-constexpr const char* kOptions =
-    R"(<option timestep="0.001" gravity="0 0 -9.81" solver="Newton" iterations="100" tolerance="1e-8" )"
-    R"(integrator="%s"><flag energy="enable"/></option>)"
-    R"(<default><equality solref="0.02 1" solimp="0.9 0.95 0.001"/></default>)";
-
-std::string Options(bool rk4) {
-  std::string options = kOptions;
-  options.replace(options.find("%s"), 2, rk4 ? "RK4" : "Euler");
-  return options;
+// `rows`: the equality constraint rows, which MuJoCo's constraint buffer (njmax, 500 by default) must hold;
+// beyond it MuJoCo drops constraints with a warning, and a chain falls apart
+std::string Options(bool rk4, int rows, const MujocoSettings& s) {
+  std::ostringstream xml;
+  xml.precision(17);
+  xml << "<option timestep=\"" << s.step << R"(" gravity="0 0 -9.81" solver="Newton" iterations="100" )"
+      << R"(tolerance="1e-8" integrator=")" << (rk4 ? "RK4" : "Euler") << R"("><flag energy="enable"/></option>)"
+      << "<size njmax=\"" << std::max(rows, 500) << "\"/>"
+      << "<default><equality solref=\"" << s.time_constant << " 1\" solimp=\"" << s.impedance << " "
+      << std::min(s.impedance + 0.05, 1.0) << " 0.001\"/></default>";
+  return xml.str();
 }
 
-std::string Chain(int n, bool rk4) {
+std::string Site(const std::string& name, double x = 0.0) {
+  return "<site name=\"" + name + "\" pos=\"" + std::to_string(x) + " 0 0\"/>";
+}
+
+// mass i at (i + 1, 0, 0) on three slides; link i a tendon from site m(i-1) (the anchor for i = 0) to m(i)
+std::string ChainOfSlides(int n, bool rk4, const MujocoSettings& settings) {
   std::ostringstream xml;
-  xml << R"(<mujoco model="chain">)" << Options(rk4) << R"(<worldbody><site name="anchor"/>)";
+  xml << R"(<mujoco model="chain_of_slides">)" << Options(rk4, n, settings) << "<worldbody>" << Site("m-1");
   for (int i = 0; i < n; ++i) {
     xml << "<body name=\"p" << i << "\" pos=\"" << i + 1 << " 0 0\">"
         << R"(<joint type="slide" axis="1 0 0"/><joint type="slide" axis="0 1 0"/><joint type="slide" axis="0 0 1"/>)"
-        << R"(<inertial pos="0 0 0" mass="1" diaginertia="1e-6 1e-6 1e-6"/>)"
-        << "<site name=\"s" << i << "\"/></body>";
+        << R"(<inertial pos="0 0 0" mass="1" diaginertia="1e-6 1e-6 1e-6"/>)" << Site("m" + std::to_string(i))
+        << "</body>";
   }
   xml << "</worldbody><tendon>";
   for (int i = 0; i < n; ++i) {
-    xml << "<spatial name=\"t" << i << "\"><site site=\"" << (i == 0 ? std::string("anchor") : "s" + std::to_string(i - 1))
-        << "\"/><site site=\"s" << i << "\"/></spatial>";
+    xml << "<spatial name=\"t" << i << "\"><site site=\"m" << i - 1 << "\"/><site site=\"m" << i << "\"/></spatial>";
   }
   xml << "</tendon><equality>";
   for (int i = 0; i < n; ++i) xml << "<tendon tendon1=\"t" << i << "\"/>";
@@ -38,8 +45,27 @@ std::string Chain(int n, bool rk4) {
   return xml.str();
 }
 
-std::string FourBar(bool rk4) {
-  return std::string(R"(<mujoco model="four_bar">)") + Options(rk4) +
+// link i a free body from (i, 0, 0) (site b<i>) to its mass at (i + 1, 0, 0) (site m<i>); its base is connected
+// to the previous mass (the world's origin for i = 0)
+std::string ChainOfFreeBodies(int n, bool rk4, const MujocoSettings& settings) {
+  std::ostringstream xml;
+  xml << R"(<mujoco model="chain_of_free_bodies">)" << Options(rk4, 3 * n, settings) << "<worldbody>" << Site("m-1");
+  for (int i = 0; i < n; ++i) {
+    xml << "<body name=\"p" << i << "\" pos=\"" << i << " 0 0\"><freejoint/>"
+        << R"(<inertial pos="1 0 0" mass="1" diaginertia="1e-6 1e-6 1e-6"/>)" << Site("b" + std::to_string(i))
+        << Site("m" + std::to_string(i), 1.0) << "</body>";
+  }
+  xml << "</worldbody><equality>";
+  for (int i = 0; i < n; ++i) {
+    xml << "<connect body1=\"p" << i << "\" body2=\"" << (i == 0 ? std::string("world") : "p" + std::to_string(i - 1))
+        << "\" anchor=\"0 0 0\"/>";
+  }
+  xml << "</equality></mujoco>";
+  return xml.str();
+}
+
+std::string FourBar(bool rk4, const MujocoSettings& settings) {
+  return std::string(R"(<mujoco model="four_bar">)") + Options(rk4, 3, settings) +
          R"(<worldbody>
   <body name="crank0"><joint type="hinge" axis="0 1 0"/>
     <inertial pos="0 0 0.5" mass="1" diaginertia="0.0833333333333333 0.0833333333333333 1e-6"/>
@@ -56,9 +82,22 @@ std::string FourBar(bool rk4) {
 <equality><connect body1="coupler" body2="crank1" anchor="1 0 0"/></equality></mujoco>)";
 }
 
+int SiteId(const mjModel& model, const std::string& name) {
+  const int site = mj_name2id(&model, mjOBJ_SITE, name.c_str());
+  if (site < 0) throw std::logic_error("the MuJoCo scene has no site " + name);
+  return site;
+}
+
 }  // namespace
 
-std::string MujocoScene(PeerScene scene, int n, bool rk4) { return scene == PeerScene::kChain ? Chain(n, rk4) : FourBar(rk4); }
+std::string MujocoXml(MujocoScene scene, int n, bool rk4, const MujocoSettings& settings) {
+  switch (scene) {
+    case MujocoScene::kChainOfSlides: return ChainOfSlides(n, rk4, settings);
+    case MujocoScene::kChainOfFreeBodies: return ChainOfFreeBodies(n, rk4, settings);
+    case MujocoScene::kFourBar: return FourBar(rk4, settings);
+  }
+  throw std::logic_error("unknown MuJoCo scene");
+}
 
 MjModelPtr LoadMujoco(const std::string& xml) {
   mjVFS vfs;
@@ -74,9 +113,9 @@ MjModelPtr LoadMujoco(const std::string& xml) {
   return model;
 }
 
-MjDataPtr InitialMujocoState(const mjModel& model, PeerScene scene) {
+MjDataPtr InitialMujocoState(const mjModel& model, MujocoScene scene) {
   MjDataPtr data(mj_makeData(&model));
-  if (scene == PeerScene::kFourBar) {  // hinges: crank0, coupler (relative to crank0), crank1
+  if (scene == MujocoScene::kFourBar) {  // hinges: crank0, coupler (relative to crank0), crank1
     data->qvel[0] = 1.0;
     data->qvel[1] = -1.0;  // the coupler keeps its orientation
     data->qvel[2] = 1.0;
@@ -85,18 +124,41 @@ MjDataPtr InitialMujocoState(const mjModel& model, PeerScene scene) {
   return data;
 }
 
-double MujocoViolation(const mjModel& model, const mjData& data, PeerScene scene) {
-  if (scene == PeerScene::kFourBar) {
-    const mjtNum* a = data.site_xpos + 3 * mj_name2id(&model, mjOBJ_SITE, "coupler_end");
-    const mjtNum* b = data.site_xpos + 3 * mj_name2id(&model, mjOBJ_SITE, "crank1_tip");
-    return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+std::string MujocoWarnings(const mjData& data) {
+  static const char* const kNames[mjNWARNING] = {"near-singular inertia", "too many contacts", "too many constraints",
+                                                 "too many visual geoms",  "bad number in qpos", "bad number in qvel",
+                                                 "bad number in qacc",     "bad number in ctrl"};
+  std::string warnings;
+  for (int w = 0; w < mjNWARNING; ++w) {
+    if (data.warning[w].number == 0) continue;
+    warnings += (warnings.empty() ? "MuJoCo warned: " : "; ") + std::string(kNames[w]) + " (" +
+                std::to_string(data.warning[w].number) + " times)";
   }
+  return warnings;
+}
+
+MujocoProbe::MujocoProbe(const mjModel& model, MujocoScene scene) : scene_(scene) {
+  if (scene == MujocoScene::kFourBar) {
+    coupler_end_ = SiteId(model, "coupler_end");
+    crank1_tip_ = SiteId(model, "crank1_tip");
+    return;
+  }
+  for (int i = 0; i + 1 < model.nbody; ++i) {  // body 0 is the world
+    masses_.push_back(SiteId(model, "m" + std::to_string(i)));
+    if (scene == MujocoScene::kChainOfFreeBodies) bases_.push_back(SiteId(model, "b" + std::to_string(i)));
+  }
+}
+
+double MujocoProbe::Violation(const mjData& data) const {
+  if (scene_ == MujocoScene::kFourBar) return (Site(data, coupler_end_) - Site(data, crank1_tip_)).norm();
   double worst = 0.0;
-  for (int body = 1; body < model.nbody; ++body) {  // body 0 is the world, at the origin like the anchor
-    const mjtNum* p = data.xpos + 3 * body;
-    const mjtNum* q = data.xpos + 3 * (body - 1);
-    const double length = std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]));
-    worst = std::max(worst, std::abs(length - 1.0));
+  Vec3<double> previous = Vec3<double>::Zero();  // the anchor
+  for (size_t i = 0; i < masses_.size(); ++i) {
+    const Vec3<double> mass = Site(data, masses_[i]);
+    const double error = scene_ == MujocoScene::kChainOfSlides ? std::abs((mass - previous).norm() - 1.0)
+                                                               : (Site(data, bases_[i]) - previous).norm();
+    worst = std::max(worst, error);
+    previous = mass;
   }
   return worst;
 }

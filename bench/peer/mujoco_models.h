@@ -1,21 +1,29 @@
 // The peer benchmark's scenes in MuJoCo (2.2, C API), built as MJCF text and loaded from memory.
 //
-// Chain: n point masses (1 kg, three slide joints each, no geometry, so no contacts) on 1 m links, the first
-// hung from the origin, released at rest along +x under gravity -9.81 z. Each link is a spatial tendon between
-// two sites held at its initial length by a tendon equality: MuJoCo's way of writing a distance constraint
-// between particles. Four-bar: scenes/four_bar.json's parallelogram (1 m, 1 kg bars, inertia 1/12 about the
-// centre) in the x-z plane: crank0 and crank1 hinged to the ground 1 m apart, the coupler hinged to crank0's tip,
-// and a connect equality closing the loop at crank1's tip; cranks vertical and turning at 1 rad/s.
+// Chains: n point masses of 1 kg on 1 m links, the first hung from the origin, released at rest along +x under
+// gravity -9.81 z; no geometry, so no contacts. MuJoCo has no distance constraint between particles; the two
+// usual ways of writing one are both here:
+//   kChainOfSlides      every mass on three slide joints, every link a spatial tendon between two sites held at
+//                       its initial length by a tendon equality (nv = 3n, n equality rows);
+//   kChainOfFreeBodies  every link a free body with its mass at its tip (inertia 1e-6 about the tip) and its
+//                       base held at the previous tip by a connect equality, a ball joint (nv = 6n, 3n rows).
+// Four-bar: scenes/four_bar.json's parallelogram (1 m, 1 kg bars, inertia 1/12 about the centre) in the x-z
+// plane: crank0 and crank1 hinged to the ground 1 m apart, the coupler hinged to crank0's tip, and a connect
+// equality closing the loop at crank1's tip; cranks vertical and turning at 1 rad/s.
 //
 // Settings, written out in the MJCF although they are MuJoCo's defaults: the Newton solver, 100 iterations,
 // tolerance 1e-8, solref (0.02, 1) and solimp (0.9, 0.95, 0.001) on every equality; h = 1e-3; integrator
-// "Euler" (semi-implicit: velocity first) or "RK4".
+// "Euler" (semi-implicit: velocity first) or "RK4". MujocoSettings can harden the constraints (a test compares
+// the mechanisms with MuJoCo's constraints nearly rigid).
 #pragma once
 
 #include <mujoco/mujoco.h>
 
 #include <memory>
 #include <string>
+#include <vector>
+
+#include "tether/dynamics/scalar.h"
 
 namespace tether::bench {
 
@@ -28,19 +36,47 @@ struct MjDataDeleter {
 using MjModelPtr = std::unique_ptr<mjModel, MjModelDeleter>;
 using MjDataPtr = std::unique_ptr<mjData, MjDataDeleter>;
 
-enum class PeerScene { kChain, kFourBar };
+enum class MujocoScene { kChainOfSlides, kChainOfFreeBodies, kFourBar };
 
-// The MJCF text of a scene (n: the chain's particles; ignored for the four-bar).
-std::string MujocoScene(PeerScene scene, int n, bool rk4);
+struct MujocoSettings {
+  double step = 1e-3;           // s
+  double time_constant = 0.02;  // solref (time constant, damping ratio 1)
+  double impedance = 0.9;       // solimp (impedance, impedance + 0.05 at most 1, width 0.001)
+};
+
+// The MJCF text of a scene (n: the chain's masses; ignored for the four-bar).
+std::string MujocoXml(MujocoScene scene, int n, bool rk4, const MujocoSettings& settings = {});
 
 // Compiles MJCF text; throws std::runtime_error with MuJoCo's message when it fails.
 MjModelPtr LoadMujoco(const std::string& xml);
 
-// A fresh state at the scene's initial conditions (the four-bar's cranks turning).
-MjDataPtr InitialMujocoState(const mjModel& model, PeerScene scene);
+// A fresh state at the scene's initial conditions (the four-bar's cranks turning), positions computed.
+MjDataPtr InitialMujocoState(const mjModel& model, MujocoScene scene);
 
-// The largest constraint violation of the current state, in metres: | |p_i - p_{i-1}| - 1 | over the chain's
-// links, or the gap between the coupler's end and crank1's tip. Needs the positions of a forward pass.
-double MujocoViolation(const mjModel& model, const mjData& data, PeerScene scene);
+// The warnings MuJoCo raised on this data ("too many constraints", "bad number in qacc", ...), as one line;
+// empty when there were none. A run with a warning measured a broken model.
+std::string MujocoWarnings(const mjData& data);
+
+// What the benchmark reads off a state: the sites it needs, looked up once.
+class MujocoProbe {
+ public:
+  MujocoProbe(const mjModel& model, MujocoScene scene);
+
+  // The largest violation of the scene's equality constraints, in metres: the tendons' length errors
+  // | |p_i - p_{i-1}| - 1 |, or the gaps of the connect equalities. Needs the positions of a forward pass.
+  double Violation(const mjData& data) const;
+
+  // Where chain mass i is (a forward pass's positions).
+  Vec3<double> Mass(const mjData& data, int i) const { return Site(data, masses_[i]); }
+
+ private:
+  static Vec3<double> Site(const mjData& data, int site) {
+    return Vec3<double>(data.site_xpos[3 * site], data.site_xpos[3 * site + 1], data.site_xpos[3 * site + 2]);
+  }
+
+  MujocoScene scene_;
+  std::vector<int> masses_, bases_;  // chains: the site of every mass, and of every link's base (free bodies)
+  int coupler_end_ = -1, crank1_tip_ = -1;
+};
 
 }  // namespace tether::bench

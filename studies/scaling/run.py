@@ -5,12 +5,13 @@
     python3 studies/scaling/run.py --json studies/scaling/results.json    # redraw only
 
 Runs the step benchmarks of bench/chain_bench.cc (StepChain: a chain of n particles, rk4 and symplectic Euler;
-StepFourBar: the IFToMM A02 N-four-bar, rk4; each with the sparse and the dense KKT path), writes their JSON
+StepTree: a binary tree of n particles, rk4; StepFourBar: the IFToMM A02 N-four-bar, rk4; each with the sparse
+and the dense KKT path), writes their JSON
 output to results.json and draws scaling.png and .svg beside it (or in --out): CPU time per step against the
-number of constraint rows m (the size of the KKT system: n for the chain, 6N + 2 for the four-bars), log-log,
+number of constraint rows m (the size of the KKT system: n for the chain and the tree, 6N + 2 for the four-bars), log-log,
 with the slope of each line fitted over m >= 100 and reference slopes O(m) and O(m^3). It also prints the
 slopes and where the dense path stops being faster (dense time / sparse time around there). With the defaults it
-takes about 1.5 minutes on two cores.
+takes about 1.5 minutes on two cores (1.3 on the machine of the README).
 Python 3 with matplotlib (Debian: python3-matplotlib).
 """
 import math
@@ -24,10 +25,11 @@ sys.path.insert(0, os.path.join(ROOT, "bench"))
 
 import bench_json  # noqa: E402
 
-NAME = re.compile(r"^Step(Chain|FourBar)/(rk4|symplectic_euler)_(sparse|dense)/(\d+)$")
+NAME = re.compile(r"^Step(Chain|Tree|FourBar)/(rk4|symplectic_euler)_(sparse|dense)/(\d+)$")
 MIN_TIME, REPETITIONS = "0.2", 3
 FIT_FROM = 100  # constraint rows: slopes are fitted from here on, where the per-step overhead no longer counts
-MODELS = [("Chain", "chain of n particles: m = n"), ("FourBar", "N-four-bar (IFToMM A02): m = 6N + 2")]
+MODELS = [("Chain", "chain of n particles: m = n"), ("Tree", "binary tree of n particles: m = n"),
+          ("FourBar", "N-four-bar (IFToMM A02): m = 6N + 2")]
 INTEGRATORS = {"rk4": "rk4", "symplectic_euler": "symplectic Euler"}
 COLORS = {"sparse": "tab:blue", "dense": "tab:red"}
 STYLES = {"rk4": "-o", "symplectic_euler": "--s"}
@@ -100,7 +102,7 @@ def summary(series):
 def draw(report, out):
     plt = bench_json.pyplot()
     series = parse(report)
-    figure, panels = plt.subplots(1, 2, figsize=(11, 5), sharey=True)
+    figure, panels = plt.subplots(1, len(MODELS), figsize=(15, 5), sharey=True)
     for axes, (model, title) in zip(panels, MODELS):
         keys = [k for k in series if k[0] == model]
         for _, integrator, path in sorted(keys, key=lambda k: (list(INTEGRATORS).index(k[1]), k[2] == "dense")):
@@ -138,7 +140,7 @@ def draw(report, out):
 
 def main(argv):
     def run_steps(binary, min_time, repetitions, extra):
-        return bench_json.run(binary, "^Step(Chain|FourBar)/", min_time, repetitions, extra)
+        return bench_json.run(binary, "^Step(Chain|Tree|FourBar)/", min_time, repetitions, extra)
 
     report, out = bench_json.study_report(argv, "Runs the step benchmarks and draws time per step against size.",
                                           HERE, MIN_TIME, REPETITIONS, run_steps)

@@ -1,0 +1,127 @@
+#!/usr/bin/env python3
+"""tether against MuJoCo, side by side: runs build/bench/tether_vs_mujoco (bench/peer/peer_bench.cc), saves its
+JSON report as bench/peer/results.json and prints the README's table (markdown) with the ratio per scene, then
+the two figures issue 8 asks for. Standard library only.
+
+    python3 bench/peer/side_by_side.py                                   # run (about 10 minutes), then print
+    python3 bench/peer/side_by_side.py --json bench/peer/results.json    # print the saved run again
+"""
+import argparse
+import os
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.dirname(HERE))
+import bench_json  # noqa: E402  (bench/bench_json.py)
+
+BINARY = os.path.join(os.path.dirname(os.path.dirname(HERE)), "build", "bench", "tether_vs_mujoco")
+MUJOCO_MODELS = {"mujoco_slides": "slide joints + tendon equalities", "mujoco_free": "free bodies + connect",
+                 "mujoco": "hinges + connect"}
+INTEGRATORS = {"euler": ("symplectic Euler", "Euler"), "rk4": ("rk4", "RK4")}
+
+
+def microseconds_per_step(entry):
+    return 1e6 / entry["items_per_second"]
+
+
+def runs(report):
+    """{(scene, integrator, engine): entry} from the medians of the report."""
+    table = {}
+    for entry in bench_json.measurements(report):
+        scene, integrator, engine = entry["run_name"].split("/")[:3]
+        table[(scene, integrator, engine)] = entry
+    return table
+
+
+def scene_label(scene):
+    return "four-bar" if scene == "four_bar" else f"chain, {scene[len('chain'):]} particles"
+
+
+def rows(table):
+    """One row per scene, integrator and MuJoCo model, in the order the benchmark ran them."""
+    out = []
+    for (scene, integrator, engine), mujoco in table.items():
+        if engine not in MUJOCO_MODELS:
+            continue
+        tether = table.get((scene, integrator, "tether"))
+        if tether is None:
+            continue
+        out.append((scene, integrator, engine, tether, mujoco))
+    return out
+
+
+def per_step(microseconds):
+    return f"{microseconds / 1e3:.3g} ms" if microseconds >= 1e3 else f"{microseconds:.3g} us"
+
+
+def percent(fraction):
+    return f"{100 * fraction:.2g}%"
+
+
+def markdown(table):
+    lines = ["| scene | integrator (tether / MuJoCo) | MuJoCo model | tether, per step | MuJoCo, per step | "
+             "MuJoCo / tether | violation, tether | violation, MuJoCo | energy error, tether | energy error, MuJoCo |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
+    for scene, integrator, engine, tether, mujoco in rows(table):
+        ours, theirs = microseconds_per_step(tether), microseconds_per_step(mujoco)
+        lines.append(
+            f"| {scene_label(scene)} | {' / '.join(INTEGRATORS[integrator])} | {MUJOCO_MODELS[engine]} "
+            f"| {per_step(ours)} | {per_step(theirs)} | {theirs / ours:.1f} "
+            f"| {tether['max_violation_m']:.1e} m | {mujoco['max_violation_m']:.1e} m "
+            f"| {percent(tether['energy_error_of_drop'])} | {percent(mujoco['energy_error_of_drop'])} |")
+    for integrator in INTEGRATORS:
+        projection = table.get(("four_bar", integrator, "tether_projection"))
+        if projection:
+            lines.append(f"\nfour-bar, {INTEGRATORS[integrator][0]}, tether with projection instead of Baumgarte: "
+                         f"{per_step(microseconds_per_step(projection))} per step, violation "
+                         f"{projection['max_violation_m']:.1e} m, energy error "
+                         f"{percent(projection['energy_error_of_drop'])}")
+    return "\n".join(lines)
+
+
+def verdict(table):
+    """Issue 8's two figures: the 200-particle rk4 chain and the four-bar."""
+    lines = []
+    tether = table.get(("chain200", "rk4", "tether"))
+    for engine in ("mujoco_slides", "mujoco_free"):
+        mujoco = table.get(("chain200", "rk4", engine))
+        if tether and mujoco:
+            ratio = microseconds_per_step(tether) / microseconds_per_step(mujoco)
+            lines.append(f"chain of 200, rk4, against MuJoCo's {MUJOCO_MODELS[engine]}: tether takes {ratio:.3f} of "
+                         f"MuJoCo's time per step (at most 0.2 asked: {'yes' if ratio <= 0.2 else 'NO'}), violation "
+                         f"{tether['max_violation_m']:.2e} m (below 1e-6 m asked: "
+                         f"{'yes' if tether['max_violation_m'] < 1e-6 else 'NO'})")
+    for integrator in INTEGRATORS:
+        ours, theirs = table.get(("four_bar", integrator, "tether")), table.get(("four_bar", integrator, "mujoco"))
+        if ours and theirs:
+            ratio = microseconds_per_step(ours) / microseconds_per_step(theirs)
+            lines.append(f"four-bar, {INTEGRATORS[integrator][0]}: tether takes {ratio:.2f} of MuJoCo's time per step "
+                         f"(no slower asked: {'yes' if ratio <= 1.0 else 'NO'})")
+    return "\n".join(lines)
+
+
+def main(argv):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--binary", default=BINARY, help="the tether_vs_mujoco program")
+    parser.add_argument("--json", help="print this saved report instead of running the benchmark")
+    parser.add_argument("--out", default=os.path.join(HERE, "results.json"), help="where to save the report")
+    parser.add_argument("--filter", default=".", help="--benchmark_filter (default: every scene)")
+    args = parser.parse_args(argv)
+    if args.json:
+        report = bench_json.load(args.json)
+    else:
+        report = bench_json.run(args.binary, args.filter, 0, 3)
+        bench_json.save(report, args.out)
+        print(f"wrote {args.out}", file=sys.stderr)
+    for entry in report["benchmarks"]:
+        if entry.get("error_occurred") and entry.get("run_type") != "aggregate":
+            print(f"{entry['run_name']} failed: {entry.get('error_message')}", file=sys.stderr)
+    table = runs(report)
+    print(markdown(table))
+    print()
+    print(verdict(table))
+    print("\nhost: " + bench_json.host(report))
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
