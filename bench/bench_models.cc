@@ -9,21 +9,26 @@
 
 namespace tether::bench {
 
-Model<double> HorizontalChain(int n, Integrator integrator, KktSolver solver) {
+void SetGains(Model<double>* model, double alpha, double beta) {
+  model->stabilization.method = Stabilization::kBaumgarte;
+  model->stabilization.alpha = alpha;
+  model->stabilization.beta = beta;
+  model->stabilization.gains_from_rule = false;
+}
+
+Model<double> HorizontalChain(int n, Integrator integrator, KktSolver solver, int dimension) {
   Model<double> model;
+  model.dimension = dimension;
   const double link = 1.0;
   for (int k = 0; k < n; ++k) {
-    AddBody<double>(&model, "p" + std::to_string(k), BodyKind::kParticle, 1.0, 0.0, Vec3<double>((k + 1) * link, 0, 0), 0.0,
-            Vec3<double>::Zero(), 0.0);
+    AddBody<double>(&model, "p" + std::to_string(k), BodyKind::kParticle, 1.0, 0.0, Vec3<double>((k + 1) * link, 0, 0),
+                    0.0, Vec3<double>::Zero(), 0.0);
     model.distances.push_back({k, BodyPoint<double>{k - 1}, BodyPoint<double>{k}, link});
   }
-  model.gravity.push_back({0, Vec3<double>(0, -9.81, 0)});
+  model.gravity.push_back({0, -9.81 * Vec3<double>::Unit(dimension - 1)});
   model.simulation.integrator = integrator;
   model.simulation.solver = solver;
-  model.stabilization.method = Stabilization::kBaumgarte;
-  model.stabilization.alpha = 20.0;
-  model.stabilization.beta = 100.0;
-  model.stabilization.gains_from_rule = false;
+  SetGains(&model, 20.0, 100.0);
   return model;
 }
 
@@ -59,9 +64,7 @@ Model<double> BinaryTree(int n, KktSolver solver) {
   }
   model.gravity.push_back({0, Vec3<double>(0, -9.81, 0)});
   model.simulation.solver = solver;
-  model.stabilization.alpha = 20.0;
-  model.stabilization.beta = 100.0;
-  model.stabilization.gains_from_rule = false;
+  SetGains(&model, 20.0, 100.0);
   return model;
 }
 

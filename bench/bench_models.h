@@ -9,10 +9,14 @@
 
 namespace tether::bench {
 
-// A planar chain of n unit-mass particles on 1 m links, hanging from the origin and released horizontal, under
-// gravity, with the given integrator and KKT solver path. (Short links under the weight of a long chain make
-// transverse modes too fast for h = 1e-3: 1000 links of 1 mm reach about 3000 rad/s.)
-Model<double> HorizontalChain(int n, Integrator integrator, KktSolver solver);
+// A chain of n unit-mass particles on 1 m links, hanging from the origin and released horizontal along +x, under
+// gravity along -y (planar) or -z (dimension 3), with the given integrator and KKT solver path and Baumgarte
+// alpha = 20, beta = 100. (Short links under the weight of a long chain make transverse modes too fast for
+// h = 1e-3: 1000 links of 1 mm reach about 3000 rad/s.)
+Model<double> HorizontalChain(int n, Integrator integrator, KktSolver solver, int dimension = 2);
+
+// Baumgarte stabilization with these gains (instead of the rule's).
+void SetGains(Model<double>* model, double alpha, double beta);
 
 // The same chain as a scene document (rk4, step 1e-3 s, the given duration, solver "auto", Baumgarte alpha = 20,
 // beta = 100), with every mass and link length written out so that JSON Pointers can name them as parameters
