@@ -91,7 +91,7 @@ Model<double> Pendulum(Integrator integrator, double step) {
   Model<double> model;
   const double angle = M_PI / 3;
   AddBody<double>(&model, "bob", BodyKind::kParticle, 1.0, 0.0, Vec3<double>(std::sin(angle), -std::cos(angle), 0), 0.0,
-          Vec3<double>::Zero(), 0.0);
+                  Vec3<double>::Zero(), 0.0);
   model.distances.push_back({0, BodyPoint<double>{kWorld}, BodyPoint<double>{0}, 1.0});
   model.gravity.push_back({0, Vec3<double>(0, -9.81, 0)});
   model.simulation.integrator = integrator;

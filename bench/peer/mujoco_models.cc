@@ -92,9 +92,12 @@ int SiteId(const mjModel& model, const std::string& name) {
 
 std::string MujocoXml(MujocoScene scene, int n, bool rk4, const MujocoSettings& settings) {
   switch (scene) {
-    case MujocoScene::kChainOfSlides: return ChainOfSlides(n, rk4, settings);
-    case MujocoScene::kChainOfFreeBodies: return ChainOfFreeBodies(n, rk4, settings);
-    case MujocoScene::kFourBar: return FourBar(rk4, settings);
+    case MujocoScene::kChainOfSlides:
+      return ChainOfSlides(n, rk4, settings);
+    case MujocoScene::kChainOfFreeBodies:
+      return ChainOfFreeBodies(n, rk4, settings);
+    case MujocoScene::kFourBar:
+      return FourBar(rk4, settings);
   }
   throw std::logic_error("unknown MuJoCo scene");
 }
@@ -103,7 +106,8 @@ MjModelPtr LoadMujoco(const std::string& xml) {
   mjVFS vfs;
   mj_defaultVFS(&vfs);
   const char* name = "scene.xml";
-  if (mj_makeEmptyFileVFS(&vfs, name, static_cast<int>(xml.size())) != 0) throw std::runtime_error("MuJoCo VFS is full");
+  if (mj_makeEmptyFileVFS(&vfs, name, static_cast<int>(xml.size())) != 0)
+    throw std::runtime_error("MuJoCo VFS is full");
   const int file = mj_findFileVFS(&vfs, name);
   std::copy(xml.begin(), xml.end(), static_cast<char*>(vfs.filedata[file]));
   char error[1000] = "";
@@ -125,9 +129,9 @@ MjDataPtr InitialMujocoState(const mjModel& model, MujocoScene scene) {
 }
 
 std::string MujocoWarnings(const mjData& data) {
-  static const char* const kNames[mjNWARNING] = {"near-singular inertia", "too many contacts", "too many constraints",
-                                                 "too many visual geoms",  "bad number in qpos", "bad number in qvel",
-                                                 "bad number in qacc",     "bad number in ctrl"};
+  static const char* const kNames[mjNWARNING] = {"near-singular inertia", "too many contacts",  "too many constraints",
+                                                 "too many visual geoms", "bad number in qpos", "bad number in qvel",
+                                                 "bad number in qacc",    "bad number in ctrl"};
   std::string warnings;
   for (int w = 0; w < mjNWARNING; ++w) {
     if (data.warning[w].number == 0) continue;

@@ -73,7 +73,8 @@ void Tether(benchmark::State& state, PeerCase c, Stabilization stabilization) {
   }
   RunOptions quiet;
   quiet.every = c.Steps();
-  for (auto _ : state) Simulate<double>(model, quiet, [](const Sample<double>& s) { benchmark::DoNotOptimize(s.q.data()); });
+  for (auto _ : state)
+    Simulate<double>(model, quiet, [](const Sample<double>& s) { benchmark::DoNotOptimize(s.q.data()); });
   seen.Report(state, c.Steps());
 }
 

@@ -17,7 +17,7 @@ namespace tether::bench {
 namespace {
 
 constexpr double kFourBarSeconds = 2.0, kFourBarAngleAgreement = 1e-7;  // rad (measured 7.5e-9)
-constexpr double kChainSeconds = 0.5, kChainAgreement = 4e-6;  // m (measured 4.2e-7)
+constexpr double kChainSeconds = 0.5, kChainAgreement = 4e-6;           // m (measured 4.2e-7)
 constexpr int kChainMasses = 10;
 // MuJoCo with nearly rigid constraints: h = 1e-4, solref at its floor of two steps, solimp (0.9999, 1)
 constexpr MujocoSettings kRigid{1e-4, 2e-4, 0.9999};

@@ -14,10 +14,11 @@ Eigen::VectorXi MinimumDegreeOrder(const SchurPattern& pattern) {
   Eigen::SparseMatrix<double, Eigen::ColMajor, int> lower(n, n);
   std::vector<Eigen::Triplet<double, int>> entries;
   entries.reserve(pattern.nonzeros());
-  for (int k = 0; k < pattern.nonzeros(); ++k) entries.emplace_back(pattern.row_index()[k], pattern.column_index()[k], 1.0);
+  for (int k = 0; k < pattern.nonzeros(); ++k)
+    entries.emplace_back(pattern.row_index()[k], pattern.column_index()[k], 1.0);
   lower.setFromTriplets(entries.begin(), entries.end());
   Eigen::AMDOrdering<int>::PermutationType new_to_old;  // Eigen's orderings compute the inverse permutation
-  Eigen::AMDOrdering<int>()(lower, new_to_old);          // of the symmetric pattern lower + lower^T
+  Eigen::AMDOrdering<int>()(lower, new_to_old);         // of the symmetric pattern lower + lower^T
   return new_to_old.indices();
 }
 
@@ -69,8 +70,9 @@ SparseLdlt::SparseLdlt(const SchurPattern& pattern) {
   }
   const std::vector<int> parent = EliminationTree(row_entry_start_, row_columns);
 
-  // row k's pattern: the paths up the tree from its entries to k, each path reversed onto the front of a stack
-  // so that a column comes after every column below it in the tree (topological order)
+  // row k's pattern: the paths up the tree from its entries towards k, each stopping where an earlier one
+  // passed; read back as the later paths first, each from the bottom up, a column comes after every column
+  // below it in the tree (topological order, as in Davis's LDL)
   std::vector<int> flag(n, -1), path, stack;
   std::vector<std::vector<int>> patterns(n);
   std::vector<int> column_count(n, 0);
@@ -113,7 +115,8 @@ bool SparseLdlt::Factor(const std::vector<double>& values) {
   const int n = size();
   double* y = work_.data();
   for (int k = 0; k < n; ++k) {
-    for (int e = row_entry_start_[k]; e < row_entry_start_[k + 1]; ++e) y[row_entries_[e].column] = values[row_entries_[e].value];
+    for (int e = row_entry_start_[k]; e < row_entry_start_[k + 1]; ++e)
+      y[row_entries_[e].column] = values[row_entries_[e].value];
     double d = values[diagonal_value_[k]];
     for (int e = pattern_start_[k]; e < pattern_start_[k + 1]; ++e) {
       const int i = pattern_[e].column;

@@ -62,7 +62,8 @@ template <typename T>
 void ExpectStepsAllocateNothing(const Model<T>& model, int steps, int first_integrator = 0) {
   for (int i = first_integrator; i < 4; ++i) {
     for (KktSolver solver : {KktSolver::kSparse, KktSolver::kDense}) {
-      for (Stabilization stabilization : {Stabilization::kNone, Stabilization::kBaumgarte, Stabilization::kProjection}) {
+      for (Stabilization stabilization :
+           {Stabilization::kNone, Stabilization::kBaumgarte, Stabilization::kProjection}) {
         Model<T> m = model;
         m.simulation.integrator = kIntegrators[i];
         m.simulation.solver = solver;

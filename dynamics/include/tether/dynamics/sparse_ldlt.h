@@ -38,8 +38,8 @@ class SparseLdlt {
 
   int size() const { return static_cast<int>(d_.size()); }
   int nonzeros() const { return static_cast<int>(lower_row_.size()); }  // of L below its diagonal
-  const Eigen::VectorXd& pivots() const { return d_; }                    // D, in elimination order
-  const Eigen::VectorXi& order() const { return order_; }                 // order[k]: S's row eliminated k-th
+  const Eigen::VectorXd& pivots() const { return d_; }                  // D, in elimination order
+  const Eigen::VectorXi& order() const { return order_; }               // order[k]: S's row eliminated k-th
 
  private:
   // An off-diagonal entry A(k, column) of the permuted lower triangle of row k, and where S stores its value.
@@ -54,17 +54,17 @@ class SparseLdlt {
     int position;
   };
 
-  Eigen::VectorXi order_;                 // elimination order: new index -> S's row
-  std::vector<int> diagonal_value_;       // per new row, the index of S_kk among the stored values
-  std::vector<int> row_entry_start_;      // row k's entries are row_entries_[start[k] .. start[k + 1])
+  Eigen::VectorXi order_;             // elimination order: new index -> S's row
+  std::vector<int> diagonal_value_;   // per new row, the index of S_kk among the stored values
+  std::vector<int> row_entry_start_;  // row k's entries are row_entries_[start[k] .. start[k + 1])
   std::vector<RowEntry> row_entries_;
-  std::vector<int> pattern_start_;        // row k's pattern is pattern_[start[k] .. start[k + 1])
+  std::vector<int> pattern_start_;  // row k's pattern is pattern_[start[k] .. start[k + 1])
   std::vector<PatternEntry> pattern_;
-  std::vector<int> column_start_;         // L by columns: rows lower_row_ and values lower_value_
+  std::vector<int> column_start_;  // L by columns: rows lower_row_ and values lower_value_
   std::vector<int> lower_row_;
   std::vector<double> lower_value_;
-  Eigen::VectorXd d_, inverse_d_;      // D and its inverse (so that the solves multiply)
-  Eigen::VectorXd work_;                  // the dense row y of the factorization, and the permuted solve vector
+  Eigen::VectorXd d_, inverse_d_;  // D and its inverse (so that the solves multiply)
+  Eigen::VectorXd work_;           // zero between calls: the row y of Factor, the permuted x of a solve
 };
 
 }  // namespace tether
