@@ -22,13 +22,15 @@
 namespace tether::bench {
 namespace {
 
+static_assert(MujocoSettings{}.step == kPeerStep, "both engines step alike");
+
 struct PeerCase {
   Mechanism mechanism;
   int n;  // the chain's particles
   bool rk4;
-  double duration;  // s, at h = 1e-3
+  double duration;  // s
 
-  int Steps() const { return static_cast<int>(std::lround(duration / 1e-3)); }
+  int Steps() const { return static_cast<int>(std::lround(duration / kPeerStep)); }
 };
 
 // What the untimed run observed.

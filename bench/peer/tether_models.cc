@@ -10,7 +10,7 @@ Model<double> TetherPeerScene(Mechanism mechanism, int n, bool rk4, double durat
   Model<double> model = mechanism == Mechanism::kChain ? HorizontalChain(n, integrator, KktSolver::kAuto, 3)
                                                        : FourBar(1, KktSolver::kAuto);
   model.simulation.integrator = integrator;
-  model.simulation.step = 1e-3;
+  model.simulation.step = kPeerStep;
   model.simulation.duration = duration;
   SetGains(&model, 100.0, 2500.0);
   return model;

@@ -14,6 +14,8 @@ namespace tether::bench {
 
 enum class Mechanism { kChain, kFourBar };
 
+inline constexpr double kPeerStep = 1e-3;  // s, both engines
+
 // n: the chain's particles (ignored for the four-bar).
 Model<double> TetherPeerScene(Mechanism mechanism, int n, bool rk4, double duration);
 

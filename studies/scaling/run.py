@@ -6,10 +6,10 @@
 
 Runs the step benchmarks of bench/chain_bench.cc (StepChain: a chain of n particles, rk4 and symplectic Euler;
 StepTree: a binary tree of n particles, rk4; StepFourBar: the IFToMM A02 N-four-bar, rk4; each with the sparse
-and the dense KKT path), writes their JSON
-output to results.json and draws scaling.png and .svg beside it (or in --out): CPU time per step against the
-number of constraint rows m (the size of the KKT system: n for the chain and the tree, 6N + 2 for the four-bars), log-log,
-with the slope of each line fitted over m >= 100 and reference slopes O(m) and O(m^3). It also prints the
+and the dense KKT path), writes their JSON output to results.json and draws scaling.png and .svg beside it (or
+in --out): CPU time per step against the number of constraint rows m (the size of the KKT system: n for the
+chain and the tree, 6N + 2 for the four-bars), log-log, with the slope of each line fitted over m >= 100 and
+reference slopes O(m) and O(m^3). It also prints the
 slopes and where the dense path stops being faster (dense time / sparse time around there). With the defaults it
 takes about 1.5 minutes on two cores (1.3 on the machine of the README).
 Python 3 with matplotlib (Debian: python3-matplotlib).
