@@ -34,6 +34,18 @@ Model<double> BinaryTree(int n, KktSolver solver);
 // constraints, 6n + 2 rows), cranks vertical and turning at -1 rad/s, under gravity.
 Model<double> FourBar(int n, KktSolver solver);
 
+// A chain of n rigid rods (1 kg, 1 m, radius 2 cm) on hinges about y, hanging from the origin and released
+// horizontal along +x under gravity along -z; Baumgarte alpha = 20, beta = 100.
+Model<double> HingeChain(int n, Integrator integrator, KktSolver solver);
+
+// A binary tree of n such rods on hinges about y: rod 0 hangs from the origin, rod k from the lower end of rod
+// (k - 1) / 2, left children 0.4 rad and right children 0.8 rad off the downward vertical (in the x-z plane), at
+// rest under gravity; rk4, Baumgarte alpha = 20, beta = 100.
+Model<double> HingeTree(int n, KktSolver solver);
+
+// Principal moments of a solid rod of radius 2 cm along body x.
+Vec3<double> RodInertia(double mass, double length);
+
 // scenes/pendulum.json's pendulum (1 kg, 1 m, released from 60 degrees) with the given integrator and step.
 Model<double> Pendulum(Integrator integrator, double step);
 

@@ -1,5 +1,6 @@
 // Time per step against system size for each KKT solver path: chains of particles (two integrators), binary
-// trees of particles and N-four-bars of rigid bars (closed loops). The systems move during the benchmark, so
+// trees of particles, N-four-bars of rigid bars (closed loops), and 3D chains and binary trees of rigid rods on
+// hinges (5 rows a joint). The systems move during the benchmark, so
 // every step works on a changing configuration. Linear growth on the sparse path is the goal (a chain's Schur
 // complement is tridiagonal, a tree's factors without fill); the four-bars show where the dense path pays.
 #include <benchmark/benchmark.h>
@@ -19,6 +20,14 @@ void StepTree(benchmark::State& state, KktSolver solver) {
 
 void StepFourBar(benchmark::State& state, KktSolver solver) {
   StepModel(state, FourBar(static_cast<int>(state.range(0)), solver));
+}
+
+void StepHingeChain(benchmark::State& state, Integrator integrator, KktSolver solver) {
+  StepModel(state, HingeChain(static_cast<int>(state.range(0)), integrator, solver));
+}
+
+void StepHingeTree(benchmark::State& state, KktSolver solver) {
+  StepModel(state, HingeTree(static_cast<int>(state.range(0)), solver));
 }
 
 // 1-2-5 steps, evenly spaced on the log axes of studies/scaling.
@@ -41,6 +50,14 @@ BENCHMARK_CAPTURE(StepTree, rk4_dense, KktSolver::kDense)->Apply([](auto* b) { S
 
 BENCHMARK_CAPTURE(StepFourBar, rk4_sparse, KktSolver::kSparse)->Apply([](auto* b) { Sizes(b, 500); });
 BENCHMARK_CAPTURE(StepFourBar, rk4_dense, KktSolver::kDense)->Apply([](auto* b) { Sizes(b, 100); });
+
+BENCHMARK_CAPTURE(StepHingeChain, rk4_sparse, Integrator::kRk4, KktSolver::kSparse)
+    ->Apply([](auto* b) { Sizes(b, 1000); });
+BENCHMARK_CAPTURE(StepHingeChain, rk4_dense, Integrator::kRk4, KktSolver::kDense)->Apply([](auto* b) { Sizes(b, 200); });
+BENCHMARK_CAPTURE(StepHingeChain, symplectic_euler_sparse, Integrator::kSymplecticEuler, KktSolver::kSparse)
+    ->Apply([](auto* b) { Sizes(b, 1000); });
+BENCHMARK_CAPTURE(StepHingeTree, rk4_sparse, KktSolver::kSparse)->Apply([](auto* b) { Sizes(b, 1000); });
+BENCHMARK_CAPTURE(StepHingeTree, rk4_dense, KktSolver::kDense)->Apply([](auto* b) { Sizes(b, 200); });
 
 }  // namespace
 }  // namespace tether::bench

@@ -60,8 +60,8 @@ Problem MakeProblem(int n, int count, double duration) {
   obs.path = "in memory";
   for (int body : {n / 2 - 1, n - 1}) {
     const std::string name = "p" + std::to_string(body);
-    obs.columns.push_back({name + ".x", ObservedColumn::Source::kCoordinate, 2 * body});
-    obs.columns.push_back({name + ".y", ObservedColumn::Source::kCoordinate, 2 * body + 1});
+    obs.columns.push_back({name + ".x", TrajectoryColumn::Kind::kConfiguration, 2 * body});
+    obs.columns.push_back({name + ".y", TrajectoryColumn::Kind::kConfiguration, 2 * body + 1});
   }
   for (int k = 1; k <= kObservationTimes; ++k) {
     obs.times.push_back(duration * k / kObservationTimes);

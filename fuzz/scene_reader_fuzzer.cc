@@ -13,6 +13,8 @@
 #include <string>
 
 #include "tether/dynamics/errors.h"
+#include "tether/dynamics/configuration_space.h"
+#include "tether/dynamics/effects.h"
 #include "tether/dynamics/scene_reader.h"
 
 namespace {
@@ -34,18 +36,25 @@ bool ValidBody(const tether::Model<double>& model, int body, bool world_allowed)
 void CheckModel(const tether::Model<double>& model) {
   if (model.dimension != 2 && model.dimension != 3) Finding("dimension " + std::to_string(model.dimension));
   if (model.bodies.empty()) Finding("a scene without bodies was accepted");
-  int offset = 0;
+  int q_offset = 0, v_offset = 0;
   for (const tether::Body<double>& body : model.bodies) {
     if (body.name.empty() || body.name == "world") Finding("body name '" + body.name + "' was accepted");
     if (!(body.mass > 0) || !std::isfinite(body.mass)) Finding("body mass not finite and positive");
-    const bool rigid = body.kind == tether::BodyKind::kRigid;
-    if (rigid && (!(body.inertia > 0) || !std::isfinite(body.inertia))) Finding("rigid inertia not positive");
-    if (body.offset != offset) Finding("body offsets are not contiguous");
-    if (body.size != (rigid ? 3 : model.dimension)) Finding("body size " + std::to_string(body.size));
-    offset += body.size;
+    const bool planar = body.kind == tether::BodyKind::kPlanar;
+    const bool spatial = body.kind == tether::BodyKind::kRigid3d;
+    if (planar && (!(body.inertia > 0) || !std::isfinite(body.inertia))) Finding("planar inertia not positive");
+    if (spatial && !(tether::PrincipalInertia(body).diagonal().minCoeff() > 0)) Finding("3D inertia not positive");
+    if (body.q_offset != q_offset || body.v_offset != v_offset) Finding("body offsets are not contiguous");
+    const int size = planar ? 3 : model.dimension;
+    if (body.q_size != (spatial ? 7 : size) || body.v_size != (spatial ? 6 : size)) {
+      Finding("body size " + std::to_string(body.q_size));
+    }
+    q_offset += body.q_size;
+    v_offset += body.v_size;
   }
-  if (model.q0.size() != offset || model.v0.size() != offset) Finding("q0/v0 size does not match the bodies");
-  if (!model.q0.allFinite() || !model.v0.allFinite()) Finding("non-finite initial state");
+  const tether::State<double> start = tether::InitialState(model);
+  if (start.q.size() != q_offset || start.v.size() != v_offset) Finding("the initial state does not match the bodies");
+  if (!start.q.allFinite() || !start.v.allFinite()) Finding("non-finite initial state");
   for (const auto& c : model.distances) {
     if (!ValidBody(model, c.a.body, true) || !ValidBody(model, c.b.body, true) || c.a.body == c.b.body) {
       Finding("distance constraint with bad bodies");

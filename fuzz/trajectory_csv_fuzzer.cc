@@ -45,9 +45,13 @@ void Cleanup() { std::remove(path->c_str()); }
 
 void CheckObservations(const tether::Observations& obs, const tether::Model<double>& model) {
   if (obs.columns.empty()) Finding("no observed column was accepted");
-  for (const tether::ObservedColumn& column : obs.columns) {
+  for (const tether::TrajectoryColumn& column : obs.columns) {
     if (column.name == "t" || column.name == "constraint_error") Finding("column '" + column.name + "' accepted");
-    if (column.index < 0 || column.index >= model.NumCoordinates()) Finding("column index out of range");
+    using Kind = tether::TrajectoryColumn::Kind;
+    const int size = column.kind == Kind::kConfiguration ? model.NumCoordinates()
+                     : column.kind == Kind::kVelocity    ? model.NumVelocities()
+                                                         : 1 << 30;
+    if (column.index < 0 || column.index >= size) Finding("column index out of range");
   }
   if (obs.times.empty()) Finding("no rows were accepted");
   if (obs.values.size() != obs.times.size() || obs.lines.size() != obs.times.size()) Finding("row counts differ");

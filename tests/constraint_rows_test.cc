@@ -62,7 +62,7 @@ void PointPosition(const Point& point, BodyKind kind, int dimension, const S* q,
   for (int k = 0; k < 3; ++k) p[k] = S(point.local[k]);
   if (point.body == kWorld) return;
   for (int k = 0; k < dimension; ++k) p[k] = q[k] + S(point.local[k]);
-  if (kind == BodyKind::kRigid) {
+  if (kind == BodyKind::kPlanar) {
     using std::cos;
     using std::sin;
     const S c = cos(q[2]), s = sin(q[2]);
@@ -110,7 +110,7 @@ struct AsUserResidual {
       for (int r = 0; r < kRows; ++r) {
         const Vec3<double>& n = normals[r];
         S n_x = S(n.x()), n_y = S(n.y());
-        if (spec.a.body != kWorld && kind_a == BodyKind::kRigid) {  // the normal turns with A (2D)
+        if (spec.a.body != kWorld && kind_a == BodyKind::kPlanar) {  // the normal turns with A (2D)
           using std::cos;
           using std::sin;
           const S cs = cos(q_a[2]), sn = sin(q_a[2]);
@@ -154,12 +154,17 @@ Model<double> BuildModel(const Scene& scene, bool user) {
           AddAsUser<3>(&model, scene, spec);
           break;
       }
-    } else if (spec.kind == Kind::kDistance) {
-      model.distances.push_back({index, a, b, spec.length});
-    } else if (spec.kind == Kind::kPin) {
-      model.pins.push_back({index, a, b});
     } else {
-      model.sliders.push_back({index, a, b, spec.axis});
+      Joint<double> joint;
+      joint.scene_index = index;
+      joint.type = spec.kind == Kind::kDistance ? JointType::kDistance
+                   : spec.kind == Kind::kPin    ? JointType::kPin
+                                                : JointType::kSlider;
+      joint.a = a;
+      joint.b = b;
+      joint.axis = spec.axis;
+      joint.length = spec.length;
+      AddJoint(&model, joint);
     }
   }
   return model;
@@ -171,10 +176,16 @@ struct DenseRows {
   Eigen::MatrixXd jacobian;
 };
 
+// (Particles and planar rigid bodies only: q and v have the same layout, so J over v is J over q.)
 DenseRows Evaluate(const Model<double>& model, const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
-  std::vector<ConstraintRow<double>> rows(DescribeRows(model).size());
-  EvaluateConstraintRows(model, q, v, true, &rows);
-  const int m = static_cast<int>(rows.size()), n = model.NumCoordinates();
+  // distance, pin and slider fix nothing at the start: the set is the same at any configuration
+  const ConstraintSet<double> set = BuildConstraintSet(model, InitialState(model).q);
+  BodyFrames<double> frames;
+  UpdateFrames(model, q, v, true, &frames);
+  std::vector<ConstraintRow<double>> rows(DescribeRows(model, set).size());
+  EvaluateConstraintRows(model, set, frames, q, v, true, &rows);
+  const int m = static_cast<int>(rows.size()), n = model.NumVelocities();
+  EXPECT_EQ(n, model.NumCoordinates());
   DenseRows out{Eigen::VectorXd(m), Eigen::VectorXd(m), Eigen::MatrixXd::Zero(m, n)};
   for (int i = 0; i < m; ++i) {
     out.value[i] = rows[i].value;
@@ -204,12 +215,12 @@ void RandomState(const Model<double>& model, std::mt19937* random, Eigen::Vector
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   const Vec3<double> spacing(1.0, 0.5, 0.3);
   q->resize(model.NumCoordinates());
-  v->resize(model.NumCoordinates());
+  v->resize(model.NumVelocities());
   for (size_t k = 0; k < model.bodies.size(); ++k) {
     const Body<double>& body = model.bodies[k];
-    for (int i = 0; i < model.dimension; ++i) (*q)[body.offset + i] = (k + 1.0) * spacing[i] + 0.3 * unit(*random);
-    if (body.kind == BodyKind::kRigid) (*q)[body.offset + 2] = M_PI * unit(*random);
-    for (int i = 0; i < body.size; ++i) (*v)[body.offset + i] = 2.0 * unit(*random);
+    for (int i = 0; i < model.dimension; ++i) (*q)[body.q_offset + i] = (k + 1.0) * spacing[i] + 0.3 * unit(*random);
+    if (body.kind == BodyKind::kPlanar) (*q)[body.q_offset + 2] = M_PI * unit(*random);
+    for (int i = 0; i < body.v_size; ++i) (*v)[body.v_offset + i] = 2.0 * unit(*random);
   }
 }
 
@@ -217,7 +228,8 @@ void RandomState(const Model<double>& model, std::mt19937* random, Eigen::Vector
 void CheckRows(const Scene& scene) {
   const Model<double> builtin = BuildModel(scene, false);
   const Model<double> user = BuildModel(scene, true);
-  ASSERT_EQ(DescribeRows(builtin).size(), DescribeRows(user).size());
+  ASSERT_EQ(DescribeRows(builtin, BuildConstraintSet(builtin, InitialState(builtin).q)).size(),
+            DescribeRows(user, BuildConstraintSet(user, InitialState(user).q)).size());
   std::mt19937 random(20240601);
   for (int s = 0; s < kStates; ++s) {
     SCOPED_TRACE("state " + std::to_string(s));
@@ -249,7 +261,7 @@ void CheckRows(const Scene& scene) {
 }
 
 // 2D bodies: 0 a particle, 1 and 2 planar rigid bodies.
-const std::vector<BodyKind> kPlanarBodies = {BodyKind::kParticle, BodyKind::kRigid, BodyKind::kRigid};
+const std::vector<BodyKind> kPlanarBodies = {BodyKind::kParticle, BodyKind::kPlanar, BodyKind::kPlanar};
 // 3D bodies: particles only.
 const std::vector<BodyKind> kSpatialBodies = {BodyKind::kParticle, BodyKind::kParticle};
 
@@ -297,13 +309,13 @@ TEST(ConstraintRows, SliderOnRotatingRigidBody) {
   Eigen::VectorXd q, v;
   std::mt19937 random(7);
   RandomState(model, &random, &q, &v);
-  const int angle = model.bodies[1].offset + 2;
+  const int angle = model.bodies[1].q_offset + 2;  // = v_offset + 2 for a planar body
   const double w = 3.0;
   v.setZero();
   v[angle] = w;
   const DenseRows rows = Evaluate(model, q, v);
-  const Vec3<double> n = Rotate(q[angle], Perp(Vec3<double>(spec.axis.normalized())));
-  const Vec3<double> arm = Rotate(q[angle], spec.a.local);
+  const Vec3<double> n = RotatePlanar(q[angle], Perp(Vec3<double>(spec.axis.normalized())));
+  const Vec3<double> arm = RotatePlanar(q[angle], spec.a.local);
   EXPECT_GT(std::abs(rows.bias[0] - w * w * n.dot(arm)), 0.1);
   EXPECT_GT(std::abs(rows.jacobian(0, angle) + n.dot(Perp(arm))), 0.1);
 }

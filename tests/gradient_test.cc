@@ -108,9 +108,9 @@ GradientScene Particles() {
 GradientScene RigidPins() {
   const double l1 = 0.6, l2 = 0.5, angle1 = -1.0, angle2 = -0.4, omega1 = 2.0, omega2 = -1.0;
   const Vec3<double> pivot = V(0.0, 0.1);
-  const Vec3<double> c1 = pivot + Rotate(angle1, V(l1 / 2, 0.0));
-  const Vec3<double> joint = pivot + Rotate(angle1, V(l1, 0.0));
-  const Vec3<double> c2 = joint + Rotate(angle2, V(l2 / 2, 0.0));
+  const Vec3<double> c1 = pivot + RotatePlanar(angle1, V(l1 / 2, 0.0));
+  const Vec3<double> joint = pivot + RotatePlanar(angle1, V(l1, 0.0));
+  const Vec3<double> c2 = joint + RotatePlanar(angle2, V(l2 / 2, 0.0));
   const Vec3<double> v1 = PointVelocity(Vec3<double>::Zero(), omega1, c1 - pivot);
   const Vec3<double> v2 = PointVelocity(PointVelocity(v1, omega1, joint - c1), omega2, c2 - joint);
   json d = {
@@ -145,7 +145,7 @@ GradientScene Slider() {
   const Vec3<double> unit = axis.normalized();
   const Vec3<double> cart = rail + 0.4 * unit - cart_point, cart_velocity = 0.3 * unit;
   const double pole = 0.5, angle = -1.2, omega = 1.0;
-  const Vec3<double> centre = cart + Rotate(angle, V(pole / 2, 0.0));
+  const Vec3<double> centre = cart + RotatePlanar(angle, V(pole / 2, 0.0));
   const Vec3<double> pole_velocity = PointVelocity(cart_velocity, omega, centre - cart);
   json d = {
       {"dimension", 2},
@@ -197,9 +197,9 @@ GradientScene Springs() {
 GradientScene Damping() {
   const double angle = 0.4, omega = -1.5;
   const Vec3<double> pivot = V(0.0, 0.0), hinge = V(-0.3, 0.1);  // hinge: the pinned point in the plate
-  const Vec3<double> centre = pivot - Rotate(angle, hinge);
+  const Vec3<double> centre = pivot - RotatePlanar(angle, hinge);
   const Vec3<double> velocity = PointVelocity(Vec3<double>::Zero(), omega, centre - pivot);
-  const Vec3<double> mount = V(0.2, -0.05), bead = centre + Rotate(angle, mount) + V(0.1, -0.35);
+  const Vec3<double> mount = V(0.2, -0.05), bead = centre + RotatePlanar(angle, mount) + V(0.1, -0.35);
   json d = {
       {"dimension", 2},
       {"bodies",
@@ -445,17 +445,17 @@ GradientScene Chain(int links) {
   Vec3<double> joint = V(0.0, 0.0);
   for (int k = 0; k < links; ++k) {
     const double angle = -1.2 + 0.35 * (k % 3) - 0.1 * k;
-    const Vec3<double> centre = joint + Rotate(angle, V(length / 2, 0.0));
+    const Vec3<double> centre = joint + RotatePlanar(angle, V(length / 2, 0.0));
     bodies.push_back({{"name", "link" + std::to_string(k)}, {"type", "rigid"}, {"mass", 0.5 + 0.05 * k},
                       {"inertia", 0.5 * length * length / 12}, {"position", Point(centre)}, {"angle", angle},
                       {"velocity", {0.0, 0.0}}, {"angular_velocity", 0.0}});
     const std::string above = k == 0 ? "world" : "link" + std::to_string(k - 1);
     constraints.push_back({{"type", "pin"}, {"bodies", {above, "link" + std::to_string(k)}},
                            {"points", {k == 0 ? Point(joint) : json{length / 2, 0.0}, {-length / 2, 0.0}}}});
-    joint = joint + Rotate(angle, V(length, 0.0));
+    joint = joint + RotatePlanar(angle, V(length, 0.0));
   }
   bodies[0]["angular_velocity"] = 1.5;
-  bodies[0]["velocity"] = Point(PointVelocity(Vec3<double>::Zero(), 1.5, Rotate(-1.2, V(length / 2, 0.0))));
+  bodies[0]["velocity"] = Point(PointVelocity(Vec3<double>::Zero(), 1.5, RotatePlanar(-1.2, V(length / 2, 0.0))));
   json d = {{"dimension", 2},
             {"bodies", bodies},
             {"constraints", constraints},

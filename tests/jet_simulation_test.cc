@@ -56,11 +56,17 @@ Scene DampedPendulum() {
   const int bob = AddBody<double>(&model, "bob", BodyKind::kParticle, 1.0, 0.0,
                                   Vec3<double>(length * std::sin(angle), -length * std::cos(angle), 0.0), 0.0,
                                   Vec3<double>(speed * std::cos(angle), speed * std::sin(angle), 0.0), 0.0);
-  model.distances.push_back({0, {kWorld, Vec3<double>::Zero()}, {bob, Vec3<double>::Zero()}, length});
+  Joint<double> rod;
+  rod.scene_index = 0;
+  rod.type = JointType::kDistance;
+  rod.a = {kWorld, Vec3<double>::Zero()};
+  rod.b = {bob, Vec3<double>::Zero()};
+  rod.length = length;
+  AddJoint(&model, rod);
   model.damping.push_back({1, 0.4, 0.0, {bob}});
   return {model,
-          {TETHER_PARAMETER(m.bodies[0].mass), TETHER_PARAMETER(m.distances[0].length),
-           TETHER_PARAMETER(m.gravity[0].acceleration[1]), TETHER_PARAMETER(m.v0[0])}};
+          {TETHER_PARAMETER(m.bodies[0].mass), TETHER_PARAMETER(m.joints[0].length),
+           TETHER_PARAMETER(m.gravity[0].acceleration[1]), TETHER_PARAMETER(m.bodies[0].velocity[0])}};
 }
 
 // A Grashof crank-rocker (ground 1.0, crank 0.4, coupler 1.1, rocker 0.8 m): the crank turns fully without a
@@ -77,15 +83,20 @@ Scene FourBar() {
   const Vec3<double> c = b + along * bd / dist + across * Perp(Vec3<double>(bd / dist));
   auto add_bar = [&model](const std::string& name, const Vec3<double>& from, const Vec3<double>& to, double mass) {
     const Vec3<double> d = to - from;
-    return AddBody<double>(&model, name, BodyKind::kRigid, mass, mass * d.squaredNorm() / 12.0, 0.5 * (from + to),
+    return AddBody<double>(&model, name, BodyKind::kPlanar, mass, mass * d.squaredNorm() / 12.0, 0.5 * (from + to),
                            std::atan2(d.y(), d.x()), Vec3<double>::Zero(), 0.0);
   };
   const int k_crank = add_bar("crank", Vec3<double>::Zero(), b, 0.5);
   const int k_coupler = add_bar("coupler", b, c, 1.2);
   const int k_rocker = add_bar("rocker", ground, c, 0.9);
-  model.v0[model.bodies[k_crank].offset + 2] = 3.0;
+  model.bodies[k_crank].angular_velocity.z() = 3.0;
   auto pin = [&model](int a, const Vec3<double>& at_a, int b_body, const Vec3<double>& at_b) {
-    model.pins.push_back({model.NumConstraints(), {a, at_a}, {b_body, at_b}});
+    Joint<double> joint;
+    joint.scene_index = model.NumConstraints();
+    joint.type = JointType::kPin;
+    joint.a = {a, at_a};
+    joint.b = {b_body, at_b};
+    AddJoint(&model, joint);
   };
   auto along_bar = [](double x) { return Vec3<double>(x, 0.0, 0.0); };
   pin(kWorld, Vec3<double>::Zero(), k_crank, along_bar(-crank / 2));
@@ -94,7 +105,7 @@ Scene FourBar() {
   pin(k_rocker, along_bar(-rocker / 2), kWorld, ground);
   return {model,
           {TETHER_PARAMETER(m.bodies[0].mass), TETHER_PARAMETER(m.bodies[2].inertia),
-           TETHER_PARAMETER(m.gravity[0].acceleration[1]), TETHER_PARAMETER(m.v0[2])}};
+           TETHER_PARAMETER(m.gravity[0].acceleration[1]), TETHER_PARAMETER(m.bodies[0].angular_velocity[2])}};
 }
 
 // A particle on a slider through the origin along (1, 0.5), pulled by a damped spring from a world point on
@@ -104,12 +115,18 @@ Scene SliderOscillator() {
   const Vec3<double> axis = Vec3<double>(1.0, 0.5, 0.0).normalized();
   const int cart = AddBody<double>(&model, "cart", BodyKind::kParticle, 0.8, 0.0, Vec3<double>(0.8 * axis), 0.0,
                                    Vec3<double>(0.3 * axis), 0.0);
-  model.sliders.push_back({0, {kWorld, Vec3<double>::Zero()}, {cart, Vec3<double>::Zero()}, axis});
+  Joint<double> slider;
+  slider.scene_index = 0;
+  slider.type = JointType::kSlider;
+  slider.a = {kWorld, Vec3<double>::Zero()};
+  slider.b = {cart, Vec3<double>::Zero()};
+  slider.axis = axis;
+  AddJoint(&model, slider);
   model.springs.push_back({1, {kWorld, Vec3<double>(-axis)}, {cart, Vec3<double>::Zero()}, 40.0, 1.5, 0.5});
   model.damping.push_back({2, 0.3, 0.0, {cart}});
   return {model,
           {TETHER_PARAMETER(m.bodies[0].mass), TETHER_PARAMETER(m.springs[0].stiffness),
-           TETHER_PARAMETER(m.damping[0].coefficient), TETHER_PARAMETER(m.v0[0])}};
+           TETHER_PARAMETER(m.damping[0].coefficient), TETHER_PARAMETER(m.bodies[0].velocity[0])}};
 }
 
 template <typename T>

@@ -18,7 +18,7 @@ namespace tether {
 namespace {
 
 using testing::SceneFromJson;
-using Source = ObservedColumn::Source;
+using Kind = TrajectoryColumn::Kind;
 
 // A particle (q 0..1) and a rigid body (q 2..4: x, y, angle), simulated for 0.5 s.
 const char* kPlanarScene = R"({
@@ -52,9 +52,9 @@ class ObservationsTest : public ::testing::Test {
   Model<double> model_;
 };
 
-void ExpectColumn(const ObservedColumn& column, const std::string& name, Source source, int index) {
+void ExpectColumn(const TrajectoryColumn& column, const std::string& name, Kind kind, int index) {
   EXPECT_EQ(column.name, name);
-  EXPECT_EQ(column.source, source) << name;
+  EXPECT_EQ(column.kind, kind) << name;
   EXPECT_EQ(column.index, index) << name;
 }
 
@@ -65,14 +65,14 @@ TEST_F(ObservationsTest, ColumnsMapToCoordinatesVelocitiesAndEnergy) {
   const Observations obs = ReadObservations(path, model_);
   EXPECT_EQ(obs.path, path);
   ASSERT_EQ(obs.columns.size(), 7u);  // t is not an observed column
-  ExpectColumn(obs.columns[0], "bar.angle", Source::kCoordinate, 4);
-  ExpectColumn(obs.columns[1], "bob.x", Source::kCoordinate, 0);
-  ExpectColumn(obs.columns[2], "bob.vy", Source::kVelocity, 1);
-  EXPECT_EQ(obs.columns[3].source, Source::kEnergy);
+  ExpectColumn(obs.columns[0], "bar.angle", Kind::kConfiguration, 4);
+  ExpectColumn(obs.columns[1], "bob.x", Kind::kConfiguration, 0);
+  ExpectColumn(obs.columns[2], "bob.vy", Kind::kVelocity, 1);
+  EXPECT_EQ(obs.columns[3].kind, Kind::kEnergy);
   EXPECT_EQ(obs.columns[3].name, "energy");
-  ExpectColumn(obs.columns[4], "bar.omega", Source::kVelocity, 4);
-  ExpectColumn(obs.columns[5], "bar.y", Source::kCoordinate, 3);
-  ExpectColumn(obs.columns[6], "bar.vx", Source::kVelocity, 2);
+  ExpectColumn(obs.columns[4], "bar.omega", Kind::kVelocity, 4);
+  ExpectColumn(obs.columns[5], "bar.y", Kind::kConfiguration, 3);
+  ExpectColumn(obs.columns[6], "bar.vx", Kind::kVelocity, 2);
   ASSERT_EQ(obs.times.size(), 1u);
   EXPECT_EQ(obs.values[0], (std::vector<double>{0.3, 0.6, 0.0, 1.5, 0.0, 0.5, 0.0}));
   EXPECT_EQ(obs.lines, std::vector<int>{2});
@@ -85,10 +85,10 @@ TEST_F(ObservationsTest, ParticleZColumnsIn3D) {
   const std::string path = Write("obs3.csv", "t,b.z,b.vz,a.vy,b.x\n0.5,3.0,0.0,0.0,1.0\n");
   const Observations obs = ReadObservations(path, model);
   ASSERT_EQ(obs.columns.size(), 4u);
-  ExpectColumn(obs.columns[0], "b.z", Source::kCoordinate, 5);
-  ExpectColumn(obs.columns[1], "b.vz", Source::kVelocity, 5);
-  ExpectColumn(obs.columns[2], "a.vy", Source::kVelocity, 1);
-  ExpectColumn(obs.columns[3], "b.x", Source::kCoordinate, 3);
+  ExpectColumn(obs.columns[0], "b.z", Kind::kConfiguration, 5);
+  ExpectColumn(obs.columns[1], "b.vz", Kind::kVelocity, 5);
+  ExpectColumn(obs.columns[2], "a.vy", Kind::kVelocity, 1);
+  ExpectColumn(obs.columns[3], "b.x", Kind::kConfiguration, 3);
 }
 
 TEST_F(ObservationsTest, RowsAreSortedByTimeWithTheirLines) {

@@ -21,9 +21,10 @@ using nlohmann::json;
 constexpr const char* kPath = "parameters_scene.json";
 
 // A planar scene with one element of every kind. Scene indices differ from positions in the model's per-kind
-// lists on purpose (the second distance is /constraints/3 but distances[1]; gravity is /effects/1 but
-// gravity[0]; the second force is /effects/4 but forces[1]), so that a resolver mixing them up is caught.
-// Body offsets in q: p 0..1, r 2..4 (x, y, angle), s 5..7. Body s leaves velocity and angular velocity to
+// lists on purpose (gravity is /effects/1 but gravity[0]; the second force is /effects/4 but forces[1]), so
+// that a resolver mixing them up is caught; every built-in constraint is a joint (model.joints, in scene
+// order). The initial state is held per body (position, angle, velocity, angular_velocity; a planar body's
+// angular velocity and a planar torque are z components). Body s leaves velocity and angular velocity to
 // their defaults.
 const char* kSceneText = R"({
   "dimension": 2,
@@ -75,25 +76,25 @@ std::vector<Expected> AllKinds() {
       TETHER_EXPECT_FIELD("/bodies/1/mass", m.bodies[1].mass),
       TETHER_EXPECT_FIELD("/bodies/1/inertia", m.bodies[1].inertia),
       TETHER_EXPECT_FIELD("/bodies/2/inertia", m.bodies[2].inertia),
-      TETHER_EXPECT_FIELD("/bodies/0/position/1", m.q0[1]),
-      TETHER_EXPECT_FIELD("/bodies/1/position/0", m.q0[2]),
-      TETHER_EXPECT_FIELD("/bodies/2/position/1", m.q0[6]),
-      TETHER_EXPECT_FIELD("/bodies/1/angle", m.q0[4]),
-      TETHER_EXPECT_FIELD("/bodies/2/angle", m.q0[7]),
-      TETHER_EXPECT_FIELD("/bodies/0/velocity/0", m.v0[0]),
-      TETHER_EXPECT_FIELD("/bodies/1/velocity/1", m.v0[3]),
-      TETHER_EXPECT_FIELD("/bodies/1/angular_velocity", m.v0[4]),
+      TETHER_EXPECT_FIELD("/bodies/0/position/1", m.bodies[0].position[1]),
+      TETHER_EXPECT_FIELD("/bodies/1/position/0", m.bodies[1].position[0]),
+      TETHER_EXPECT_FIELD("/bodies/2/position/1", m.bodies[2].position[1]),
+      TETHER_EXPECT_FIELD("/bodies/1/angle", m.bodies[1].angle),
+      TETHER_EXPECT_FIELD("/bodies/2/angle", m.bodies[2].angle),
+      TETHER_EXPECT_FIELD("/bodies/0/velocity/0", m.bodies[0].velocity[0]),
+      TETHER_EXPECT_FIELD("/bodies/1/velocity/1", m.bodies[1].velocity[1]),
+      TETHER_EXPECT_FIELD("/bodies/1/angular_velocity", m.bodies[1].angular_velocity[2]),
       // constraints
-      TETHER_EXPECT_FIELD("/constraints/0/length", m.distances[0].length),
-      TETHER_EXPECT_FIELD("/constraints/3/length", m.distances[1].length),
-      TETHER_EXPECT_FIELD("/constraints/0/points/0/1", m.distances[0].a.local[1]),
-      TETHER_EXPECT_FIELD("/constraints/3/points/1/0", m.distances[1].b.local[0]),
-      TETHER_EXPECT_FIELD("/constraints/1/points/0/0", m.pins[0].a.local[0]),
-      TETHER_EXPECT_FIELD("/constraints/1/points/1/1", m.pins[0].b.local[1]),
-      TETHER_EXPECT_FIELD("/constraints/2/points/0/1", m.sliders[0].a.local[1]),
-      TETHER_EXPECT_FIELD("/constraints/2/points/1/0", m.sliders[0].b.local[0]),
-      TETHER_EXPECT_FIELD("/constraints/2/axis/0", m.sliders[0].axis[0]),
-      TETHER_EXPECT_FIELD("/constraints/2/axis/1", m.sliders[0].axis[1]),
+      TETHER_EXPECT_FIELD("/constraints/0/length", m.joints[0].length),
+      TETHER_EXPECT_FIELD("/constraints/3/length", m.joints[3].length),
+      TETHER_EXPECT_FIELD("/constraints/0/points/0/1", m.joints[0].a.local[1]),
+      TETHER_EXPECT_FIELD("/constraints/3/points/1/0", m.joints[3].b.local[0]),
+      TETHER_EXPECT_FIELD("/constraints/1/points/0/0", m.joints[1].a.local[0]),
+      TETHER_EXPECT_FIELD("/constraints/1/points/1/1", m.joints[1].b.local[1]),
+      TETHER_EXPECT_FIELD("/constraints/2/points/0/1", m.joints[2].a.local[1]),
+      TETHER_EXPECT_FIELD("/constraints/2/points/1/0", m.joints[2].b.local[0]),
+      TETHER_EXPECT_FIELD("/constraints/2/axis/0", m.joints[2].axis[0]),
+      TETHER_EXPECT_FIELD("/constraints/2/axis/1", m.joints[2].axis[1]),
       // effects
       TETHER_EXPECT_FIELD("/effects/1/acceleration/0", m.gravity[0].acceleration[0]),
       TETHER_EXPECT_FIELD("/effects/1/acceleration/1", m.gravity[0].acceleration[1]),
@@ -110,8 +111,8 @@ std::vector<Expected> AllKinds() {
       TETHER_EXPECT_FIELD("/effects/4/point/0", m.forces[1].point[0]),
       TETHER_EXPECT_FIELD("/effects/4/schedule/values/1/0", m.forces[1].schedule.values[1][0]),
       TETHER_EXPECT_FIELD("/effects/4/schedule/values/2/1", m.forces[1].schedule.values[2][1]),
-      TETHER_EXPECT_FIELD("/effects/5/value", m.torques[0].value),
-      TETHER_EXPECT_FIELD("/effects/6/schedule/values/1", m.torques[1].schedule.values[1]),
+      TETHER_EXPECT_FIELD("/effects/5/value", m.torques[0].value[2]),
+      TETHER_EXPECT_FIELD("/effects/6/schedule/values/1", m.torques[1].schedule.values[1][2]),
       // stabilization
       TETHER_EXPECT_FIELD("/stabilization/alpha", m.stabilization.alpha),
       TETHER_EXPECT_FIELD("/stabilization/beta", m.stabilization.beta),

@@ -40,8 +40,9 @@ TEST(SceneCheck, PendulumHasOneDegreeOfFreedom) {
   EXPECT_EQ(c.degrees_of_freedom, 1);
   EXPECT_TRUE(c.redundant_constraints.empty());
   EXPECT_NEAR(c.condition_number, 1.0, 1e-12);  // one row: a single singular value
-  // the helper writes the bob's position with six decimals: the violation is exactly |q0| - 0.7
-  EXPECT_NEAR(c.initial_violation, std::abs(std::hypot(model.q0[0], model.q0[1]) - 0.7), 1e-15);
+  // the helper writes the bob's position with six decimals: the violation is exactly |position| - 0.7
+  const Vec3<double>& bob = model.bodies[0].position;
+  EXPECT_NEAR(c.initial_violation, std::abs(std::hypot(bob[0], bob[1]) - 0.7), 1e-15);
   EXPECT_EQ(c.solver, "sparse");  // what "auto" takes at every size
 }
 
@@ -80,9 +81,9 @@ TEST(SceneCheck, NoConstraintsLeaveEveryCoordinateFree) {
 
 TEST(SceneCheck, ReportsTheInitialViolation) {
   Model<double> model = testing::Pendulum60();
-  model.q0[0] += 0.01;  // 1 cm along x, off a 0.7 m rod
+  model.bodies[0].position[0] += 0.01;  // 1 cm along x, off a 0.7 m rod
   const SceneCheck c = CheckScene(model);
-  const double moved = std::hypot(model.q0[0], model.q0[1]) - 0.7;
+  const double moved = std::hypot(model.bodies[0].position[0], model.bodies[0].position[1]) - 0.7;
   EXPECT_NEAR(c.initial_violation, std::abs(moved), 1e-12);
   EXPECT_EQ(c.worst_constraint, 0);
 }

@@ -9,6 +9,7 @@
 #include <typeinfo>
 #include <vector>
 
+#include "tether/dynamics/configuration_space.h"
 #include "tether/dynamics/errors.h"
 
 namespace tether {
@@ -137,16 +138,26 @@ const std::vector<BadScene> kBadScenes = {
     {"unknown_body_in_damping",
      WithBodies(R"("effects": [{"type": "damping", "coefficient": 1, "bodies": ["a", "ghost"]}])"),
      "/effects/0/bodies/1", "unknown body 'ghost'"},
-    {"duplicate_name", std::string(R"({"bodies": [)") + kParticle + ", " + kParticle + "]}", "/bodies/1",
-     "duplicate body name 'a'"},
+    // names are unique across bodies, constraints and markers; the message points at the repeated name and at
+    // where it was first given
+    {"duplicate_name", std::string(R"({"bodies": [)") + kParticle + ", " + kParticle + "]}", "/bodies/1/name",
+     "duplicate name 'a' (also /bodies/0)"},
     {"world_is_reserved", R"({"bodies": [{"name": "world", "type": "particle", "mass": 1, "position": [0, 0]}]})",
      "/bodies/0/name", "reserved"},
     {"same_body_twice", WithBodies(R"("constraints": [{"type": "pin", "bodies": ["a", "a"]}])"),
      "/constraints/0/bodies", "must differ"},
     // bodies and effects that do not fit
-    {"rigid_body_in_3d",
+    // a rigid body in 3D is a 3D rigid body: a planar body's scalar inertia and angle do not fit it, and the
+    // joints that hold orientations need dimension 3
+    {"planar_inertia_in_3d",
      R"({"dimension": 3, "bodies": [{"name": "w", "type": "rigid", "mass": 1, "inertia": 1, "position": [0, 0, 0]}]})",
-     "/bodies/0/type", "dimension 2"},
+     "/bodies/0/inertia", "expected an array"},
+    {"planar_angle_in_3d",
+     R"({"dimension": 3, "bodies": [{"name": "w", "type": "rigid", "mass": 1, "inertia": [1, 1, 1],
+                                    "position": [0, 0, 0], "angle": 0.5}]})",
+     "/bodies/0/angle", "unknown key"},
+    {"hinge_in_2d", WithBodies(R"("constraints": [{"type": "hinge", "bodies": ["world", "w"], "axis": [1, 0]}])"),
+     "/constraints/0/type", "dimension 3"},
     {"torque_on_a_particle", WithBodies(R"("effects": [{"type": "torque", "body": "a", "value": 1}])"),
      "/effects/0/body", "particle"},
     {"schedule_times_not_increasing",
@@ -266,23 +277,35 @@ TEST(SceneReader, DefaultsOfAMinimalScene) {
               model.torques.empty());
   ASSERT_EQ(model.bodies.size(), 1u);
   EXPECT_EQ(model.bodies[0].mass, 2.0);
-  EXPECT_EQ(model.q0, (VecX<double>(2) << 1, 2).finished());
-  EXPECT_EQ(model.v0, VecX<double>::Zero(2));  // velocity defaults to 0
+  EXPECT_EQ(model.bodies[0].position, Vec3<double>(1, 2, 0));
+  EXPECT_EQ(model.bodies[0].velocity, Vec3<double>::Zero());  // velocity defaults to 0
+  const State<double> initial = InitialState(model);
+  EXPECT_EQ(initial.q, (VecX<double>(2) << 1, 2).finished());
+  EXPECT_EQ(initial.v, VecX<double>::Zero(2));
 }
 
 TEST(SceneReader, LayoutOfCoordinates) {
   const Model<double> model = Parse(WithBodies());
   ASSERT_EQ(model.bodies.size(), 2u);
   EXPECT_EQ(model.bodies[0].kind, BodyKind::kParticle);
-  EXPECT_EQ(model.bodies[0].offset, 0);
-  EXPECT_EQ(model.bodies[0].size, 2);
-  EXPECT_EQ(model.bodies[1].kind, BodyKind::kRigid);
-  EXPECT_EQ(model.bodies[1].offset, 2);
-  EXPECT_EQ(model.bodies[1].size, 3);
+  EXPECT_EQ(model.bodies[0].q_offset, 0);
+  EXPECT_EQ(model.bodies[0].q_size, 2);
+  EXPECT_EQ(model.bodies[0].v_offset, 0);
+  EXPECT_EQ(model.bodies[0].v_size, 2);
+  EXPECT_EQ(model.bodies[1].kind, BodyKind::kPlanar);
+  EXPECT_EQ(model.bodies[1].q_offset, 2);
+  EXPECT_EQ(model.bodies[1].q_size, 3);
+  EXPECT_EQ(model.bodies[1].v_offset, 2);
+  EXPECT_EQ(model.bodies[1].v_size, 3);
   EXPECT_EQ(model.bodies[1].inertia, 0.5);
+  EXPECT_EQ(model.NumCoordinates(), 5);
+  EXPECT_EQ(model.NumVelocities(), 5);
   // the wheel's angle and angular velocity default to 0
-  EXPECT_EQ(model.q0, (VecX<double>(5) << 0, 0, 1, 0, 0).finished());
-  EXPECT_EQ(model.v0, VecX<double>::Zero(5));
+  EXPECT_EQ(model.bodies[1].angle, 0.0);
+  EXPECT_EQ(model.bodies[1].angular_velocity, Vec3<double>::Zero());
+  const State<double> initial = InitialState(model);
+  EXPECT_EQ(initial.q, (VecX<double>(5) << 0, 0, 1, 0, 0).finished());
+  EXPECT_EQ(initial.v, VecX<double>::Zero(5));
 }
 
 TEST(SceneReader, GivenSettingsAndGains) {
@@ -315,14 +338,15 @@ TEST(SceneReader, DistanceLengthDefaultsToTheInitialDistance) {
     "constraints": [{"type": "distance", "bodies": ["a", "b"]},
                     {"type": "distance", "bodies": ["world", "w"], "points": [[-1.0, 3.0], [0.0, 2.0]]},
                     {"type": "distance", "bodies": ["a", "b"], "length": 2.5}]})");
-  ASSERT_EQ(model.distances.size(), 3u);
-  EXPECT_NEAR(model.distances[0].length, 5.0, 1e-15);
-  EXPECT_NEAR(model.distances[1].length, 3.0, 1e-15);
-  EXPECT_EQ(model.distances[2].length, 2.5);
-  EXPECT_EQ(model.distances[1].a.body, kWorld);
-  EXPECT_EQ(model.distances[1].b.body, 1);
-  EXPECT_EQ(model.distances[1].b.local, Vec3<double>(0.0, 2.0, 0.0));
-  EXPECT_EQ(model.distances[2].scene_index, 2);
+  ASSERT_EQ(model.joints.size(), 3u);
+  for (const Joint<double>& joint : model.joints) EXPECT_EQ(joint.type, JointType::kDistance);
+  EXPECT_NEAR(model.joints[0].length, 5.0, 1e-15);
+  EXPECT_NEAR(model.joints[1].length, 3.0, 1e-15);
+  EXPECT_EQ(model.joints[2].length, 2.5);
+  EXPECT_EQ(model.joints[1].a.body, kWorld);
+  EXPECT_EQ(model.joints[1].b.body, 1);
+  EXPECT_EQ(model.joints[1].b.local, Vec3<double>(0.0, 2.0, 0.0));
+  EXPECT_EQ(model.joints[2].scene_index, 2);
   // coincident points with no length cannot define one
   const std::string message = ErrorOf(WithBodies(R"("constraints": [{"type": "distance", "bodies": ["world", "a"]}])"));
   EXPECT_EQ(message.rfind("bad.json: /constraints/0: ", 0), 0u) << message;
@@ -333,14 +357,17 @@ TEST(SceneReader, PointsDefaultToTheOrigin) {
       {"type": "pin", "bodies": ["world", "w"]},
       {"type": "slider", "bodies": ["w", "a"], "axis": [0.0, 2.0]}],
     "effects": [{"type": "force", "body": "w", "value": [1.0, 2.0]}])"));
-  ASSERT_EQ(model.pins.size(), 1u);
-  ASSERT_EQ(model.sliders.size(), 1u);
-  EXPECT_EQ(model.pins[0].a.local, Vec3<double>::Zero());
-  EXPECT_EQ(model.pins[0].b.local, Vec3<double>::Zero());
-  EXPECT_EQ(model.sliders[0].a.local, Vec3<double>::Zero());
-  EXPECT_EQ(model.sliders[0].b.local, Vec3<double>::Zero());
-  EXPECT_EQ(model.sliders[0].axis, Vec3<double>(0.0, 2.0, 0.0));
-  EXPECT_EQ(model.sliders[0].scene_index, 1);
+  ASSERT_EQ(model.joints.size(), 2u);
+  const Joint<double>& pin = model.joints[0];
+  const Joint<double>& slider = model.joints[1];
+  EXPECT_EQ(pin.type, JointType::kPin);
+  EXPECT_EQ(slider.type, JointType::kSlider);
+  EXPECT_EQ(pin.a.local, Vec3<double>::Zero());
+  EXPECT_EQ(pin.b.local, Vec3<double>::Zero());
+  EXPECT_EQ(slider.a.local, Vec3<double>::Zero());
+  EXPECT_EQ(slider.b.local, Vec3<double>::Zero());
+  EXPECT_EQ(slider.axis, Vec3<double>(0.0, 2.0, 0.0));
+  EXPECT_EQ(slider.scene_index, 1);
   ASSERT_EQ(model.forces.size(), 1u);
   EXPECT_EQ(model.forces[0].point, Vec3<double>::Zero());
   EXPECT_EQ(model.forces[0].value, Vec3<double>(1.0, 2.0, 0.0));
@@ -365,7 +392,8 @@ TEST(SceneReader, EffectDefaults) {
   EXPECT_EQ(model.springs[0].rest_length, 0.5);
   ASSERT_EQ(model.torques.size(), 1u);
   EXPECT_EQ(model.torques[0].schedule.times, (std::vector<double>{0, 2}));
-  EXPECT_EQ(model.torques[0].schedule.values, (std::vector<double>{1, 3}));
+  // a planar torque is about z
+  EXPECT_EQ(model.torques[0].schedule.values, (std::vector<Vec3<double>>{Vec3<double>(0, 0, 1), Vec3<double>(0, 0, 3)}));
 }
 
 TEST(SceneReader, ThreeDimensionalVectors) {
@@ -373,8 +401,11 @@ TEST(SceneReader, ThreeDimensionalVectors) {
     "bodies": [{"name": "a", "type": "particle", "mass": 1, "position": [1, 2, 3], "velocity": [4, 5, 6]}],
     "effects": [{"type": "gravity", "acceleration": [0, 0, -9.81]}]})");
   EXPECT_EQ(model.dimension, 3);
-  EXPECT_EQ(model.q0, (VecX<double>(3) << 1, 2, 3).finished());
-  EXPECT_EQ(model.v0, (VecX<double>(3) << 4, 5, 6).finished());
+  EXPECT_EQ(model.bodies[0].position, Vec3<double>(1, 2, 3));
+  EXPECT_EQ(model.bodies[0].velocity, Vec3<double>(4, 5, 6));
+  const State<double> initial = InitialState(model);
+  EXPECT_EQ(initial.q, (VecX<double>(3) << 1, 2, 3).finished());
+  EXPECT_EQ(initial.v, (VecX<double>(3) << 4, 5, 6).finished());
   EXPECT_EQ(model.gravity[0].acceleration, Vec3<double>(0, 0, -9.81));
 }
 

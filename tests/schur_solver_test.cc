@@ -16,6 +16,7 @@
 #include <utility>
 #include <vector>
 
+#include "tether/dynamics/configuration_space.h"
 #include "tether/dynamics/constrained_dynamics.h"
 #include "tether/dynamics/effects.h"
 
@@ -29,12 +30,28 @@ constexpr double kAlpha = 3.0, kBeta = 5.0;  // Baumgarte gains, so that every t
 
 int AddBar(Model<double>* model, double x, double y, double angle) {
   const int index = static_cast<int>(model->bodies.size());
-  return AddBody<double>(model, "bar" + std::to_string(index), BodyKind::kRigid, 1.0 + 0.2 * index, 0.02 + 0.01 * index,
+  return AddBody<double>(model, "bar" + std::to_string(index), BodyKind::kPlanar, 1.0 + 0.2 * index, 0.02 + 0.01 * index,
                          Vec3<double>(x, y, 0.0), angle, Vec3<double>::Zero(), 0.0);
 }
 
 void AddPin(Model<double>* model, int a, const Vec3<double>& local_a, int b, const Vec3<double>& local_b) {
-  model->pins.push_back({model->NumConstraints(), {a, local_a}, {b, local_b}});
+  Joint<double> joint;
+  joint.scene_index = model->NumConstraints();
+  joint.type = JointType::kPin;
+  joint.a = {a, local_a};
+  joint.b = {b, local_b};
+  AddJoint(model, joint);
+}
+
+void AddRod(Model<double>* model, int a, const Vec3<double>& local_a, int b, const Vec3<double>& local_b,
+            double length) {
+  Joint<double> joint;
+  joint.scene_index = model->NumConstraints();
+  joint.type = JointType::kDistance;
+  joint.a = {a, local_a};
+  joint.b = {b, local_b};
+  joint.length = length;
+  AddJoint(model, joint);
 }
 
 Model<double> WithGravity() {
@@ -53,15 +70,15 @@ Model<double> Chain() {
   Vec3<double> joint = Vec3<double>::Zero();
   for (int k = 0; k < 5; ++k) {
     const double angle = -0.3 - 0.25 * k;
-    const Vec3<double> centre = joint + Rotate(angle, tail);
+    const Vec3<double> centre = joint + RotatePlanar(angle, tail);
     const int bar = AddBar(&model, centre.x(), centre.y(), angle);
     AddPin(&model, previous, previous == kWorld ? joint : tail, bar, head);
     previous = bar;
-    joint = centre + Rotate(angle, tail);
+    joint = centre + RotatePlanar(angle, tail);
   }
   const int bob = AddBody<double>(&model, "bob", BodyKind::kParticle, 0.7, 0.0, joint + Vec3<double>(0.1, -0.28, 0.0),
                                   0.0, Vec3<double>::Zero(), 0.0);
-  model.distances.push_back({model.NumConstraints(), {previous, tail}, {bob, Vec3<double>::Zero()}, 0.3});
+  AddRod(&model, previous, tail, bob, Vec3<double>::Zero(), 0.3);
   return model;
 }
 
@@ -97,11 +114,11 @@ template <typename T>
 Solution LibrarySolve(Model<T> model, KktSolver kind, const VecX<T>& q, const VecX<T>& v, VecX<T>* a_out = nullptr,
                       VecX<T>* lambda_out = nullptr) {
   model.simulation.solver = kind;
-  Workspace<T> ws(model);
+  Workspace<T> ws(model, q);  // pins and rods fix nothing at the start
   EXPECT_EQ(ws.solver.kind(), kind);
   ws.alpha = T(kAlpha);
   ws.beta = T(kBeta);
-  VecX<T> a(model.NumCoordinates());
+  VecX<T> a(model.NumVelocities());
   EXPECT_TRUE(ComputeAcceleration(model, 0.0, q, v, &ws, &a));
   if (a_out != nullptr) *a_out = a;
   if (lambda_out != nullptr) *lambda_out = ws.lambda;
@@ -119,11 +136,16 @@ struct KktPieces {
   VecX<T> inverse_mass, force, gamma;  // gamma = -(Jdot q' + alpha J q' + beta C)
 };
 
+// (Particles and planar rigid bodies: q and v share their layout, M is diagonal.)
 template <typename T>
 KktPieces<T> Pieces(const Model<T>& model, const VecX<T>& q, const VecX<T>& v) {
-  const int n = model.NumCoordinates();
-  std::vector<ConstraintRow<T>> rows(DescribeRows(model).size());
-  EvaluateConstraintRows(model, q, v, true, &rows);
+  const int n = model.NumVelocities();
+  EXPECT_EQ(n, model.NumCoordinates());
+  const ConstraintSet<T> set = BuildConstraintSet(model, q);
+  BodyFrames<T> frames;
+  UpdateFrames(model, q, v, true, &frames);
+  std::vector<ConstraintRow<T>> rows(DescribeRows(model, set).size());
+  EvaluateConstraintRows(model, set, frames, q, v, true, &rows);
   const int m = static_cast<int>(rows.size());
   KktPieces<T> p;
   p.jacobian.setZero(m, n);
@@ -135,11 +157,11 @@ KktPieces<T> Pieces(const Model<T>& model, const VecX<T>& q, const VecX<T>& v) {
   }
   p.inverse_mass.resize(n);
   for (const Body<T>& body : model.bodies) {
-    for (int k = 0; k < model.dimension; ++k) p.inverse_mass[body.offset + k] = T(1.0) / body.mass;
-    if (body.kind == BodyKind::kRigid) p.inverse_mass[body.offset + 2] = T(1.0) / body.inertia;
+    for (int k = 0; k < model.dimension; ++k) p.inverse_mass[body.v_offset + k] = T(1.0) / body.mass;
+    if (body.kind == BodyKind::kPlanar) p.inverse_mass[body.v_offset + 2] = T(1.0) / body.inertia;
   }
   p.force = VecX<T>::Zero(n);
-  AccumulateForces(model, 0.0, q, v, &p.force);
+  AccumulateForces(model, JointCoordinates<T>{}, frames, 0.0, q, v, &p.force);
   const VecX<T> velocity = p.jacobian * v;
   p.gamma.resize(m);
   for (int i = 0; i < m; ++i) p.gamma[i] = -(rows[i].bias + T(kAlpha) * velocity[i] + T(kBeta) * rows[i].value);
@@ -171,16 +193,17 @@ void ExpectVectorNear(const Eigen::VectorXd& actual, const Eigen::VectorXd& expe
 }
 
 void ExpectDenseSparseAndKktAgree(const Model<double>& model, unsigned seed) {
-  const Eigen::VectorXd v = SomeVelocity(model.NumCoordinates(), seed);
-  const Solution dense = LibrarySolve(model, KktSolver::kDense, model.q0, v);
-  const Solution sparse = LibrarySolve(model, KktSolver::kSparse, model.q0, v);
-  const Solution kkt = KktSolve(model, model.q0, v);
+  const Eigen::VectorXd q = InitialState(model).q;
+  const Eigen::VectorXd v = SomeVelocity(model.NumVelocities(), seed);
+  const Solution dense = LibrarySolve(model, KktSolver::kDense, q, v);
+  const Solution sparse = LibrarySolve(model, KktSolver::kSparse, q, v);
+  const Solution kkt = KktSolve(model, q, v);
   ExpectVectorNear(sparse.acceleration, dense.acceleration, kSolverAgreement, "sparse vs dense q''");
   ExpectVectorNear(sparse.lambda, dense.lambda, kSolverAgreement, "sparse vs dense lambda");
   ExpectVectorNear(dense.acceleration, kkt.acceleration, kKktAgreement, "dense vs KKT q''");
   ExpectVectorNear(dense.lambda, kkt.lambda, kKktAgreement, "dense vs KKT lambda");
   // the solution satisfies J q'' = gamma
-  const KktPieces<double> p = Pieces(model, model.q0, v);
+  const KktPieces<double> p = Pieces(model, q, v);
   ExpectVectorNear(p.jacobian * dense.acceleration, p.gamma, kKktAgreement, "J q'' = gamma");
 }
 
@@ -193,16 +216,17 @@ TEST(SchurSolver, DuplicatedRowGivesEqualSplitAndTheRightAcceleration) {
   Model<double> single = WithGravity();
   const int bob = AddBody<double>(&single, "bob", BodyKind::kParticle, 1.3, 0.0, Vec3<double>(0.4, -0.5, 0.0), 0.0,
                                   Vec3<double>::Zero(), 0.0);
-  single.distances.push_back({0, {kWorld, Vec3<double>::Zero()}, {bob, Vec3<double>::Zero()}, 0.6});
+  AddRod(&single, kWorld, Vec3<double>::Zero(), bob, Vec3<double>::Zero(), 0.6);
   Model<double> doubled = single;
-  doubled.distances.push_back({1, {kWorld, Vec3<double>::Zero()}, {bob, Vec3<double>::Zero()}, 0.6});
+  AddRod(&doubled, kWorld, Vec3<double>::Zero(), bob, Vec3<double>::Zero(), 0.6);
 
+  const Eigen::VectorXd q = InitialState(single).q;
   const Eigen::VectorXd v(Eigen::Vector2d(0.8, 0.64));  // tangent to the rod
-  const Solution reference = KktSolve(single, single.q0, v);
+  const Solution reference = KktSolve(single, q, v);
   ASSERT_GT(std::abs(reference.lambda[0]), 1.0);  // the rod carries a real load
   for (KktSolver kind : {KktSolver::kDense, KktSolver::kSparse}) {
     SCOPED_TRACE(kind == KktSolver::kDense ? "dense" : "sparse");
-    const Solution s = LibrarySolve(doubled, kind, doubled.q0, v);
+    const Solution s = LibrarySolve(doubled, kind, q, v);
     ExpectVectorNear(s.acceleration, reference.acceleration, kKktAgreement, "q''");
     ASSERT_EQ(s.lambda.size(), 2);
     EXPECT_NEAR(s.lambda[0] + s.lambda[1], reference.lambda[0], kKktAgreement * std::abs(reference.lambda[0]));
@@ -224,12 +248,13 @@ bool SawNearSingular(double angle, bool duplicate_first_rod, KktSolver kind) {
   const int p = AddBody<double>(&model, "p", BodyKind::kParticle, 1.0, 0.0, Vec3<double>::Zero(), 0.0,
                                 Vec3<double>::Zero(), 0.0);
   const Vec3<double> left(-1.0, 0.0, 0.0), right(std::cos(angle), std::sin(angle), 0.0);
-  model.distances.push_back({0, {kWorld, left}, {p, Vec3<double>::Zero()}, 1.0});
-  model.distances.push_back({1, {kWorld, right}, {p, Vec3<double>::Zero()}, 1.0});
-  if (duplicate_first_rod) model.distances.push_back({2, {kWorld, left}, {p, Vec3<double>::Zero()}, 1.0});
-  Workspace<double> ws(model);
-  Eigen::VectorXd acceleration(model.NumCoordinates());
-  EXPECT_TRUE(ComputeAcceleration(model, 0.0, model.q0, model.v0, &ws, &acceleration));
+  AddRod(&model, kWorld, left, p, Vec3<double>::Zero(), 1.0);
+  AddRod(&model, kWorld, right, p, Vec3<double>::Zero(), 1.0);
+  if (duplicate_first_rod) AddRod(&model, kWorld, left, p, Vec3<double>::Zero(), 1.0);
+  const State<double> initial = InitialState(model);
+  Workspace<double> ws(model, initial.q);
+  Eigen::VectorXd acceleration(model.NumVelocities());
+  EXPECT_TRUE(ComputeAcceleration(model, 0.0, initial.q, initial.v, &ws, &acceleration));
   return ws.solver.saw_near_singular();
 }
 
@@ -281,9 +306,9 @@ TEST(SchurSolver, JetPathMatchesFactoringTheJetMatrix) {
     Model<Jet> model = CastModel<Jet>(base);
     model.bodies[1].mass.v[0] = 1.0;
     model.gravity[0].acceleration[1].v[1] = 1.0;
-    VecX<Jet> q = model.q0, v = SomeVelocity(base.NumCoordinates(), 13).cast<Jet>();
-    q[model.bodies[1].offset + 2].v[2] = 1.0;
-    v[model.bodies[2].offset].v[3] = 1.0;
+    VecX<Jet> q = InitialState(model).q, v = SomeVelocity(base.NumVelocities(), 13).cast<Jet>();
+    q[model.bodies[1].q_offset + 2].v[2] = 1.0;
+    v[model.bodies[2].v_offset].v[3] = 1.0;
 
     VecX<Jet> expected_a, expected_lambda;
     JetOracle(model, q, v, &expected_a, &expected_lambda);

@@ -25,8 +25,8 @@ TEST(Simulator, OutputsTheGridWithFirstAndLastRows) {
 
 TEST(Simulator, AssemblesAnInitialStateOffItsConstraints) {
   Model<double> model = Pendulum60();
-  model.q0[0] += 0.01;  // 1 cm off the rod
-  model.v0 << 0.3, 0.3;  // and moving across it
+  model.bodies[0].position[0] += 0.01;  // 1 cm off the rod
+  model.bodies[0].velocity << 0.3, 0.3, 0.0;  // and moving across it
   std::vector<std::string> warnings;
   testing::Recording r;
   const RunReport report = Simulate<double>(model, {}, [&r](const Sample<double>& s) {

@@ -215,7 +215,7 @@ std::vector<Eigen::Vector2d> SpringRun(Integrator integrator, double zeta, doubl
   model.springs[0].stiffness = omega * omega;
   model.springs[0].rest_length = kRest;
   model.springs[0].damping = 2.0 * zeta * omega;
-  model.q0[0] = kRest + kStart;
+  model.bodies[0].position[0] = kRest + kStart;
   model.simulation.integrator = integrator;
   model.simulation.step = kStep;
   model.simulation.duration = steps * kStep;

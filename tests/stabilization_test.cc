@@ -74,7 +74,7 @@ TEST(Stabilization, DefaultRuleKeepsTheFourBarOnItsBranchThroughSingularPasses) 
                                     {0.966763945034, 0.255670636919}, {-0.944908186042, -0.327335485323}};
   const Recording r = Record(model, 500);  // rows every 0.5 s
   ASSERT_EQ(r.t.size(), 11u);
-  const int crank0 = model.bodies[0].offset;
+  const int crank0 = model.bodies[0].q_offset;
   for (int i = 0; i < 10; ++i) {
     const VecX<double>& q = r.q[i + 1];
     ASSERT_DOUBLE_EQ(r.t[i + 1], 0.5 * (i + 1));

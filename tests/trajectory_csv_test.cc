@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -29,10 +30,34 @@ using testing::TempFolder;
 
 bool Exists(const std::string& path) { return std::ifstream(path).good(); }
 
+// The names of the trajectory columns of a model, in order.
+std::vector<std::string> ColumnNames(const Model<double>& model) {
+  std::vector<std::string> names;
+  for (const TrajectoryColumn& column : TrajectoryColumns(model)) names.push_back(column.name);
+  return names;
+}
+
+// Hands the first sample of a run of `model` started at `start_time` to `use`, then stops the run. Free bodies
+// are not moved by the assembly, so that sample holds the model's initial state exactly.
+struct FirstSampleTaken {};
+void WithFirstSample(const Model<double>& model, double start_time,
+                     const std::function<void(const Sample<double>&)>& use) {
+  RunOptions run;
+  run.start_time = start_time;
+  try {
+    Simulate<double>(model, run, [&use](const Sample<double>& s) {
+      use(s);
+      throw FirstSampleTaken{};
+    });
+    ADD_FAILURE() << "the run gave no sample";
+  } catch (const FirstSampleTaken&) {
+  }
+}
+
 TEST(TrajectoryCsv, ParticleColumnsIn2d) {
   const Model<double> model =
       SceneFromJson(R"({"bodies": [{"name": "bob", "type": "particle", "mass": 1, "position": [0, 0]}]})");
-  EXPECT_EQ(TrajectoryColumns(model),
+  EXPECT_EQ(ColumnNames(model),
             (std::vector<std::string>{"t", "bob.x", "bob.y", "bob.vx", "bob.vy", "constraint_error", "energy"}));
 }
 
@@ -40,7 +65,7 @@ TEST(TrajectoryCsv, ParticleColumnsIn3d) {
   const Model<double> model = SceneFromJson(R"({"dimension": 3, "bodies": [
       {"name": "p", "type": "particle", "mass": 1, "position": [0, 0, 0]},
       {"name": "q", "type": "particle", "mass": 1, "position": [1, 0, 0]}]})");
-  EXPECT_EQ(TrajectoryColumns(model),
+  EXPECT_EQ(ColumnNames(model),
             (std::vector<std::string>{"t", "p.x", "p.y", "p.z", "p.vx", "p.vy", "p.vz", "q.x", "q.y", "q.z", "q.vx",
                                       "q.vy", "q.vz", "constraint_error", "energy"}));
 }
@@ -49,28 +74,31 @@ TEST(TrajectoryCsv, RigidBodyColumnsInSceneOrder) {
   const Model<double> model = SceneFromJson(R"({"bodies": [
       {"name": "crank", "type": "rigid", "mass": 1, "inertia": 0.1, "position": [0, 0]},
       {"name": "bob", "type": "particle", "mass": 1, "position": [1, 0]}]})");
-  EXPECT_EQ(TrajectoryColumns(model),
+  EXPECT_EQ(ColumnNames(model),
             (std::vector<std::string>{"t", "crank.x", "crank.y", "crank.angle", "crank.vx", "crank.vy", "crank.omega",
                                       "bob.x", "bob.y", "bob.vx", "bob.vy", "constraint_error", "energy"}));
 }
 
 TEST(TrajectoryCsv, WriterHeaderAndRowMatchTheColumns) {
+  // the state q = (1, 2, 3, 4, 5), v = (6, 7, 8, 9, 10) at t = 0.5, taken by a run from there (samples come only
+  // from Simulate); the inertia 0.125 keeps the energy exact: 1/2 (36 + 49) + 1/2 0.125 64 + 1/2 (81 + 100) = 137
   const Model<double> model = SceneFromJson(R"({"bodies": [
-      {"name": "crank", "type": "rigid", "mass": 1, "inertia": 0.1, "position": [0, 0]},
-      {"name": "bob", "type": "particle", "mass": 1, "position": [1, 0]}]})");
+      {"name": "crank", "type": "rigid", "mass": 1, "inertia": 0.125, "position": [1, 2], "angle": 3,
+       "velocity": [6, 7], "angular_velocity": 8},
+      {"name": "bob", "type": "particle", "mass": 1, "position": [4, 5], "velocity": [9, 10]}]})");
   std::ostringstream out;
   TrajectoryCsvWriter writer(model, &out);
-  VecX<double> q(5), v(5);
-  q << 1, 2, 3, 4, 5;
-  v << 6, 7, 8, 9, 10;
-  writer.Write(Sample<double>{0.5, q, v, 1e-9, -2.0});
+  WithFirstSample(model, 0.5, [&writer](const Sample<double>& s) {
+    ASSERT_EQ(s.q, (VecX<double>(5) << 1, 2, 3, 4, 5).finished());
+    ASSERT_EQ(s.v, (VecX<double>(5) << 6, 7, 8, 9, 10).finished());
+    writer.Write(s);
+  });
   const std::vector<std::string> lines = Lines(out.str());
   ASSERT_EQ(lines.size(), 2u);
-  const std::vector<std::string> columns = TrajectoryColumns(model);
-  EXPECT_EQ(CsvCells(lines[0]), columns);
+  EXPECT_EQ(CsvCells(lines[0]), ColumnNames(model));
   // per body: coordinates, then velocities
   EXPECT_EQ(CsvCells(lines[1]), (std::vector<std::string>{"0.5", "1", "2", "3", "6", "7", "8", "4", "5", "9", "10",
-                                                       "1e-09", "-2"}));
+                                                       "0", "137"}));
 }
 
 TEST(TrajectoryCsv, NumbersRoundTripExactly) {
@@ -87,22 +115,31 @@ TEST(TrajectoryCsv, NumbersRoundTripExactly) {
                                       -std::numeric_limits<double>::min(),
                                       123456789.01234567,
                                       std::exp(-40.0)};
-  // two rows of seven fields (t, x, y, vx, vy, constraint_error, energy) cycling through the values
-  const auto value = [&values](size_t row, size_t field) { return values[(row * 7 + field) % values.size()]; };
+  // two rows of seven fields (t, x, y, vx, vy, constraint_error, energy): t, x, y, vx and vy cycle through the
+  // values (each value once), set as the run's start time and the particle's initial state (samples come only
+  // from Simulate); constraint_error and energy are the run's own
+  const auto value = [&values](size_t row, size_t field) { return values[(row * 5 + field) % values.size()]; };
   std::ostringstream out;
   TrajectoryCsvWriter writer(model, &out);
+  std::vector<std::vector<double>> written;
   for (size_t row = 0; row < 2; ++row) {
-    const VecX<double> q = (VecX<double>(2) << value(row, 1), value(row, 2)).finished();
-    const VecX<double> v = (VecX<double>(2) << value(row, 3), value(row, 4)).finished();
-    writer.Write(Sample<double>{value(row, 0), q, v, value(row, 5), value(row, 6)});
+    Model<double> at = model;
+    at.bodies[0].position << value(row, 1), value(row, 2), 0.0;
+    at.bodies[0].velocity << value(row, 3), value(row, 4), 0.0;
+    WithFirstSample(at, value(row, 0), [&](const Sample<double>& s) {
+      writer.Write(s);
+      written.push_back({s.t, s.q[0], s.q[1], s.v[0], s.v[1], s.constraint_error, Value(s.energy)});
+    });
   }
   const std::vector<std::string> lines = Lines(out.str());
   ASSERT_EQ(lines.size(), 3u);
+  ASSERT_EQ(written.size(), 2u);
   for (size_t row = 0; row < 2; ++row) {
     const std::vector<std::string> fields = CsvCells(lines[row + 1]);
     ASSERT_EQ(fields.size(), 7u);
     for (size_t i = 0; i < fields.size(); ++i) {
-      EXPECT_EQ(std::strtod(fields[i].c_str(), nullptr), value(row, i)) << fields[i];
+      if (i < 5) EXPECT_EQ(written[row][i], value(row, i)) << "the sample holds the state as given";
+      EXPECT_EQ(std::strtod(fields[i].c_str(), nullptr), written[row][i]) << fields[i];
     }
   }
 }

@@ -6,8 +6,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 #include "test_scenes.h"
+#include "tether/dynamics/configuration_space.h"
 
 namespace tether {
 namespace {
@@ -54,6 +56,23 @@ struct HingeToWorld {
   }
 };
 
+// A built-in distance or pin (model.joints) with the next scene index.
+void AddBuiltIn(Model<double>* model, JointType type, const BodyPoint<double>& a, const BodyPoint<double>& b,
+                double length = 1.0) {
+  Joint<double> joint;
+  joint.scene_index = model->NumConstraints();
+  joint.type = type;
+  joint.a = a;
+  joint.b = b;
+  joint.length = length;
+  AddJoint(model, joint);
+}
+
+// The rows of a model's constraints (distances and pins fix nothing at the start).
+std::vector<RowInfo> Rows(const Model<double>& model) {
+  return DescribeRows(model, BuildConstraintSet(model, InitialState(model).q));
+}
+
 Model<double> PlanarModelWithGravity() {
   Model<double> model;
   model.dimension = 2;
@@ -70,7 +89,7 @@ int AddParticle(Model<double>* model, double mass, double x, double y, double vx
 }
 
 int AddBar(Model<double>* model, double mass, double inertia, double x, double y, double angle, double omega) {
-  return AddBody<double>(model, "bar" + std::to_string(model->bodies.size()), BodyKind::kRigid, mass, inertia,
+  return AddBody<double>(model, "bar" + std::to_string(model->bodies.size()), BodyKind::kPlanar, mass, inertia,
                          Vec3<double>(x, y, 0.0), angle, Vec3<double>::Zero(), omega);
 }
 
@@ -92,7 +111,7 @@ TEST(UserConstraint, BeadOnCircleMatchesBuiltInDistance) {
   const int bead = AddParticle(&user, 0.2, r * std::sin(start), -r * std::cos(start));
   Model<double> builtin = user;
   AddUserConstraint(&user, kWorld, bead, OnCircle{0.5});
-  builtin.distances.push_back({0, {kWorld, Vec3<double>::Zero()}, {bead, Vec3<double>::Zero()}, r});
+  AddBuiltIn(&builtin, JointType::kDistance, {kWorld, Vec3<double>::Zero()}, {bead, Vec3<double>::Zero()}, r);
 
   const testing::Recording run = ExpectSameTrajectory(user, builtin);
   // the bead swung through the bottom to the other side and stayed on the circle
@@ -111,17 +130,18 @@ TEST(UserConstraint, BetweenTwoBodiesMatchesBuiltInDistance) {
   const double px = rod * std::sin(start), py = -rod * std::cos(start);
   const int particle = AddParticle(&user, 1.0, px, py, 0.5, 0.6);
   const int bar = AddBar(&user, 2.0, 0.06, px + link + half, py, 0.0, 1.5);
-  user.distances.push_back({0, {kWorld, Vec3<double>::Zero()}, {particle, Vec3<double>::Zero()}, rod});
+  AddBuiltIn(&user, JointType::kDistance, {kWorld, Vec3<double>::Zero()}, {particle, Vec3<double>::Zero()}, rod);
   Model<double> builtin = user;
   AddUserConstraint(&user, particle, bar, ParticleToBarPoint{-half, 0.0, link});
-  builtin.distances.push_back({1, {particle, Vec3<double>::Zero()}, {bar, Vec3<double>(-half, 0.0, 0.0)}, link});
+  AddBuiltIn(&builtin, JointType::kDistance, {particle, Vec3<double>::Zero()}, {bar, Vec3<double>(-half, 0.0, 0.0)},
+             link);
 
-  ASSERT_EQ(DescribeRows(user).size(), 2u);
-  EXPECT_EQ(DescribeRows(user)[1].body_a, particle);
-  EXPECT_EQ(DescribeRows(user)[1].body_b, bar);
+  ASSERT_EQ(Rows(user).size(), 2u);
+  EXPECT_EQ(Rows(user)[1].body_a, particle);
+  EXPECT_EQ(Rows(user)[1].body_b, bar);
   const testing::Recording run = ExpectSameTrajectory(user, builtin);
   // the bar turned
-  const int angle = user.bodies[bar].offset + 2;
+  const int angle = user.bodies[bar].q_offset + 2;
   EXPECT_GT(std::abs(run.q.back()[angle] - run.q.front()[angle]), 0.1);
 }
 
@@ -132,12 +152,13 @@ TEST(UserConstraint, MultiRowMatchesBuiltInPin) {
   const int bar = AddBar(&user, 1.5, 0.08, 0.35, -0.05, 0.0, 2.0);  // hinge point at the origin
   Model<double> builtin = user;
   AddUserConstraint(&user, kWorld, bar, HingeToWorld{lx, ly, 0.0, 0.0});
-  builtin.pins.push_back({0, {kWorld, Vec3<double>::Zero()}, {bar, Vec3<double>(lx, ly, 0.0)}});
+  AddBuiltIn(&builtin, JointType::kPin, {kWorld, Vec3<double>::Zero()}, {bar, Vec3<double>(lx, ly, 0.0)});
 
   // two rows of one constraint
-  const std::vector<RowInfo> infos = DescribeRows(user);
+  const std::vector<RowInfo> infos = Rows(user);
   ASSERT_EQ(infos.size(), 2u);
   EXPECT_EQ(infos[0].scene_index, infos[1].scene_index);
+  EXPECT_EQ(infos[0].part, infos[1].part);  // one primitive: its violation is the norm of both rows
   const testing::Recording run = ExpectSameTrajectory(user, builtin);
   // the bar swung far from its start, with the hinge held
   EXPECT_GT(std::abs(run.q.back()[2]), 0.5);

@@ -29,22 +29,13 @@ std::string Trim(std::string s) {
   return begin == std::string::npos ? "" : s.substr(begin, end - begin + 1);
 }
 
-// Column name -> where its value lives, for every trajectory column of the model.
-std::map<std::string, ObservedColumn> KnownColumns(const Model<double>& model) {
-  std::map<std::string, ObservedColumn> known;
-  static const char* kAxes[3] = {"x", "y", "z"};
-  for (const Body<double>& body : model.bodies) {
-    using Source = ObservedColumn::Source;
-    for (int k = 0; k < model.dimension; ++k) {
-      known[body.name + "." + kAxes[k]] = {body.name + "." + kAxes[k], Source::kCoordinate, body.offset + k};
-      known[body.name + ".v" + kAxes[k]] = {body.name + ".v" + kAxes[k], Source::kVelocity, body.offset + k};
-    }
-    if (body.kind == BodyKind::kRigid) {
-      known[body.name + ".angle"] = {body.name + ".angle", Source::kCoordinate, body.offset + 2};
-      known[body.name + ".omega"] = {body.name + ".omega", Source::kVelocity, body.offset + 2};
-    }
+// Column name -> where its value lives, for every trajectory column of the model that can be observed.
+std::map<std::string, TrajectoryColumn> KnownColumns(const Model<double>& model) {
+  std::map<std::string, TrajectoryColumn> known;
+  for (const TrajectoryColumn& column : TrajectoryColumns(model)) {
+    if (column.kind == TrajectoryColumn::Kind::kTime || column.kind == TrajectoryColumn::Kind::kConstraintError) continue;
+    known[column.name] = column;
   }
-  known["energy"] = {"energy", ObservedColumn::Source::kEnergy, 0};
   return known;
 }
 
@@ -68,7 +59,7 @@ Observations ReadObservations(const std::string& path, const Model<double>& mode
   obs.path = path;
   std::string text;
   if (!std::getline(in, text)) throw InputError(path + ": the data file is empty (it needs a header row)");
-  const std::map<std::string, ObservedColumn> known = KnownColumns(model);
+  const std::map<std::string, TrajectoryColumn> known = KnownColumns(model);
   const std::vector<std::string> header = SplitCells(text);
   int time_column = -1;
   std::vector<int> column_of_cell(header.size(), -1);  // data column of each CSV cell, -1 for t
@@ -83,9 +74,9 @@ Observations ReadObservations(const std::string& path, const Model<double>& mode
     const auto it = known.find(name);
     if (it == known.end()) {
       fail(1, "unknown column '" + name + "' (expected t and trajectory columns such as " +
-                  TrajectoryColumns(model)[1] + ")");
+                  TrajectoryColumns(model)[1].name + ")");
     }
-    for (const ObservedColumn& seen : obs.columns) {
+    for (const TrajectoryColumn& seen : obs.columns) {
       if (seen.name == name) fail(1, "the column '" + name + "' appears twice");
     }
     column_of_cell[c] = static_cast<int>(obs.columns.size());

@@ -1,5 +1,6 @@
 #include "tether/autodiff/parameters.h"
 
+#include <algorithm>
 #include <cstdlib>
 
 #include "tether/dynamics/errors.h"
@@ -32,6 +33,7 @@ class Resolver {
     if (section == "bodies") return Body();
     if (section == "constraints") return Constraint();
     if (section == "effects") return Effect();
+    if (section == "markers") return Marker();
     if (section == "stabilization") return Gain();
     return NotDifferentiable();
   }
@@ -63,13 +65,19 @@ class Resolver {
   FieldRef Body() const {
     const Model<double>& m = scene_.model;
     const int i = Index(1);
-    const tether::Body<double>& body = m.bodies[i];
+    const bool planar_angular = m.bodies[i].kind == BodyKind::kPlanar;
     if (Is(2, "mass")) return {Kind::kMass, i};
-    if (Is(2, "inertia")) return {Kind::kInertia, i};
-    if (Is(2, "position")) return {Kind::kInitialPosition, i, 0, body.offset + Index(3)};
-    if (Is(2, "angle")) return {Kind::kInitialPosition, i, 0, body.offset + 2};
-    if (Is(2, "velocity")) return {Kind::kInitialVelocity, i, 0, body.offset + Index(3)};
-    if (Is(2, "angular_velocity")) return {Kind::kInitialVelocity, i, 0, body.offset + 2};
+    if (Is(2, "inertia") && tokens_.size() == 3) return {Kind::kInertia, i};
+    if (Is(2, "inertia") && tokens_.size() == 4) return {Kind::kInertiaMoment, i, Index(3), Index(3)};
+    if (Is(2, "inertia")) {  // a tensor entry: the diagonal, or the product of inertia I_rc = I_cr (upper entry)
+      const int r = std::min(Index(3), Index(4)), c = std::max(Index(3), Index(4));
+      return {r == c ? Kind::kInertiaMoment : Kind::kInertiaProduct, i, r, c};
+    }
+    if (Is(2, "position")) return {Kind::kPosition, i, 0, Index(3)};
+    if (Is(2, "angle")) return {Kind::kAngle, i};
+    if (Is(2, "orientation")) return {Kind::kOrientation, i, 0, Index(3)};
+    if (Is(2, "velocity")) return {Kind::kVelocity, i, 0, Index(3)};
+    if (Is(2, "angular_velocity")) return {Kind::kAngularVelocity, i, 0, planar_angular ? 2 : Index(3)};
     return NotDifferentiable();
   }
 
@@ -83,23 +91,25 @@ class Resolver {
 
   FieldRef Constraint() const {
     const Model<double>& m = scene_.model;
-    const int i = Index(1);
-    const bool point = Is(2, "points");
-    if (const int k = PositionOf(m.distances, i); k >= 0) {
-      if (Is(2, "length")) return {Kind::kDistanceLength, k};
-      if (point) return {Kind::kDistancePoint, k, Index(3), Index(4)};
-    } else if (const int k = PositionOf(m.pins, i); k >= 0) {
-      if (point) return {Kind::kPinPoint, k, Index(3), Index(4)};
-    } else if (const int k = PositionOf(m.sliders, i); k >= 0) {
-      if (point) return {Kind::kSliderPoint, k, Index(3), Index(4)};
-      if (Is(2, "axis")) return {Kind::kSliderAxis, k, 0, Index(3)};
-    }
+    const int k = JointIndex(m, Index(1));
+    if (k < 0) return NotDifferentiable();
+    if (Is(2, "length")) return {Kind::kJointLength, k};
+    if (Is(2, "points")) return {Kind::kJointPoint, k, Index(3), Index(4)};
+    if (Is(2, "axis")) return {Kind::kJointAxis, k, 0, Index(3)};
+    if (Is(2, "axes")) return {Index(3) == 0 ? Kind::kJointAxis : Kind::kJointAxisB, k, 0, Index(4)};
+    if (Is(2, "angle")) return {Kind::kJointAngle, k};
+    return NotDifferentiable();
+  }
+
+  FieldRef Marker() const {
+    if (Is(2, "point")) return {Kind::kMarkerPoint, Index(1), 0, Index(3)};
     return NotDifferentiable();
   }
 
   FieldRef Effect() const {
     const Model<double>& m = scene_.model;
     const int i = Index(1);
+    const bool scheduled = Is(2, "schedule") && Is(3, "values");
     if (const int k = PositionOf(m.gravity, i); k >= 0) {
       if (Is(2, "acceleration")) return {Kind::kGravity, k, 0, Index(3)};
     } else if (const int k = PositionOf(m.damping, i); k >= 0) {
@@ -113,10 +123,18 @@ class Resolver {
     } else if (const int k = PositionOf(m.forces, i); k >= 0) {
       if (Is(2, "value")) return {Kind::kForceValue, k, 0, Index(3)};
       if (Is(2, "point")) return {Kind::kForcePoint, k, 0, Index(3)};
-      if (Is(2, "schedule") && Is(3, "values")) return {Kind::kForceSchedule, k, Index(4), Index(5)};
+      if (scheduled) return {Kind::kForceSchedule, k, Index(4), Index(5)};
     } else if (const int k = PositionOf(m.torques, i); k >= 0) {
-      if (Is(2, "value")) return {Kind::kTorqueValue, k};
-      if (Is(2, "schedule") && Is(3, "values")) return {Kind::kTorqueSchedule, k, Index(4)};
+      const bool planar = m.dimension == 2;  // a planar torque is the z component
+      if (Is(2, "value")) return {Kind::kTorqueValue, k, 0, planar ? 2 : Index(3)};
+      if (scheduled) return {Kind::kTorqueSchedule, k, Index(4), planar ? 2 : Index(5)};
+    } else if (const int k = PositionOf(m.joint_torques, i); k >= 0) {
+      if (Is(2, "value")) return {Kind::kJointTorqueValue, k};
+      if (scheduled) return {Kind::kJointTorqueSchedule, k, Index(4)};
+    } else if (const int k = PositionOf(m.joint_springs, i); k >= 0) {
+      if (Is(2, "stiffness")) return {Kind::kJointSpringStiffness, k};
+      if (Is(2, "rest")) return {Kind::kJointSpringRest, k};
+      if (Is(2, "damping")) return {Kind::kJointSpringDamping, k};
     }
     return NotDifferentiable();
   }
@@ -139,13 +157,19 @@ auto& FieldOf(M* m, const FieldRef& f) {
   switch (f.kind) {
     case Kind::kMass: return m->bodies[f.index].mass;
     case Kind::kInertia: return m->bodies[f.index].inertia;
-    case Kind::kInitialPosition: return m->q0[f.component];
-    case Kind::kInitialVelocity: return m->v0[f.component];
-    case Kind::kDistanceLength: return m->distances[f.index].length;
-    case Kind::kDistancePoint: return point(m->distances[f.index])[f.component];
-    case Kind::kPinPoint: return point(m->pins[f.index])[f.component];
-    case Kind::kSliderPoint: return point(m->sliders[f.index])[f.component];
-    case Kind::kSliderAxis: return m->sliders[f.index].axis[f.component];
+    case Kind::kInertiaMoment:
+    case Kind::kInertiaProduct: return m->bodies[f.index].inertia_tensor(f.slot, f.component);
+    case Kind::kPosition: return m->bodies[f.index].position[f.component];
+    case Kind::kAngle: return m->bodies[f.index].angle;
+    case Kind::kOrientation: return m->bodies[f.index].orientation[f.component];
+    case Kind::kVelocity: return m->bodies[f.index].velocity[f.component];
+    case Kind::kAngularVelocity: return m->bodies[f.index].angular_velocity[f.component];
+    case Kind::kJointLength: return m->joints[f.index].length;
+    case Kind::kJointPoint: return point(m->joints[f.index])[f.component];
+    case Kind::kJointAxis: return m->joints[f.index].axis[f.component];
+    case Kind::kJointAxisB: return m->joints[f.index].axis_b[f.component];
+    case Kind::kJointAngle: return m->joints[f.index].angle;
+    case Kind::kMarkerPoint: return m->markers[f.index].point.local[f.component];
     case Kind::kGravity: return m->gravity[f.index].acceleration[f.component];
     case Kind::kDampingCoefficient: return m->damping[f.index].coefficient;
     case Kind::kDampingAngular: return m->damping[f.index].angular_coefficient;
@@ -156,8 +180,13 @@ auto& FieldOf(M* m, const FieldRef& f) {
     case Kind::kForceValue: return m->forces[f.index].value[f.component];
     case Kind::kForcePoint: return m->forces[f.index].point[f.component];
     case Kind::kForceSchedule: return m->forces[f.index].schedule.values[f.slot][f.component];
-    case Kind::kTorqueValue: return m->torques[f.index].value;
-    case Kind::kTorqueSchedule: return m->torques[f.index].schedule.values[f.slot];
+    case Kind::kTorqueValue: return m->torques[f.index].value[f.component];
+    case Kind::kTorqueSchedule: return m->torques[f.index].schedule.values[f.slot][f.component];
+    case Kind::kJointTorqueValue: return m->joint_torques[f.index].value;
+    case Kind::kJointTorqueSchedule: return m->joint_torques[f.index].schedule.values[f.slot];
+    case Kind::kJointSpringStiffness: return m->joint_springs[f.index].stiffness;
+    case Kind::kJointSpringRest: return m->joint_springs[f.index].rest;
+    case Kind::kJointSpringDamping: return m->joint_springs[f.index].damping;
     case Kind::kAlpha: return m->stabilization.alpha;
     case Kind::kBeta: return m->stabilization.beta;
   }
@@ -168,10 +197,16 @@ auto& FieldOf(M* m, const FieldRef& f) {
 
 ParameterSet::ParameterSet(const Scene& scene, const std::vector<std::string>& pointers) {
   for (const std::string& pointer : pointers) {
-    for (const std::string& seen : pointers_) {
-      if (seen == pointer) throw InputError(scene.path + ": " + pointer + ": named twice as a parameter");
+    const FieldRef field = Resolver(scene, pointer).Resolve();
+    for (size_t k = 0; k < fields_.size(); ++k) {  // the same field twice, by the same pointer or its mirror
+      const FieldRef& seen = fields_[k];
+      if (seen.kind == field.kind && seen.index == field.index && seen.slot == field.slot &&
+          seen.component == field.component) {
+        const std::string also = pointers_[k] == pointer ? "" : " (as " + pointers_[k] + ")";
+        throw InputError(scene.path + ": " + pointer + ": named twice as a parameter" + also);
+      }
     }
-    fields_.push_back(Resolver(scene, pointer).Resolve());
+    fields_.push_back(field);
     pointers_.push_back(pointer);
   }
 }
@@ -192,7 +227,15 @@ void ParameterSet::Assign(const std::vector<double>& values, Model<double>* mode
 }
 
 void ParameterSet::WriteInto(const std::vector<double>& values, nlohmann::json* document) const {
-  for (int i = 0; i < size(); ++i) (*document)[nlohmann::json::json_pointer(pointers_[i])] = values[i];
+  for (int i = 0; i < size(); ++i) {
+    (*document)[nlohmann::json::json_pointer(pointers_[i])] = values[i];
+    const FieldRef& f = fields_[i];
+    if (f.kind == Kind::kInertiaProduct) {  // the tensor stays symmetric
+      auto& tensor = (*document)["bodies"][f.index]["inertia"];
+      tensor[f.slot][f.component] = values[i];
+      tensor[f.component][f.slot] = values[i];
+    }
+  }
 }
 
 template double& ParameterSet::Field<double>(Model<double>*, int) const;

@@ -22,15 +22,7 @@ VecX<T> ObservationResiduals(const Model<T>& model, const Observations& observat
   Simulate<T>(model, run, [&](const Sample<T>& s) {
     if (s.stop < 0) return;
     int cell = first[s.stop];
-    const std::vector<double>& observed = observations.values[s.stop];
-    for (size_t c = 0; c < observed.size(); ++c) {
-      if (std::isnan(observed[c])) continue;
-      const ObservedColumn& column = observations.columns[c];
-      const T simulated = column.source == ObservedColumn::Source::kCoordinate ? s.q[column.index]
-                          : column.source == ObservedColumn::Source::kVelocity ? s.v[column.index]
-                                                                               : s.energy;
-      residuals[cell++] = simulated - T(observed[c]);
-    }
+    ObservedResiduals(model, observations, s.stop, s, [&](size_t, const T& r) { residuals[cell++] = r; });
   });
   return residuals;
 }

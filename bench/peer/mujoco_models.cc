@@ -1,7 +1,11 @@
 #include "mujoco_models.h"
 
+#include "bench_models.h"
+#include "humanoid_tree.h"
+
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <sstream>
 #include <stdexcept>
 
@@ -82,6 +86,82 @@ std::string FourBar(bool rk4, const MujocoSettings& settings) {
 <equality><connect body1="coupler" body2="crank1" anchor="1 0 0"/></equality></mujoco>)";
 }
 
+// rods of 1 kg, 1 m and radius 2 cm on hinges about y, body k's frame at its hinge, 40 links a file
+MujocoFiles HingeChain(int n, bool rk4, const MujocoSettings& settings) {
+  constexpr int kLinksPerFile = 40;
+  const Vec3<double> inertia = RodInertia(1.0, 1.0);
+  MujocoFiles files;
+  for (int first = 0; first < n; first += kLinksPerFile) {
+    std::ostringstream xml;
+    xml.precision(17);
+    xml << "<mujoco" << (first == 0 ? R"( model="hinge_chain">)" + Options(rk4, 0, settings) + "<worldbody>" : ">");
+    const int end = std::min(n, first + kLinksPerFile);
+    for (int k = first; k < end; ++k) {
+      xml << "<body pos=\"" << (k == 0 ? 0 : 1) << R"( 0 0"><joint type="hinge" axis="0 1 0"/>)"
+          << R"(<inertial pos="0.5 0 0" mass="1" diaginertia=")" << inertia.x() << " " << inertia.y() << " "
+          << inertia.z() << "\"/>";
+    }
+    if (end < n) xml << "<include file=\"links" << end << ".xml\"/>";
+    for (int k = first; k < end; ++k) xml << "</body>";
+    xml << (first == 0 ? "</worldbody>" : "") << "</mujoco>";
+    files.push_back({first == 0 ? "scene.xml" : "links" + std::to_string(first) + ".xml", xml.str()});
+  }
+  return files;
+}
+
+// humanoid_tree.h's tree: every body's frame at its joint's anchor, axes the world's
+std::string Humanoid(bool rk4, const MujocoSettings& settings) {
+  const std::vector<TreeBody> tree = HumanoidTree();
+  std::ostringstream xml;
+  xml.precision(17);
+  auto vector = [](const Vec3<double>& v) {
+    std::ostringstream out;
+    out.precision(17);
+    out << v.x() << " " << v.y() << " " << v.z();
+    return out.str();
+  };
+  std::function<void(int)> body = [&](int k) {
+    const TreeBody& b = tree[k];
+    const Vec3<double> origin = b.parent < 0 ? Vec3<double>::Zero() : tree[b.parent].anchor;
+    xml << "<body name=\"" << b.name << "\" pos=\"" << vector(b.anchor - origin) << "\">";
+    const char* x = R"(<joint type="hinge" axis="1 0 0"/>)";
+    const char* y = R"(<joint type="hinge" axis="0 1 0"/>)";
+    const char* z = R"(<joint type="hinge" axis="0 0 1"/>)";
+    switch (b.joint) {  // joints of one body in MuJoCo: the first axis fixed in the parent, the last in the body
+      case TreeJoint::kFixed:
+        break;
+      case TreeJoint::kHingeX:
+        xml << x;
+        break;
+      case TreeJoint::kHingeY:
+        xml << y;
+        break;
+      case TreeJoint::kBall:
+        xml << x << y << z;
+        break;
+      case TreeJoint::kUniversalZY:
+        xml << z << y;
+        break;
+      case TreeJoint::kUniversalYX:
+        xml << y << x;
+        break;
+      case TreeJoint::kUniversalXY:
+        xml << x << y;
+        break;
+    }
+    xml << "<inertial pos=\"" << vector(b.centre - b.anchor) << "\" mass=\"" << b.mass << "\" diaginertia=\""
+        << vector(b.inertia) << "\"/>";
+    for (size_t child = 0; child < tree.size(); ++child) {
+      if (tree[child].parent == k) body(static_cast<int>(child));
+    }
+    xml << "</body>";
+  };
+  xml << R"(<mujoco model="humanoid_tree">)" << Options(rk4, 0, settings) << "<worldbody>";
+  body(0);
+  xml << "</worldbody></mujoco>";
+  return xml.str();
+}
+
 int SiteId(const mjModel& model, const std::string& name) {
   const int site = mj_name2id(&model, mjOBJ_SITE, name.c_str());
   if (site < 0) throw std::logic_error("the MuJoCo scene has no site " + name);
@@ -90,32 +170,45 @@ int SiteId(const mjModel& model, const std::string& name) {
 
 }  // namespace
 
-std::string MujocoXml(MujocoScene scene, int n, bool rk4, const MujocoSettings& settings) {
+MujocoFiles MujocoModel(MujocoScene scene, int n, bool rk4, const MujocoSettings& settings) {
   switch (scene) {
     case MujocoScene::kChainOfSlides:
-      return ChainOfSlides(n, rk4, settings);
+      return {{"scene.xml", ChainOfSlides(n, rk4, settings)}};
     case MujocoScene::kChainOfFreeBodies:
-      return ChainOfFreeBodies(n, rk4, settings);
+      return {{"scene.xml", ChainOfFreeBodies(n, rk4, settings)}};
     case MujocoScene::kFourBar:
-      return FourBar(rk4, settings);
+      return {{"scene.xml", FourBar(rk4, settings)}};
+    case MujocoScene::kHingeChain:
+      return HingeChain(n, rk4, settings);
+    case MujocoScene::kHumanoid:
+      return {{"scene.xml", Humanoid(rk4, settings)}};
   }
   throw std::logic_error("unknown MuJoCo scene");
 }
 
-MjModelPtr LoadMujoco(const std::string& xml) {
+std::string MujocoXml(MujocoScene scene, int n, bool rk4, const MujocoSettings& settings) {
+  return MujocoModel(scene, n, rk4, settings).front().second;
+}
+
+MjModelPtr LoadMujoco(const MujocoFiles& files) {
   mjVFS vfs;
   mj_defaultVFS(&vfs);
-  const char* name = "scene.xml";
-  if (mj_makeEmptyFileVFS(&vfs, name, static_cast<int>(xml.size())) != 0)
-    throw std::runtime_error("MuJoCo VFS is full");
-  const int file = mj_findFileVFS(&vfs, name);
-  std::copy(xml.begin(), xml.end(), static_cast<char*>(vfs.filedata[file]));
+  for (const auto& [name, xml] : files) {
+    if (mj_makeEmptyFileVFS(&vfs, name.c_str(), static_cast<int>(xml.size())) != 0) {
+      mj_deleteVFS(&vfs);
+      throw std::runtime_error("MuJoCo VFS is full");
+    }
+    const int file = mj_findFileVFS(&vfs, name.c_str());
+    std::copy(xml.begin(), xml.end(), static_cast<char*>(vfs.filedata[file]));
+  }
   char error[1000] = "";
-  MjModelPtr model(mj_loadXML(name, &vfs, error, sizeof error));
+  MjModelPtr model(mj_loadXML(files.front().first.c_str(), &vfs, error, sizeof error));
   mj_deleteVFS(&vfs);
   if (!model) throw std::runtime_error(std::string("MuJoCo could not load the scene: ") + error);
   return model;
 }
+
+MjModelPtr LoadMujoco(const std::string& xml) { return LoadMujoco(MujocoFiles{{"scene.xml", xml}}); }
 
 MjDataPtr InitialMujocoState(const mjModel& model, MujocoScene scene) {
   MjDataPtr data(mj_makeData(&model));
@@ -142,6 +235,7 @@ std::string MujocoWarnings(const mjData& data) {
 }
 
 MujocoProbe::MujocoProbe(const mjModel& model, MujocoScene scene) : scene_(scene) {
+  if (scene == MujocoScene::kHingeChain || scene == MujocoScene::kHumanoid) return;
   if (scene == MujocoScene::kFourBar) {
     coupler_end_ = SiteId(model, "coupler_end");
     crank1_tip_ = SiteId(model, "crank1_tip");
@@ -154,6 +248,7 @@ MujocoProbe::MujocoProbe(const mjModel& model, MujocoScene scene) : scene_(scene
 }
 
 double MujocoProbe::Violation(const mjData& data) const {
+  if (scene_ == MujocoScene::kHingeChain || scene_ == MujocoScene::kHumanoid) return 0.0;
   if (scene_ == MujocoScene::kFourBar) return (Site(data, coupler_end_) - Site(data, crank1_tip_)).norm();
   double worst = 0.0;
   Vec3<double> previous = Vec3<double>::Zero();  // the anchor

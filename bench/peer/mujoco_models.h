@@ -11,6 +11,11 @@
 // plane: crank0 and crank1 hinged to the ground 1 m apart, the coupler hinged to crank0's tip, and a connect
 // equality closing the loop at crank1's tip; cranks vertical and turning at 1 rad/s.
 //
+// Hinge chain: bench_models.h's HingeChain as nested bodies on hinge joints (reduced coordinates); MuJoCo 2.2's
+// XML parser refuses elements nested deeper than about 100 levels, so the chain is split into files of 40 links,
+// each included inside the innermost body of the one before. Humanoid: humanoid_tree.h's tree (hips and shoulders
+// three hinges at one point, ankles two). Neither has equality constraints.
+//
 // Settings, written out in the MJCF although they are MuJoCo's defaults: the Newton solver, 100 iterations,
 // tolerance 1e-8, solref (0.02, 1) and solimp (0.9, 0.95, 0.001) on every equality; h = 1e-3; integrator
 // "Euler" (semi-implicit: velocity first) or "RK4". MujocoSettings can harden the constraints (a test compares
@@ -21,6 +26,7 @@
 
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "tether/dynamics/scalar.h"
@@ -36,7 +42,7 @@ struct MjDataDeleter {
 using MjModelPtr = std::unique_ptr<mjModel, MjModelDeleter>;
 using MjDataPtr = std::unique_ptr<mjData, MjDataDeleter>;
 
-enum class MujocoScene { kChainOfSlides, kChainOfFreeBodies, kFourBar };
+enum class MujocoScene { kChainOfSlides, kChainOfFreeBodies, kFourBar, kHingeChain, kHumanoid };
 
 struct MujocoSettings {
   double step = 1e-3;           // s
@@ -44,10 +50,16 @@ struct MujocoSettings {
   double impedance = 0.9;       // solimp (impedance, impedance + 0.05 at most 1, width 0.001)
 };
 
-// The MJCF text of a scene (n: the chain's masses; ignored for the four-bar).
+// The MJCF files of a scene, (name, text), the main file first (n: the chain's masses or rods; ignored for the
+// four-bar and the humanoid).
+using MujocoFiles = std::vector<std::pair<std::string, std::string>>;
+MujocoFiles MujocoModel(MujocoScene scene, int n, bool rk4, const MujocoSettings& settings = {});
+
+// The main file's text of a single-file scene.
 std::string MujocoXml(MujocoScene scene, int n, bool rk4, const MujocoSettings& settings = {});
 
-// Compiles MJCF text; throws std::runtime_error with MuJoCo's message when it fails.
+// Compiles MJCF; throws std::runtime_error with MuJoCo's message when it fails.
+MjModelPtr LoadMujoco(const MujocoFiles& files);
 MjModelPtr LoadMujoco(const std::string& xml);
 
 // A fresh state at the scene's initial conditions (the four-bar's cranks turning), positions computed.
@@ -75,7 +87,7 @@ class MujocoProbe {
   }
 
   MujocoScene scene_;
-  std::vector<int> masses_, bases_;  // chains: the site of every mass, and of every link's base (free bodies)
+  std::vector<int> masses_, bases_;  // (none for the hinge chain and the humanoid: no constraints to violate)  // chains: the site of every mass, and of every link's base (free bodies)
   int coupler_end_ = -1, crank1_tip_ = -1;
 };
 

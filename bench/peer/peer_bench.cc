@@ -1,6 +1,7 @@
-// tether against MuJoCo on the same scenes, side by side in one run (issue 8; bench/peer/README.md): the chains
-// of tether_models.h and mujoco_models.h (n = 10, 50, 200, 1000; MuJoCo's two ways of writing a chain) and the
-// four-bar, each with symplectic Euler against MuJoCo's semi-implicit Euler and rk4 against RK4, h = 1e-3.
+// tether against MuJoCo on the same scenes, side by side in one run (bench/peer/README.md): the chains of
+// tether_models.h and mujoco_models.h (n = 10, 50, 200, 1000; MuJoCo's two ways of writing a chain), the four-bar,
+// the 3D hinge chains of rigid rods (n = 10 to 1000) and the humanoid-sized tree, each with symplectic Euler
+// against MuJoCo's semi-implicit Euler and rk4 against RK4, h = 1e-3.
 //
 // Every benchmark first runs its scene once untimed, observing every step: the largest constraint violation,
 // and the largest energy error |E(t) - E(0)| in J and as a fraction of the largest drop of potential energy
@@ -81,7 +82,7 @@ void Tether(benchmark::State& state, PeerCase c, Stabilization stabilization) {
 }
 
 void Mujoco(benchmark::State& state, PeerCase c, MujocoScene scene) {
-  const MjModelPtr model = LoadMujoco(MujocoXml(scene, c.n, c.rk4));
+  const MjModelPtr model = LoadMujoco(MujocoModel(scene, c.n, c.rk4));
   const MujocoProbe probe(*model, scene);
   Observed seen;
   {
@@ -132,6 +133,16 @@ void Register() {
     add("four_bar" + integrator + "/tether", Tether, c, Stabilization::kBaumgarte);
     add("four_bar" + integrator + "/tether_projection", Tether, c, Stabilization::kProjection);
     add("four_bar" + integrator + "/mujoco", Mujoco, c, MujocoScene::kFourBar);
+    // rigid bodies on hinges: MuJoCo in reduced coordinates (its factorization of a chain grows with n^2 and more)
+    for (int n : {10, 50, 200, 1000}) {
+      const PeerCase h{Mechanism::kHingeChain, n, rk4, n >= 1000 ? 0.05 : n >= 200 ? 1.0 : 5.0};
+      const std::string scene = "hinge_chain" + std::to_string(n) + integrator;
+      add(scene + "/tether", Tether, h, Stabilization::kBaumgarte);
+      add(scene + "/mujoco", Mujoco, h, MujocoScene::kHingeChain);
+    }
+    const PeerCase humanoid{Mechanism::kHumanoid, 0, rk4, 5.0};
+    add("humanoid" + integrator + "/tether", Tether, humanoid, Stabilization::kBaumgarte);
+    add("humanoid" + integrator + "/mujoco", Mujoco, humanoid, MujocoScene::kHumanoid);
   }
 }
 

@@ -57,7 +57,7 @@ void ExpectChainsFallAlike(MujocoScene scene) {
   const Model<double> tether = TetherPeerScene(Mechanism::kChain, kChainMasses, true, kChainSeconds);
   const VecX<double> q = TetherAfter(Mechanism::kChain, kChainMasses, kChainSeconds);
   for (int i = 0; i < kChainMasses; ++i) {
-    EXPECT_LT((probe.Mass(*start, i) - tether.q0.segment<3>(3 * i)).norm(), 1e-12) << "mass " << i << " at t = 0";
+    EXPECT_LT((probe.Mass(*start, i) - tether.bodies[i].position).norm(), 1e-12) << "mass " << i << " at t = 0";
     EXPECT_LT((probe.Mass(*end, i) - q.segment<3>(3 * i)).norm(), kChainAgreement) << "mass " << i;
   }
   EXPECT_LT(q[3 * kChainMasses - 1], -0.5);  // the tip has fallen

@@ -5,6 +5,8 @@
 // gravity -y. Both with Baumgarte gains alpha = 100, beta = 2500: the error dynamics C'' + 100 C' + 2500 C = 0
 // are MuJoCo's default solref (0.02, 1) (time constant 0.02 s, damping ratio 1) written as gains, so both engines
 // pull drift back equally hard; tether holds the constraints exactly at the acceleration level, MuJoCo softly.
+// Hinge chain: bench_models.h's HingeChain (rigid rods on hinges about y); humanoid: humanoid_tree.h's tree, the
+// torso welded to the world. MuJoCo builds both in reduced coordinates, so only tether has constraints there.
 // h = 1e-3; symplectic_euler is paired with MuJoCo's semi-implicit "Euler", rk4 with "RK4"; KKT solver auto.
 #pragma once
 
@@ -12,11 +14,11 @@
 
 namespace tether::bench {
 
-enum class Mechanism { kChain, kFourBar };
+enum class Mechanism { kChain, kFourBar, kHingeChain, kHumanoid };
 
 inline constexpr double kPeerStep = 1e-3;  // s, both engines
 
-// n: the chain's particles (ignored for the four-bar).
+// n: the chain's particles or rods (ignored for the four-bar and the humanoid).
 Model<double> TetherPeerScene(Mechanism mechanism, int n, bool rk4, double duration);
 
 // Gravity's potential energy sum m g height, J (height: the last coordinate of a position).

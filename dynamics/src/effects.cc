@@ -2,9 +2,12 @@
 
 namespace tether {
 
-#define TETHER_INSTANTIATE_EFFECTS(T)                                                                      \
-  template void AccumulateForces<T>(const Model<T>&, double, const VecX<T>&, const VecX<T>&, VecX<T>*); \
-  template T Energy<T>(const Model<T>&, const VecX<T>&, const VecX<T>&);
+#define TETHER_INSTANTIATE_EFFECTS(T)                                                                           \
+  template Mat3<T> PrincipalInertia<T>(const Body<T>&);                                                        \
+  template void AccumulateForces<T>(const Model<T>&, const JointCoordinates<T>&, const BodyFrames<T>&, double, \
+                                    const VecX<T>&, const VecX<T>&, VecX<T>*);                                 \
+  template T Energy<T>(const Model<T>&, const JointCoordinates<T>&, const BodyFrames<T>&, const VecX<T>&,      \
+                       const VecX<T>&);
 TETHER_FOR_EACH_SCALAR(TETHER_INSTANTIATE_EFFECTS)
 
 }  // namespace tether

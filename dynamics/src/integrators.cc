@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "tether/dynamics/configuration_space.h"
 #include "tether/dynamics/constrained_dynamics.h"
 #include "tether/dynamics/projection.h"
 
@@ -13,7 +14,8 @@ template <typename T>
 StepStatus Euler(const Model<T>& model, double t, double h, Workspace<T>* ws, VecX<T>* q, VecX<T>* v) {
   VecX<T>& a = ws->stage_v[0];
   if (!ComputeAcceleration(model, t, *q, *v, ws, &a)) return StepStatus::kSolveFailed;
-  *q += h * *v;
+  Integrate(model, *q, *v, h, &ws->next_q);
+  q->swap(ws->next_q);
   *v += h * a;
   return StepStatus::kOk;
 }
@@ -23,8 +25,19 @@ StepStatus SymplecticEuler(const Model<T>& model, double t, double h, Workspace<
   VecX<T>& a = ws->stage_v[0];
   if (!ComputeAcceleration(model, t, *q, *v, ws, &a)) return StepStatus::kSolveFailed;
   *v += h * a;
-  *q += h * *v;
+  Integrate(model, *q, *v, h, &ws->next_q);
+  q->swap(ws->next_q);
   return StepStatus::kOk;
+}
+
+// One Munthe-Kaas stage: the state q (+) theta, v + dv, its acceleration into *a and its stage derivative
+// DexpInv(theta, v_stage) into *k.
+template <typename T>
+bool Stage(const Model<T>& model, double t, const VecX<T>& q, Workspace<T>* ws, VecX<T>* k, VecX<T>* a) {
+  Integrate(model, q, ws->theta, 1.0, &ws->trial_q);
+  if (!ComputeAcceleration(model, t, ws->trial_q, ws->trial_v, ws, a)) return false;
+  DexpInv(model, ws->theta, ws->trial_v, k);
+  return true;
 }
 
 template <typename T>
@@ -34,18 +47,17 @@ StepStatus Rk4(const Model<T>& model, double t, double h, Workspace<T>* ws, VecX
   const double c[4] = {0.0, 0.5, 0.5, 1.0};
   for (int s = 0; s < 4; ++s) {
     if (s == 0) {
-      ws->trial_q = *q;
+      ws->theta.setZero();
       ws->trial_v = *v;
     } else {
-      ws->trial_q = *q + (c[s] * h) * kq[s - 1];
+      ws->theta = (c[s] * h) * kq[s - 1];
       ws->trial_v = *v + (c[s] * h) * kv[s - 1];
     }
-    kq[s] = ws->trial_v;
-    if (!ComputeAcceleration(model, t + c[s] * h, ws->trial_q, ws->trial_v, ws, &kv[s])) {
-      return StepStatus::kSolveFailed;
-    }
+    if (!Stage(model, t + c[s] * h, *q, ws, &kq[s], &kv[s])) return StepStatus::kSolveFailed;
   }
-  *q += (h / 6.0) * (kq[0] + 2.0 * kq[1] + 2.0 * kq[2] + kq[3]);
+  ws->theta = (h / 6.0) * (kq[0] + 2.0 * kq[1] + 2.0 * kq[2] + kq[3]);
+  Integrate(model, *q, ws->theta, 1.0, &ws->next_q);
+  q->swap(ws->next_q);
   *v += (h / 6.0) * (kv[0] + 2.0 * kv[1] + 2.0 * kv[2] + kv[3]);
   return StepStatus::kOk;
 }
@@ -66,6 +78,16 @@ constexpr double kE[7] = {71.0 / 57600,      0, -71.0 / 16695, 71.0 / 1920, -172
 
 // One Dormand-Prince trial step of size h from (q, v); the result is left in ws->next_q/next_v and the
 // scaled error norm is returned (infinity when a stage or the error's projection failed).
+// The size of each velocity component's configuration for rk45's error scale: |q_i| for translations and planar
+// angles (their q_i), 1 for a 3D body's rotation (a unit quaternion).
+template <typename T>
+double ConfigurationScale(const Model<T>& model, const VecX<T>& q, const Body<T>& body, int k) {
+  if (body.kind == BodyKind::kRigid3d && k >= 3) return 1.0;
+  return std::abs(Value(q[body.q_offset + k]));
+}
+
+// One Dormand-Prince trial step of size h from (q, v); the result is left in ws->next_q/next_v and the
+// scaled error norm is returned (infinity when a stage or the error's projection failed).
 template <typename T>
 double DormandPrinceTrial(const Model<T>& model, double t, double h, double tolerance, const VecX<T>& q,
                           const VecX<T>& v, Workspace<T>* ws) {
@@ -77,15 +99,14 @@ double DormandPrinceTrial(const Model<T>& model, double t, double h, double tole
     ws->rk45_first_stage_valid = true;
   }
   for (int s = 1; s < 7; ++s) {
-    ws->trial_q = q;
+    ws->theta.setZero();
     ws->trial_v = v;
     for (int j = 0; j < s; ++j) {
       if (kA[s][j] == 0.0) continue;
-      ws->trial_q += (h * kA[s][j]) * kq[j];
+      ws->theta += (h * kA[s][j]) * kq[j];
       ws->trial_v += (h * kA[s][j]) * kv[j];
     }
-    kq[s] = ws->trial_v;
-    if (!ComputeAcceleration(model, t + kC[s] * h, ws->trial_q, ws->trial_v, ws, &kv[s])) return INFINITY;
+    if (!Stage(model, t + kC[s] * h, q, ws, &kq[s], &kv[s])) return INFINITY;
   }
   ws->next_q = ws->trial_q;  // stage 6 is evaluated at the fifth-order solution
   ws->next_v = ws->trial_v;
@@ -104,12 +125,16 @@ double DormandPrinceTrial(const Model<T>& model, double t, double h, double tole
     }
   }
   double sum = 0.0;
-  const int n = static_cast<int>(q.size());
-  for (int i = 0; i < n; ++i) {
-    const double eq = Value(error_q[i]), ev = Value(error_v[i]);
-    const double scale_q = tolerance * (1.0 + std::max(std::abs(Value(q[i])), std::abs(Value(ws->next_q[i]))));
-    const double scale_v = tolerance * (1.0 + std::max(std::abs(Value(v[i])), std::abs(Value(ws->next_v[i]))));
-    sum += (h * eq / scale_q) * (h * eq / scale_q) + (h * ev / scale_v) * (h * ev / scale_v);
+  const int n = static_cast<int>(v.size());
+  for (const Body<T>& body : model.bodies) {
+    for (int k = 0; k < body.v_size; ++k) {
+      const int i = body.v_offset + k;
+      const double eq = Value(error_q[i]), ev = Value(error_v[i]);
+      const double scale_q =
+          tolerance * (1.0 + std::max(ConfigurationScale(model, q, body, k), ConfigurationScale(model, ws->next_q, body, k)));
+      const double scale_v = tolerance * (1.0 + std::max(std::abs(Value(v[i])), std::abs(Value(ws->next_v[i]))));
+      sum += (h * eq / scale_q) * (h * eq / scale_q) + (h * ev / scale_v) * (h * ev / scale_v);
+    }
   }
   const double norm = std::sqrt(sum / (2.0 * n));
   return std::isfinite(norm) ? norm : INFINITY;
@@ -132,8 +157,8 @@ StepStatus Rk45(const Model<T>& model, double t, double h, Workspace<T>* ws, Vec
       t += trial;
       q->swap(ws->next_q);
       v->swap(ws->next_v);
-      std::swap(ws->stage_q[0], ws->stage_q[6]);  // first same as last
-      std::swap(ws->stage_v[0], ws->stage_v[6]);
+      std::swap(ws->stage_v[0], ws->stage_v[6]);  // first same as last: the acceleration at the new state,
+      ws->stage_q[0] = *v;                        // and the stage derivative there (theta = 0)
       if (settle && settle(t, q, v)) ws->rk45_first_stage_valid = false;
       // a step cut short to land on the grid says nothing about the next one
       if (trial == ws->rk45_step || factor < 1.0) ws->rk45_step = trial * factor;

@@ -1,30 +1,67 @@
 #include "tether/dynamics/model.h"
 
+#include <Eigen/Eigenvalues>
+
 namespace tether {
 namespace {
 
 template <typename U>
-Vec3<U> CastVec(const Vec3<double>& v) {
-  return v.cast<U>();
-}
-
-template <typename U>
 BodyPoint<U> CastPoint(const BodyPoint<double>& p) {
-  return {p.body, CastVec<U>(p.local)};
+  return {p.body, p.local.cast<U>()};
 }
 
-template <typename U>
-Schedule<U> CastSchedule(const Schedule<double>& s) {
+template <typename U, typename V>
+Schedule<U> CastSchedule(const Schedule<V>& s) {
   Schedule<U> out{s.times, {}};
-  for (double v : s.values) out.values.push_back(U(v));
+  for (const V& v : s.values) {
+    if constexpr (std::is_same_v<V, double>) {
+      out.values.push_back(U(v));
+    } else {
+      out.values.push_back(v.template cast<typename U::Scalar>());
+    }
+  }
   return out;
 }
 
-template <typename U>
-Schedule<Vec3<U>> CastSchedule(const Schedule<Vec3<double>>& s) {
-  Schedule<Vec3<U>> out{s.times, {}};
-  for (const Vec3<double>& v : s.values) out.values.push_back(CastVec<U>(v));
-  return out;
+// The unit quaternion of a rotation matrix (Shepperd's method: the largest of the four squares first).
+Vec4<double> QuaternionOf(const Mat3<double>& R) {
+  const double trace = R.trace();
+  Vec4<double> q;
+  if (trace > R(0, 0) && trace > R(1, 1) && trace > R(2, 2)) {
+    const double s = 2.0 * std::sqrt(1.0 + trace);
+    q << 0.25 * s, (R(2, 1) - R(1, 2)) / s, (R(0, 2) - R(2, 0)) / s, (R(1, 0) - R(0, 1)) / s;
+  } else if (R(0, 0) >= R(1, 1) && R(0, 0) >= R(2, 2)) {
+    const double s = 2.0 * std::sqrt(1.0 + R(0, 0) - R(1, 1) - R(2, 2));
+    q << (R(2, 1) - R(1, 2)) / s, 0.25 * s, (R(0, 1) + R(1, 0)) / s, (R(0, 2) + R(2, 0)) / s;
+  } else if (R(1, 1) >= R(2, 2)) {
+    const double s = 2.0 * std::sqrt(1.0 + R(1, 1) - R(0, 0) - R(2, 2));
+    q << (R(0, 2) - R(2, 0)) / s, (R(0, 1) + R(1, 0)) / s, 0.25 * s, (R(1, 2) + R(2, 1)) / s;
+  } else {
+    const double s = 2.0 * std::sqrt(1.0 + R(2, 2) - R(0, 0) - R(1, 1));
+    q << (R(1, 0) - R(0, 1)) / s, (R(0, 2) + R(2, 0)) / s, (R(1, 2) + R(2, 1)) / s, 0.25 * s;
+  }
+  return q / q.norm();
+}
+
+// R_BP for a symmetric tensor in body axes: identity when it is diagonal, else its eigenvectors (a proper
+// rotation: the third column is the cross product of the first two).
+Vec4<double> PrincipalAxes(const Mat3<double>& inertia) {
+  const Mat3<double> off = inertia - Mat3<double>(inertia.diagonal().asDiagonal());
+  if (off.cwiseAbs().maxCoeff() == 0.0) return Vec4<double>(1, 0, 0, 0);
+  const Eigen::SelfAdjointEigenSolver<Mat3<double>> eigen(inertia);
+  Mat3<double> R = eigen.eigenvectors();
+  R.col(2) = R.col(0).cross(R.col(1));
+  return QuaternionOf(R);
+}
+
+template <typename T>
+int AppendBody(Model<T>* model, Body<T> body, int q_size, int v_size) {
+  body.q_offset = model->NumCoordinates();
+  body.v_offset = model->NumVelocities();
+  body.q_size = q_size;
+  body.v_size = v_size;
+  model->bodies.push_back(std::move(body));
+  return static_cast<int>(model->bodies.size()) - 1;
 }
 
 }  // namespace
@@ -33,16 +70,32 @@ template <typename U>
 Model<U> CastModel(const Model<double>& m) {
   Model<U> out;
   out.dimension = m.dimension;
-  for (const Body<double>& b : m.bodies) out.bodies.push_back({b.name, b.kind, U(b.mass), U(b.inertia), b.offset, b.size});
-  out.q0 = m.q0.cast<U>();
-  out.v0 = m.v0.cast<U>();
-  for (const auto& c : m.distances) out.distances.push_back({c.scene_index, CastPoint<U>(c.a), CastPoint<U>(c.b), U(c.length)});
-  for (const auto& c : m.pins) out.pins.push_back({c.scene_index, CastPoint<U>(c.a), CastPoint<U>(c.b)});
-  for (const auto& c : m.sliders) {
-    out.sliders.push_back({c.scene_index, CastPoint<U>(c.a), CastPoint<U>(c.b), CastVec<U>(c.axis)});
+  for (const Body<double>& b : m.bodies) {
+    Body<U> c;
+    c.name = b.name;
+    c.kind = b.kind;
+    c.mass = U(b.mass);
+    c.inertia = U(b.inertia);
+    c.inertia_tensor = b.inertia_tensor.cast<U>();
+    c.principal_axes = b.principal_axes;
+    c.position = b.position.cast<U>();
+    c.angle = U(b.angle);
+    c.orientation = b.orientation.cast<U>();
+    c.velocity = b.velocity.cast<U>();
+    c.angular_velocity = b.angular_velocity.cast<U>();
+    c.q_offset = b.q_offset;
+    c.q_size = b.q_size;
+    c.v_offset = b.v_offset;
+    c.v_size = b.v_size;
+    out.bodies.push_back(std::move(c));
+  }
+  for (const Joint<double>& j : m.joints) {
+    out.joints.push_back({j.scene_index, j.type, j.name, CastPoint<U>(j.a), CastPoint<U>(j.b), j.axis.cast<U>(),
+                          j.axis_b.cast<U>(), U(j.length), U(j.angle)});
   }
   out.user_constraints = m.user_constraints;
-  for (const auto& e : m.gravity) out.gravity.push_back({e.scene_index, CastVec<U>(e.acceleration)});
+  for (const Marker<double>& k : m.markers) out.markers.push_back({k.name, CastPoint<U>(k.point)});
+  for (const auto& e : m.gravity) out.gravity.push_back({e.scene_index, e.acceleration.cast<U>()});
   for (const auto& e : m.damping) {
     out.damping.push_back({e.scene_index, U(e.coefficient), U(e.angular_coefficient), e.bodies});
   }
@@ -51,9 +104,18 @@ Model<U> CastModel(const Model<double>& m) {
                            U(e.damping)});
   }
   for (const auto& e : m.forces) {
-    out.forces.push_back({e.scene_index, e.body, CastVec<U>(e.point), CastVec<U>(e.value), CastSchedule<U>(e.schedule)});
+    out.forces.push_back({e.scene_index, e.body, e.point.cast<U>(), e.value.cast<U>(),
+                          CastSchedule<Vec3<U>>(e.schedule)});
   }
-  for (const auto& e : m.torques) out.torques.push_back({e.scene_index, e.body, U(e.value), CastSchedule<U>(e.schedule)});
+  for (const auto& e : m.torques) {
+    out.torques.push_back({e.scene_index, e.body, e.value.cast<U>(), CastSchedule<Vec3<U>>(e.schedule)});
+  }
+  for (const auto& e : m.joint_torques) {
+    out.joint_torques.push_back({e.scene_index, e.joint, e.coordinate, U(e.value), CastSchedule<U>(e.schedule)});
+  }
+  for (const auto& e : m.joint_springs) {
+    out.joint_springs.push_back({e.scene_index, e.joint, e.coordinate, U(e.stiffness), U(e.rest), U(e.damping)});
+  }
   out.simulation = m.simulation;
   out.stabilization = {m.stabilization.method, U(m.stabilization.alpha), U(m.stabilization.beta),
                        m.stabilization.gains_from_rule};
@@ -64,24 +126,101 @@ template <typename T>
 int AddBody(Model<T>* model, const std::string& name, BodyKind kind, const T& mass, const T& inertia,
             const Vec3<T>& position, const T& angle, const Vec3<T>& velocity, const T& angular_velocity) {
   const int d = model->dimension;
-  const int size = kind == BodyKind::kRigid ? 3 : d;
-  const int offset = model->NumCoordinates();
-  model->bodies.push_back({name, kind, mass, inertia, offset, size});
-  model->q0.conservativeResize(offset + size);
-  model->v0.conservativeResize(offset + size);
-  model->q0.segment(offset, d) = position.head(d);
-  model->v0.segment(offset, d) = velocity.head(d);
-  if (kind == BodyKind::kRigid) {
-    model->q0[offset + 2] = angle;
-    model->v0[offset + 2] = angular_velocity;
+  Body<T> body;
+  body.name = name;
+  body.kind = kind;
+  body.mass = mass;
+  body.position.head(d) = position.head(d);
+  body.velocity.head(d) = velocity.head(d);
+  const int size = kind == BodyKind::kPlanar ? 3 : d;
+  if (kind == BodyKind::kPlanar) {
+    body.inertia = inertia;
+    body.angle = angle;
+    body.angular_velocity[2] = angular_velocity;
   }
-  return static_cast<int>(model->bodies.size()) - 1;
+  return AppendBody(model, std::move(body), size, size);
 }
 
-#define TETHER_INSTANTIATE_MODEL(T)                                                                         \
-  template Model<T> CastModel<T>(const Model<double>&);                                                     \
+template <typename T>
+int AddRigidBody3d(Model<T>* model, const std::string& name, const T& mass, const Mat3<T>& inertia,
+                   const Vec3<T>& position, const Vec4<T>& orientation, const Vec3<T>& velocity,
+                   const Vec3<T>& angular_velocity) {
+  Body<T> body;
+  body.name = name;
+  body.kind = BodyKind::kRigid3d;
+  body.mass = mass;
+  body.inertia_tensor = inertia;
+  Mat3<double> value;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) value(r, c) = Value(inertia(r, c));
+  }
+  body.principal_axes = PrincipalAxes(value);
+  body.position = position;
+  body.orientation = orientation;
+  body.velocity = velocity;
+  body.angular_velocity = angular_velocity;
+  return AppendBody(model, std::move(body), 7, 6);
+}
+
+template <typename T>
+int AddJoint(Model<T>* model, const Joint<T>& joint) {
+  model->joints.push_back(joint);
+  return static_cast<int>(model->joints.size()) - 1;
+}
+
+template <typename T>
+int JointIndex(const Model<T>& model, int scene_index) {
+  for (size_t k = 0; k < model.joints.size(); ++k) {
+    if (model.joints[k].scene_index == scene_index) return static_cast<int>(k);
+  }
+  return -1;
+}
+
+template <typename T>
+bool HasCoordinate(const Model<T>& model, const Joint<T>& joint, JointCoordinate coordinate) {
+  const bool angle = coordinate == JointCoordinate::kAngle;
+  switch (joint.type) {
+    case JointType::kHinge:
+      return angle;
+    case JointType::kPrismatic:
+      return !angle;
+    case JointType::kCylindrical:
+      return true;
+    case JointType::kPin: {
+      if (!angle || model.dimension != 2) return false;
+      auto planar_or_world = [&model](int body) {
+        return body == kWorld || model.bodies[body].kind == BodyKind::kPlanar;
+      };
+      return planar_or_world(joint.a.body) && planar_or_world(joint.b.body);
+    }
+    default:
+      return false;
+  }
+}
+
+const char* JointTypeName(JointType type) {
+  switch (type) {
+    case JointType::kDistance: return "distance";
+    case JointType::kPin: return "pin";
+    case JointType::kSlider: return "slider";
+    case JointType::kHinge: return "hinge";
+    case JointType::kUniversal: return "universal";
+    case JointType::kPrismatic: return "prismatic";
+    case JointType::kCylindrical: return "cylindrical";
+    case JointType::kWeld: return "weld";
+  }
+  return "constraint";
+}
+
+#define TETHER_INSTANTIATE_MODEL(T)                                                                              \
+  template Model<T> CastModel<T>(const Model<double>&);                                                          \
   template int AddBody<T>(Model<T>*, const std::string&, BodyKind, const T&, const T&, const Vec3<T>&, const T&, \
-                          const Vec3<T>&, const T&);
+                          const Vec3<T>&, const T&);                                                             \
+  template int AddRigidBody3d<T>(Model<T>*, const std::string&, const T&, const Mat3<T>&, const Vec3<T>&,        \
+                                 const Vec4<T>&, const Vec3<T>&, const Vec3<T>&);                                \
+  template int AddJoint<T>(Model<T>*, const Joint<T>&);                                                          \
+  template int JointIndex<T>(const Model<T>&, int);                                                              \
+  template bool HasCoordinate<T>(const Model<T>&, const Joint<T>&, JointCoordinate);
 TETHER_FOR_EACH_SCALAR(TETHER_INSTANTIATE_MODEL)
 
 }  // namespace tether

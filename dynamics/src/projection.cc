@@ -1,5 +1,7 @@
 #include "tether/dynamics/projection.h"
 
+#include "tether/dynamics/configuration_space.h"
+
 namespace tether {
 namespace {
 
@@ -19,8 +21,9 @@ void ApplyReaction(const Model<T>& model, Workspace<T>* ws, VecX<T>* out) {
     AddScaled(model, ws->rows[i].a, ws->lambda[i], out);
     AddScaled(model, ws->rows[i].b, ws->lambda[i], out);
   }
-  *out = ws->inverse_mass.cwiseProduct(*out);
+  ApplyInverseMass(model, ws->inverse_mass, *out, out);
 }
+
 
 }  // namespace
 
@@ -32,27 +35,27 @@ ProjectionResult ProjectPositions(const Model<T>& model, double tolerance, Works
     result.converged = true;
     return result;
   }
-  const VecX<T>& unused_velocity = *q;  // position-only evaluation does not read velocities
-  ws->trial_q = *q;                     // the target q_t
+  const VecX<T>& unused_velocity = ws->trial_v;  // position-only evaluation does not read velocities
+  ws->trial_q = *q;                              // the target q_t
   // One more iteration after the values converge lets Jet derivatives settle; doubles take it too, so that the
   // value part of a Jet run stays the double run to round-off (one code path for every scalar).
   int settle = 1;
   for (result.iterations = 0; result.iterations <= kMaxIterations; ++result.iterations) {
-    EvaluateConstraintRows(model, *q, unused_velocity, false, &ws->rows);
+    EvaluateRows(model, *q, unused_velocity, false, ws);
     result.violation = LargestViolation(ws->infos, ws->rows);
     if (result.violation.largest <= tolerance) {
       result.converged = true;
       if (settle-- == 0) break;
     }
     if (result.iterations == kMaxIterations) break;
-    // S mu = C(q_k) + J (q_t - q_k)
-    ws->reaction = ws->trial_q - *q;
+    // S mu = C(q_k) - J d_k with d_k = q_k (-) q_t, then q_{k+1} = q_t (+) (-M^-1 J^T mu)
+    Difference(model, ws->trial_q, *q, &ws->reaction);
     MultiplyJacobian(model, ws->reaction, ws);
-    for (size_t i = 0; i < ws->rows.size(); ++i) ws->rhs[i] += ws->rows[i].value;
-    AssembleSchur(model, ws->pattern, ws->rows, ws->inverse_mass, &ws->schur);
+    for (size_t i = 0; i < ws->rows.size(); ++i) ws->rhs[i] = ws->rows[i].value - ws->rhs[i];
+    AssembleSchur(model, ws);
     if (!ws->solver.Solve(ws->schur, ws->rhs, &ws->lambda)) break;
     ApplyReaction(model, ws, &ws->reaction);
-    *q = ws->trial_q - ws->reaction;
+    Integrate(model, ws->trial_q, ws->reaction, -1.0, q);
   }
   return result;
 }
@@ -60,9 +63,9 @@ ProjectionResult ProjectPositions(const Model<T>& model, double tolerance, Works
 template <typename T>
 bool ProjectVelocities(const Model<T>& model, const VecX<T>& q, Workspace<T>* ws, VecX<T>* v) {
   if (ws->rows.empty()) return true;
-  EvaluateConstraintRows(model, q, *v, false, &ws->rows);
+  EvaluateRows(model, q, *v, false, ws);
   MultiplyJacobian(model, *v, ws);
-  AssembleSchur(model, ws->pattern, ws->rows, ws->inverse_mass, &ws->schur);
+  AssembleSchur(model, ws);
   if (!ws->solver.Solve(ws->schur, ws->rhs, &ws->lambda)) return false;
   ApplyReaction(model, ws, &ws->reaction);
   *v -= ws->reaction;

@@ -6,7 +6,10 @@
 #include <set>
 #include <sstream>
 
+#include <Eigen/Eigenvalues>
+
 #include "tether/dynamics/errors.h"
+#include "tether/dynamics/kinematics.h"
 #include "tether/dynamics/names.h"
 
 namespace tether {
@@ -128,7 +131,7 @@ class SceneBuilder {
   SceneBuilder(const json& document, const std::string& path) : doc_(document), check_(path) {}
 
   Model<double> Build() {
-    check_.Object(doc_, "", {"dimension", "bodies", "constraints", "effects", "simulation", "stabilization"});
+    check_.Object(doc_, "", {"dimension", "bodies", "constraints", "effects", "markers", "simulation", "stabilization"});
     if (const json* d = check_.Optional(doc_, "dimension")) {
       const double dim = check_.Number(*d, "/dimension");
       if (dim != 2 && dim != 3) check_.Fail("/dimension", "must be 2 or 3, got " + Format(dim));
@@ -136,6 +139,7 @@ class SceneBuilder {
     }
     ReadBodies(check_.Required(doc_, "", "bodies"));
     if (const json* c = check_.Optional(doc_, "constraints")) ReadConstraints(*c);
+    if (const json* m = check_.Optional(doc_, "markers")) ReadMarkers(*m);
     if (const json* e = check_.Optional(doc_, "effects")) ReadEffects(*e);
     if (const json* s = check_.Optional(doc_, "simulation")) ReadSimulation(*s);
     if (const json* s = check_.Optional(doc_, "stabilization")) ReadStabilization(*s);
@@ -148,7 +152,6 @@ class SceneBuilder {
   void ReadBodies(const json& bodies) {
     check_.Array(bodies, "/bodies");
     if (bodies.empty()) check_.Fail("/bodies", "a scene needs at least one body");
-    std::map<std::string, size_t> seen;
     for (size_t i = 0; i < bodies.size(); ++i) {
       const std::string at = Child("/bodies", i);
       const json& b = bodies[i];
@@ -159,31 +162,102 @@ class SceneBuilder {
         kind = BodyKind::kParticle;
         check_.Object(b, at, {"name", "type", "mass", "position", "velocity"});
       } else if (type == "rigid") {
-        kind = BodyKind::kRigid;
-        if (Dim() != 2) check_.Fail(Child(at, "type"), "rigid bodies are planar: they need dimension 2");
-        check_.Object(b, at, {"name", "type", "mass", "inertia", "position", "angle", "velocity", "angular_velocity"});
+        kind = Dim() == 2 ? BodyKind::kPlanar : BodyKind::kRigid3d;
+        if (Dim() == 2) {
+          check_.Object(b, at, {"name", "type", "mass", "inertia", "position", "angle", "velocity", "angular_velocity"});
+        } else {
+          check_.Object(b, at,
+                        {"name", "type", "mass", "inertia", "position", "orientation", "velocity", "angular_velocity"});
+        }
       } else {
         check_.Fail(Child(at, "type"), "unknown body type '" + type + "' (expected particle or rigid)");
       }
-      const std::string name = check_.String(check_.Required(b, at, "name"), Child(at, "name"));
-      if (name.empty()) check_.Fail(Child(at, "name"), "a body name must not be empty");
-      if (name == "world") check_.Fail(Child(at, "name"), "the name 'world' is reserved for the fixed ground frame");
-      if (seen.count(name)) {
-        check_.Fail(at, "duplicate body name '" + name + "' (also /bodies/" + std::to_string(seen[name]) + ")");
-      }
-      seen[name] = i;
+      const std::string name = NewName(b, at, true);
       names_[name] = static_cast<int>(i);
       const double mass = check_.Positive(check_.Required(b, at, "mass"), Child(at, "mass"));
-      const double inertia =
-          kind == BodyKind::kRigid ? check_.Positive(check_.Required(b, at, "inertia"), Child(at, "inertia")) : 0.0;
       const Vec3<double> position = check_.Vector(check_.Required(b, at, "position"), Child(at, "position"), Dim());
       Vec3<double> velocity = Vec3<double>::Zero();
       if (const json* v = check_.Optional(b, "velocity")) velocity = check_.Vector(*v, Child(at, "velocity"), Dim());
+      if (kind == BodyKind::kRigid3d) {
+        const Mat3<double> inertia = Inertia(check_.Required(b, at, "inertia"), Child(at, "inertia"));
+        Vec4<double> orientation(1, 0, 0, 0);
+        if (const json* o = check_.Optional(b, "orientation")) orientation = Orientation(*o, Child(at, "orientation"));
+        Vec3<double> omega = Vec3<double>::Zero();
+        if (const json* w = check_.Optional(b, "angular_velocity")) omega = check_.Vector(*w, Child(at, "angular_velocity"), 3);
+        AddRigidBody3d(&model_, name, mass, inertia, position, orientation, velocity, omega);
+        continue;
+      }
+      const double inertia =
+          kind == BodyKind::kPlanar ? check_.Positive(check_.Required(b, at, "inertia"), Child(at, "inertia")) : 0.0;
       double angle = 0.0, omega = 0.0;
       if (const json* a = check_.Optional(b, "angle")) angle = check_.Number(*a, Child(at, "angle"));
       if (const json* w = check_.Optional(b, "angular_velocity")) omega = check_.Number(*w, Child(at, "angular_velocity"));
       AddBody(&model_, name, kind, mass, inertia, position, angle, velocity, omega);
     }
+  }
+
+  // A name for a body, a constraint or a marker: not empty, not "world", unique among all three.
+  std::string NewName(const json& element, const std::string& at, bool required) {
+    const json* j = required ? &check_.Required(element, at, "name") : check_.Optional(element, "name");
+    if (!j) return "";
+    const std::string where = Child(at, "name");
+    const std::string name = check_.String(*j, where);
+    if (name.empty()) check_.Fail(where, "a name must not be empty");
+    if (name == "world") check_.Fail(where, "the name 'world' is reserved for the fixed ground frame");
+    auto seen = all_names_.find(name);
+    if (seen != all_names_.end()) check_.Fail(where, "duplicate name '" + name + "' (also " + seen->second + ")");
+    all_names_[name] = at;
+    return name;
+  }
+
+  // A 3D body's inertia: three principal moments or a symmetric tensor (body axes, about the centre of mass),
+  // positive definite, each principal moment at most the sum of the other two (to a relative 1e-12).
+  Mat3<double> Inertia(const json& j, const std::string& at) const {
+    check_.Array(j, at);
+    Mat3<double> inertia = Mat3<double>::Zero();
+    if (j.size() == 3 && j[0].is_array()) {
+      for (int r = 0; r < 3; ++r) inertia.row(r) = check_.Vector(j[r], Child(at, r), 3).transpose();
+      const double size = inertia.cwiseAbs().maxCoeff();
+      for (int r = 0; r < 3; ++r) {
+        for (int c = r + 1; c < 3; ++c) {
+          if (std::abs(inertia(r, c) - inertia(c, r)) > 1e-12 * size) {
+            check_.Fail(at, "the inertia tensor must be symmetric: entries " + std::to_string(r) + "," +
+                                std::to_string(c) + " and " + std::to_string(c) + "," + std::to_string(r) + " differ (" +
+                                Format(inertia(r, c)) + " and " + Format(inertia(c, r)) + ")");
+          }
+        }
+      }
+    } else if (j.size() == 3) {
+      inertia = check_.Vector(j, at, 3).asDiagonal();
+    } else {
+      check_.Fail(at, "expected three principal moments [Ixx, Iyy, Izz] or a 3 x 3 tensor, got " +
+                          std::to_string(j.size()) + " entries");
+    }
+    const Eigen::Vector3d moments = Eigen::SelfAdjointEigenSolver<Mat3<double>>(inertia).eigenvalues();
+    const double total = moments.sum();
+    if (!(moments.minCoeff() > 0)) {
+      check_.Fail(at, "the inertia must be positive definite (principal moments " + Format(moments[0]) + ", " +
+                          Format(moments[1]) + ", " + Format(moments[2]) + ")");
+    }
+    for (int k = 0; k < 3; ++k) {
+      if (moments[k] > (total - moments[k]) * (1 + 1e-12)) {
+        check_.Fail(at, "no body has this inertia: its principal moment " + Format(moments[k]) +
+                            " exceeds the sum of the other two (" + Format(total - moments[k]) + ")");
+      }
+    }
+    return inertia;
+  }
+
+  // A unit quaternion [w, x, y, z]; within 1e-6 of unit norm it is normalised, otherwise refused.
+  Vec4<double> Orientation(const json& j, const std::string& at) const {
+    check_.Array(j, at);
+    if (j.size() != 4) check_.Fail(at, "expected a quaternion [w, x, y, z], got " + std::to_string(j.size()) + " numbers");
+    Vec4<double> q;
+    for (int k = 0; k < 4; ++k) q[k] = check_.Number(j[k], Child(at, k));
+    if (!(std::abs(q.norm() - 1.0) <= 1e-6)) {
+      check_.Fail(at, "a rotation is a unit quaternion: this one has norm " + Format(q.norm()));
+    }
+    return q / q.norm();
   }
 
   // A body name (or "world" when allowed) -> index.
@@ -219,12 +293,27 @@ class SceneBuilder {
   Vec3<double> InitialPosition(const BodyPoint<double>& p) const {
     if (p.body == kWorld) return p.local;
     const Body<double>& body = model_.bodies[p.body];
-    Vec3<double> x = Vec3<double>::Zero();
-    for (int k = 0; k < Dim(); ++k) x[k] = model_.q0[body.offset + k];
-    if (body.kind == BodyKind::kParticle) return x + p.local;
-    const double angle = model_.q0[body.offset + 2];
-    return x + Vec3<double>(std::cos(angle) * p.local.x() - std::sin(angle) * p.local.y(),
-                            std::sin(angle) * p.local.x() + std::cos(angle) * p.local.y(), 0.0);
+    if (body.kind == BodyKind::kParticle) return body.position + p.local;
+    if (body.kind == BodyKind::kPlanar) return body.position + RotatePlanar(body.angle, p.local);
+    return body.position + Rotate(body.orientation, p.local);
+  }
+
+  // A non-zero axis of `size` numbers at j.
+  Vec3<double> Axis(const json& j, const std::string& at, int size) const {
+    const Vec3<double> axis = check_.Vector(j, at, size);
+    if (!(axis.norm() > 0)) check_.Fail(at, "the axis must not be zero");
+    return axis;
+  }
+
+  // Joints that hold orientations need bodies that have one.
+  void RequireOrientations(const Joint<double>& joint, const std::string& at, const std::string& type) const {
+    for (int k = 0; k < 2; ++k) {
+      const int body = k == 0 ? joint.a.body : joint.b.body;
+      if (body != kWorld && model_.bodies[body].kind != BodyKind::kRigid3d) {
+        check_.Fail(Child(Child(at, "bodies"), k), "a " + type + " joins 3D rigid bodies (or the world), and '" +
+                                                       model_.bodies[body].name + "' is a particle");
+      }
+    }
   }
 
   void ReadConstraints(const json& constraints) {
@@ -234,30 +323,81 @@ class SceneBuilder {
       const json& c = constraints[i];
       if (!c.is_object()) check_.Fail(at, std::string("expected an object, got ") + TypeName(c));
       const std::string type = check_.String(check_.Required(c, at, "type"), Child(at, "type"));
-      const int index = static_cast<int>(i);
-      BodyPoint<double> a, b;
+      Joint<double> joint;
+      joint.scene_index = static_cast<int>(i);
+      const bool spatial = type == "hinge" || type == "universal" || type == "prismatic" || type == "cylindrical" ||
+                           type == "weld";
       if (type == "distance") {
-        check_.Object(c, at, {"type", "bodies", "points", "length"});
-        TwoBodies(c, at, &a, &b);
-        const double initial = (InitialPosition(b) - InitialPosition(a)).norm();
+        joint.type = JointType::kDistance;
+        check_.Object(c, at, {"type", "name", "bodies", "points", "length"});
+      } else if (type == "pin") {
+        joint.type = JointType::kPin;
+        if (Dim() == 2) {
+          check_.Object(c, at, {"type", "name", "bodies", "points", "angle"});
+        } else {
+          check_.Object(c, at, {"type", "name", "bodies", "points"});
+        }
+      } else if (type == "slider") {
+        joint.type = JointType::kSlider;
+        check_.Object(c, at, {"type", "name", "bodies", "points", "axis"});
+      } else if (type == "hinge" || type == "cylindrical") {
+        joint.type = type == "hinge" ? JointType::kHinge : JointType::kCylindrical;
+        check_.Object(c, at, {"type", "name", "bodies", "points", "axis", "angle"});
+      } else if (type == "universal") {
+        joint.type = JointType::kUniversal;
+        check_.Object(c, at, {"type", "name", "bodies", "points", "axes"});
+      } else if (type == "prismatic") {
+        joint.type = JointType::kPrismatic;
+        check_.Object(c, at, {"type", "name", "bodies", "points", "axis"});
+      } else if (type == "weld") {
+        joint.type = JointType::kWeld;
+        check_.Object(c, at, {"type", "name", "bodies", "points"});
+      } else {
+        check_.Fail(Child(at, "type"), "unknown constraint type '" + type +
+                                           "' (expected distance, pin, slider, hinge, universal, prismatic, "
+                                           "cylindrical or weld)");
+      }
+      if (spatial && Dim() != 3) check_.Fail(Child(at, "type"), "a " + type + " joint needs dimension 3 (in 2D a pin is the hinge)");
+      joint.name = NewName(c, at, false);
+      TwoBodies(c, at, &joint.a, &joint.b);
+      if (spatial) RequireOrientations(joint, at, type);
+      if (const json* axis = check_.Optional(c, "axis")) joint.axis = Axis(*axis, Child(at, "axis"), Dim());
+      if ((type == "slider" || type == "hinge" || type == "prismatic" || type == "cylindrical") && !c.contains("axis")) {
+        check_.Fail(at, "missing required key 'axis'");
+      }
+      if (const json* angle = check_.Optional(c, "angle")) joint.angle = check_.Number(*angle, Child(at, "angle"));
+      if (joint.type == JointType::kUniversal) {
+        const std::string ap = Child(at, "axes");
+        const json& axes = check_.Array(check_.Required(c, at, "axes"), ap);
+        if (axes.size() != 2) check_.Fail(ap, "expected two axes [in A's frame, in B's frame], got " + std::to_string(axes.size()));
+        joint.axis = Axis(axes[0], Child(ap, 0), 3);
+        joint.axis_b = Axis(axes[1], Child(ap, 1), 3);
+      }
+      if (joint.type == JointType::kDistance) {
+        const double initial = (InitialPosition(joint.b) - InitialPosition(joint.a)).norm();
         if (!(initial > 0)) {
           check_.Fail(at, "the two points start at the same place, where the distance's direction is undefined");
         }
         const json* length = check_.Optional(c, "length");
-        model_.distances.push_back({index, a, b, length ? check_.Positive(*length, Child(at, "length")) : initial});
-      } else if (type == "pin") {
-        check_.Object(c, at, {"type", "bodies", "points"});
-        TwoBodies(c, at, &a, &b);
-        model_.pins.push_back({index, a, b});
-      } else if (type == "slider") {
-        check_.Object(c, at, {"type", "bodies", "points", "axis"});
-        TwoBodies(c, at, &a, &b);
-        const Vec3<double> axis = check_.Vector(check_.Required(c, at, "axis"), Child(at, "axis"), Dim());
-        if (!(axis.norm() > 0)) check_.Fail(Child(at, "axis"), "the axis must not be zero");
-        model_.sliders.push_back({index, a, b, axis});
-      } else {
-        check_.Fail(Child(at, "type"), "unknown constraint type '" + type + "' (expected distance, pin or slider)");
+        joint.length = length ? check_.Positive(*length, Child(at, "length")) : initial;
       }
+      AddJoint(&model_, joint);
+      if (!joint.name.empty()) joints_[joint.name] = static_cast<int>(model_.joints.size()) - 1;
+    }
+  }
+
+  void ReadMarkers(const json& markers) {
+    check_.Array(markers, "/markers");
+    for (size_t i = 0; i < markers.size(); ++i) {
+      const std::string at = Child("/markers", i);
+      const json& m = markers[i];
+      if (!m.is_object()) check_.Fail(at, std::string("expected an object, got ") + TypeName(m));
+      check_.Object(m, at, {"name", "body", "point"});
+      Marker<double> marker;
+      marker.name = NewName(m, at, true);
+      marker.point.body = BodyIndex(check_.Required(m, at, "body"), Child(at, "body"), false);
+      if (const json* p = check_.Optional(m, "point")) marker.point.local = check_.Vector(*p, Child(at, "point"), Dim());
+      model_.markers.push_back(marker);
     }
   }
 
@@ -349,22 +489,80 @@ class SceneBuilder {
         TorqueEffect<double> t;
         t.scene_index = index;
         t.body = BodyIndex(check_.Required(e, at, "body"), Child(at, "body"), false);
-        if (model_.bodies[t.body].kind != BodyKind::kRigid) {
-          check_.Fail(Child(at, "body"), "a torque acts on a planar rigid body, and '" + model_.bodies[t.body].name +
+        if (model_.bodies[t.body].kind == BodyKind::kParticle) {
+          check_.Fail(Child(at, "body"), "a torque acts on a rigid body, and '" + model_.bodies[t.body].name +
                                              "' is a particle");
         }
         ValueOrSchedule(e, at);
+        auto read = [this](const json& j, const std::string& p) {  // planar: a number about z; 3D: a vector
+          if (Dim() == 2) return Vec3<double>(0.0, 0.0, check_.Number(j, p));
+          return check_.Vector(j, p, 3);
+        };
         if (const json* v = check_.Optional(e, "value")) {
-          t.value = check_.Number(*v, Child(at, "value"));
+          t.value = read(*v, Child(at, "value"));
         } else {
-          t.schedule = ReadSchedule<double>(e.at("schedule"), Child(at, "schedule"),
-                                            [this](const json& j, const std::string& p) { return check_.Number(j, p); });
+          t.schedule = ReadSchedule<Vec3<double>>(e.at("schedule"), Child(at, "schedule"), read);
         }
         model_.torques.push_back(t);
+      } else if (type == "joint_torque") {
+        check_.Object(e, at, {"type", "joint", "coordinate", "value", "schedule"});
+        JointTorqueEffect<double> t;
+        t.scene_index = index;
+        ReadJointReference(e, at, &t.joint, &t.coordinate);
+        ValueOrSchedule(e, at);
+        auto read = [this](const json& j, const std::string& p) { return check_.Number(j, p); };
+        if (const json* v = check_.Optional(e, "value")) {
+          t.value = read(*v, Child(at, "value"));
+        } else {
+          t.schedule = ReadSchedule<double>(e.at("schedule"), Child(at, "schedule"), read);
+        }
+        model_.joint_torques.push_back(t);
+      } else if (type == "joint_spring") {
+        check_.Object(e, at, {"type", "joint", "coordinate", "stiffness", "rest", "damping"});
+        JointSpringEffect<double> s;
+        s.scene_index = index;
+        ReadJointReference(e, at, &s.joint, &s.coordinate);
+        s.stiffness = check_.NonNegative(check_.Required(e, at, "stiffness"), Child(at, "stiffness"));
+        if (const json* r = check_.Optional(e, "rest")) s.rest = check_.Number(*r, Child(at, "rest"));
+        if (const json* d = check_.Optional(e, "damping")) s.damping = check_.NonNegative(*d, Child(at, "damping"));
+        model_.joint_springs.push_back(s);
       } else {
-        check_.Fail(Child(at, "type"),
-                    "unknown effect type '" + type + "' (expected gravity, damping, spring, force or torque)");
+        check_.Fail(Child(at, "type"), "unknown effect type '" + type +
+                                           "' (expected gravity, damping, spring, force, torque, joint_torque or "
+                                           "joint_spring)");
       }
+    }
+  }
+
+  // "joint": NAME and "coordinate" (required for a cylindrical joint, else the joint's only coordinate).
+  void ReadJointReference(const json& e, const std::string& at, int* joint, JointCoordinate* coordinate) const {
+    const std::string jp = Child(at, "joint");
+    const std::string name = check_.String(check_.Required(e, at, "joint"), jp);
+    const auto it = joints_.find(name);
+    if (it == joints_.end()) check_.Fail(jp, "no constraint is named '" + name + "'");
+    *joint = it->second;
+    const Joint<double>& j = model_.joints[*joint];
+    const bool angle = HasCoordinate(model_, j, JointCoordinate::kAngle);
+    const bool displacement = HasCoordinate(model_, j, JointCoordinate::kDisplacement);
+    if (!angle && !displacement) {
+      check_.Fail(jp, "the " + std::string(JointTypeName(j.type)) + " '" + name +
+                          "' has no coordinate to drive (hinges, prismatic and cylindrical joints, and in 2D pins "
+                          "between rigid bodies, have one)");
+    }
+    const std::string cp = Child(at, "coordinate");
+    if (const json* c = check_.Optional(e, "coordinate")) {
+      const std::string value = check_.String(*c, cp);
+      if (value != "angle" && value != "displacement") {
+        check_.Fail(cp, "unknown coordinate '" + value + "' (expected angle or displacement)");
+      }
+      *coordinate = value == "angle" ? JointCoordinate::kAngle : JointCoordinate::kDisplacement;
+      if (!HasCoordinate(model_, j, *coordinate)) {
+        check_.Fail(cp, "the " + std::string(JointTypeName(j.type)) + " '" + name + "' has no " + value);
+      }
+    } else if (angle && displacement) {
+      check_.Fail(at, "the cylindrical joint '" + name + "' has two coordinates: say which with \"coordinate\"");
+    } else {
+      *coordinate = angle ? JointCoordinate::kAngle : JointCoordinate::kDisplacement;
     }
   }
 
@@ -410,7 +608,9 @@ class SceneBuilder {
   const json& doc_;
   Validator check_;
   Model<double> model_;
-  std::map<std::string, int> names_;
+  std::map<std::string, int> names_;                // body name -> index
+  std::map<std::string, int> joints_;               // constraint name -> index in model_.joints
+  std::map<std::string, std::string> all_names_;    // every name -> where it was given
 };
 
 // "line L, column C" of byte `end` (0-based) of the text.

@@ -50,15 +50,35 @@ SchurPattern::SchurPattern(const std::vector<RowInfo>& infos, int num_bodies) : 
 
 template <typename T>
 void AssembleSchur(const Model<T>& model, const SchurPattern& pattern, const std::vector<ConstraintRow<T>>& rows,
-                   const VecX<T>& inverse_mass, std::vector<T>* values) {
+                   const VecX<T>& inverse_diagonal, const std::vector<Mat3<T>>& inverse_rotational,
+                   std::vector<Vec3<T>>* weighted, std::vector<T>* values) {
+  // a 3D body's rotational blocks weighted by its I_P^-1 once per row, not once per entry they enter
+  weighted->resize(2 * rows.size());
+  for (size_t i = 0; i < rows.size(); ++i) {
+    for (int slot = 0; slot < 2; ++slot) {
+      const BodyVector<T>& g = slot == 0 ? rows[i].a : rows[i].b;
+      if (g.body != kWorld && model.bodies[g.body].kind == BodyKind::kRigid3d) {
+        (*weighted)[2 * i + slot] = inverse_rotational[g.body] * g.rotation;
+      }
+    }
+  }
   std::fill(values->begin(), values->end(), T(0.0));
   for (const SchurPattern::Term& term : pattern.terms()) {
     const BodyVector<T>& gi = term.slot_i == 0 ? rows[term.row_i].a : rows[term.row_i].b;
     const BodyVector<T>& gj = term.slot_j == 0 ? rows[term.row_j].a : rows[term.row_j].b;
     const Body<T>& body = model.bodies[term.body];
     // translational coordinates share one inverse mass
-    T entry = gi.translation.dot(gj.translation) * inverse_mass[body.offset];
-    if (body.kind == BodyKind::kRigid) entry += gi.rotation * gj.rotation * inverse_mass[body.offset + 2];
+    T entry = gi.translation.dot(gj.translation) * inverse_diagonal[body.v_offset];
+    switch (body.kind) {
+      case BodyKind::kParticle:
+        break;
+      case BodyKind::kPlanar:
+        entry += gi.rotation[2] * gj.rotation[2] * inverse_diagonal[body.v_offset + 2];
+        break;
+      case BodyKind::kRigid3d:
+        entry += gi.rotation.dot((*weighted)[2 * term.row_j + term.slot_j]);
+        break;
+    }
     (*values)[term.value] += entry;
   }
   double largest = 0.0;
@@ -82,7 +102,8 @@ void MultiplySymmetric(const SchurPattern& pattern, const std::vector<S>& values
 
 #define TETHER_INSTANTIATE_SCHUR_SYSTEM(T)                                                                      \
   template void AssembleSchur<T>(const Model<T>&, const SchurPattern&, const std::vector<ConstraintRow<T>>&, \
-                                 const VecX<T>&, std::vector<T>*);                                             \
+                                 const VecX<T>&, const std::vector<Mat3<T>>&, std::vector<Vec3<T>>*,         \
+                                 std::vector<T>*);                                                              \
   template void MultiplySymmetric<T, T>(const SchurPattern&, const std::vector<T>&, const VecX<T>&, VecX<T>*);
 TETHER_FOR_EACH_SCALAR(TETHER_INSTANTIATE_SCHUR_SYSTEM)
 template void MultiplySymmetric<Jet, double>(const SchurPattern&, const std::vector<Jet>&, const VecX<double>&,

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "tether/dynamics/configuration_space.h"
 #include "tether/dynamics/default_gains.h"
 #include "tether/dynamics/effects.h"
 #include "tether/dynamics/errors.h"
@@ -48,7 +49,8 @@ void AssembleInitialState(const Model<T>& model, double scale, Workspace<T>* ws,
     std::ostringstream out;
     out << "the initial state cannot be assembled onto the constraints: "
         << DescribeConstraint(model, result.violation.scene_index) << " is still violated by "
-        << result.violation.largest << " m after " << result.iterations << " Gauss-Newton iterations";
+        << result.violation.largest << (model.dimension == 3 ? " (m, or rad for an axis)" : " m") << " after "
+        << result.iterations << " Gauss-Newton iterations";
     throw InputError(out.str());
   }
   if (!ProjectVelocities(model, *q, ws, v)) throw InputError("the initial velocities cannot be projected onto the constraints");
@@ -77,24 +79,17 @@ template <typename T>
 double LengthScale(const Model<T>& model) {
   double scale = 1e-3;
   for (const Body<T>& body : model.bodies) {
-    for (int k = 0; k < model.dimension; ++k) scale = std::max(scale, std::abs(Value(model.q0[body.offset + k])));
+    for (int k = 0; k < model.dimension; ++k) scale = std::max(scale, std::abs(Value(body.position[k])));
   }
-  auto points = [&scale](const BodyPoint<T>& p) { scale = std::max(scale, Value(p.local.norm())); };
-  for (const auto& c : model.distances) {
-    scale = std::max(scale, Value(c.length));
-    points(c.a);
-    points(c.b);
-  }
-  for (const auto& c : model.pins) {
-    points(c.a);
-    points(c.b);
-  }
-  for (const auto& c : model.sliders) {
-    points(c.a);
-    points(c.b);
+  for (const Joint<T>& c : model.joints) {
+    if (c.type == JointType::kDistance) scale = std::max(scale, Value(c.length));
+    for (const BodyPoint<T>* p : {&c.a, &c.b}) {
+      for (int k = 0; k < 3; ++k) scale = std::max(scale, std::abs(Value(p->local[k])));
+    }
   }
   return scale;
 }
+
 
 template <typename T>
 std::string DescribeConstraint(const Model<T>& model, int scene_index) {
@@ -102,14 +97,8 @@ std::string DescribeConstraint(const Model<T>& model, int scene_index) {
   auto describe = [&](const char* kind, int a, int b) {
     return "constraint /constraints/" + std::to_string(scene_index) + " (" + kind + " " + name(a) + "-" + name(b) + ")";
   };
-  for (const auto& c : model.distances) {
-    if (c.scene_index == scene_index) return describe("distance", c.a.body, c.b.body);
-  }
-  for (const auto& c : model.pins) {
-    if (c.scene_index == scene_index) return describe("pin", c.a.body, c.b.body);
-  }
-  for (const auto& c : model.sliders) {
-    if (c.scene_index == scene_index) return describe("slider", c.a.body, c.b.body);
+  for (const Joint<T>& c : model.joints) {
+    if (c.scene_index == scene_index) return describe(JointTypeName(c.type), c.a.body, c.b.body);
   }
   for (const auto& c : model.user_constraints) {
     if (c.scene_index == scene_index) return describe("user-defined", c.body_a, c.body_b);
@@ -130,7 +119,10 @@ RunReport Simulate(const Model<T>& model, const RunOptions& options,
     }
   }
   RunReport report;
-  Workspace<T> ws(model, options.factor_jet_matrices);
+  State<T> start = InitialState(model);
+  VecX<T>& q = start.q;
+  VecX<T>& v = start.v;
+  Workspace<T> ws(model, q, options.factor_jet_matrices);
   GainsInUse(model, &ws.alpha, &ws.beta);
   const double scale = LengthScale(model);
   const double h = model.simulation.step;
@@ -138,16 +130,22 @@ RunReport Simulate(const Model<T>& model, const RunOptions& options,
   const bool project = model.stabilization.method == Stabilization::kProjection;
   const bool guard_singular = model.stabilization.method == Stabilization::kBaumgarte;
 
-  VecX<T> q = model.q0, v = model.v0;
   AssembleInitialState(model, scale, &ws, &q, &v, &report);
+  ws.coordinates = BuildJointCoordinates(model, q);
 
+  const int num_coordinates = static_cast<int>(ws.coordinates.references.size());
+  VecX<T> coordinates = VecX<T>::Zero(num_coordinates), rates = VecX<T>::Zero(num_coordinates);
   auto emit = [&](double t, bool output, int stop) {
-    double error = 0.0;
-    if (!ws.rows.empty()) {
-      EvaluateConstraintRows(model, q, v, false, &ws.rows);
-      error = LargestViolation(ws.infos, ws.rows).largest;
+    UpdateFrames(model, q, v, true, &ws.frames);
+    EvaluateConstraintRows(model, ws.constraints, ws.frames, q, v, false, &ws.rows);
+    const double error = ws.rows.empty() ? 0.0 : LargestViolation(ws.infos, ws.rows).largest;
+    for (int k = 0; k < num_coordinates; ++k) {
+      const CoordinateRow<T> row = EvaluateCoordinate(model, ws.coordinates, k, ws.frames, q, v, true);
+      coordinates[k] = row.value;
+      rates[k] = row.rate;
     }
-    observer(Sample<T>{t, q, v, error, Energy(model, q, v), output, stop});
+    observer(Sample<T>{t, q, v, error, Energy(model, ws.coordinates, ws.frames, q, v), coordinates, rates, ws.frames,
+                       ws.rows, output, stop});
   };
   auto diverged = [&](double t, const std::string& what) {
     const Violation worst = LargestViolation(ws.infos, ws.rows);
@@ -155,7 +153,7 @@ RunReport Simulate(const Model<T>& model, const RunOptions& options,
     if (worst.scene_index >= 0) {
       std::ostringstream out;
       out << "; the worst constraint is " << DescribeConstraint(model, worst.scene_index) << ", violated by "
-          << worst.largest << " m";
+          << worst.largest << (model.dimension == 3 ? " (m, or rad for an axis)" : " m");
       message += out.str();
     }
     return SimulationDiverged(message, t, worst.scene_index);
@@ -201,6 +199,10 @@ RunReport Simulate(const Model<T>& model, const RunOptions& options,
       std::ostringstream out;
       out << "a constraint ran away (violation above the scene's length scale " << scale << " m)";
       throw diverged(t_next, out.str());
+    }
+    if (num_coordinates > 0) {  // the branch of every hinge angle follows the motion step by step
+      UpdateFrames(model, q, v, false, &ws.frames);
+      TrackCoordinates(model, ws.frames, q, v, &ws.coordinates);
     }
   };
 

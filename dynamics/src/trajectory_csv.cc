@@ -9,24 +9,9 @@
 
 namespace tether {
 
-std::vector<std::string> TrajectoryColumns(const Model<double>& model) {
-  static const char* kAxes[3] = {"x", "y", "z"};
-  std::vector<std::string> columns = {"t"};
-  for (const Body<double>& body : model.bodies) {
-    const bool rigid = body.kind == BodyKind::kRigid;
-    for (int k = 0; k < model.dimension; ++k) columns.push_back(body.name + "." + kAxes[k]);
-    if (rigid) columns.push_back(body.name + ".angle");
-    for (int k = 0; k < model.dimension; ++k) columns.push_back(body.name + ".v" + kAxes[k]);
-    if (rigid) columns.push_back(body.name + ".omega");
-  }
-  columns.push_back("constraint_error");
-  columns.push_back("energy");
-  return columns;
-}
-
-TrajectoryCsvWriter::TrajectoryCsvWriter(const Model<double>& model, std::ostream* out) : model_(model), out_(out) {
-  const std::vector<std::string> columns = TrajectoryColumns(model);
-  for (size_t i = 0; i < columns.size(); ++i) *out_ << (i ? "," : "") << columns[i];
+TrajectoryCsvWriter::TrajectoryCsvWriter(const Model<double>& model, std::ostream* out)
+    : model_(model), columns_(TrajectoryColumns(model)), out_(out) {
+  for (size_t i = 0; i < columns_.size(); ++i) *out_ << (i ? "," : "") << columns_[i].name;
   *out_ << '\n';
 }
 
@@ -38,13 +23,7 @@ void TrajectoryCsvWriter::Write(const Sample<double>& s) {
     if (!line_.empty()) line_ += ',';
     line_.append(number, end.ptr);
   };
-  put(s.t);
-  for (const Body<double>& body : model_.bodies) {
-    for (int k = 0; k < body.size; ++k) put(s.q[body.offset + k]);
-    for (int k = 0; k < body.size; ++k) put(s.v[body.offset + k]);
-  }
-  put(s.constraint_error);
-  put(s.energy);
+  for (const TrajectoryColumn& column : columns_) put(ColumnValue(model_, column, s));
   line_ += '\n';
   *out_ << line_;
 }

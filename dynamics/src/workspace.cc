@@ -1,36 +1,91 @@
 #include "tether/dynamics/workspace.h"
 
-#include "tether/dynamics/constrained_dynamics.h"
+#include <Eigen/LU>  // 3 x 3 inverses
+
+#include "tether/dynamics/effects.h"
 
 namespace tether {
 
 template <typename T>
-Workspace<T>::Workspace(const Model<T>& model, bool factor_jet_matrices)
-    : infos(DescribeRows(model)),
+InverseMass<T> BuildInverseMass(const Model<T>& model) {
+  InverseMass<T> inverse;
+  inverse.diagonal.setZero(model.NumVelocities());
+  inverse.rotational.assign(model.bodies.size(), Mat3<T>::Zero());
+  for (size_t i = 0; i < model.bodies.size(); ++i) {
+    const Body<T>& body = model.bodies[i];
+    for (int k = 0; k < model.dimension; ++k) inverse.diagonal[body.v_offset + k] = T(1.0) / body.mass;
+    if (body.kind == BodyKind::kPlanar) inverse.diagonal[body.v_offset + 2] = T(1.0) / body.inertia;
+    if (body.kind == BodyKind::kRigid3d) inverse.rotational[i] = PrincipalInertia(body).inverse();
+  }
+  return inverse;
+}
+
+template <typename T>
+void ApplyInverseMass(const Model<T>& model, const InverseMass<T>& inverse, const VecX<T>& x, VecX<T>* out) {
+  if (model.NumCoordinates() == model.NumVelocities()) {  // no 3D rigid body: M is diagonal
+    out->noalias() = inverse.diagonal.cwiseProduct(x);
+    return;
+  }
+  for (size_t i = 0; i < model.bodies.size(); ++i) {
+    const Body<T>& body = model.bodies[i];
+    if (body.kind != BodyKind::kRigid3d) {
+      for (int k = 0; k < body.v_size; ++k) (*out)[body.v_offset + k] = inverse.diagonal[body.v_offset + k] * x[body.v_offset + k];
+      continue;
+    }
+    for (int k = 0; k < 3; ++k) (*out)[body.v_offset + k] = inverse.diagonal[body.v_offset + k] * x[body.v_offset + k];
+    const Vec3<T> rotation = inverse.rotational[i] * x.template segment<3>(body.v_offset + 3);
+    out->template segment<3>(body.v_offset + 3) = rotation;
+  }
+}
+
+template <typename T>
+Workspace<T>::Workspace(const Model<T>& model, const VecX<T>& q_start, bool factor_jet_matrices)
+    : constraints(BuildConstraintSet(model, q_start)),
+      infos(DescribeRows(model, constraints)),
       pattern(infos, static_cast<int>(model.bodies.size())),
       solver(pattern, model.simulation.solver, factor_jet_matrices),
-      inverse_mass(InverseMassDiagonal(model)),
+      inverse_mass(BuildInverseMass(model)),
       rows(infos.size()),
-      schur(pattern.nonzeros(), T(0.0)) {
-  const int n = model.NumCoordinates();
+      schur(pattern.nonzeros(), T(0.0)),
+      weighted(2 * infos.size(), Vec3<T>::Zero()) {
+  const int nq = model.NumCoordinates(), nv = model.NumVelocities();
   const int m = static_cast<int>(infos.size());
-  force.setZero(n);
-  reaction.setZero(n);
+  frames.resize(model.bodies.size());
+  force.setZero(nv);
+  reaction.setZero(nv);
   rhs.setZero(m);
   lambda.setZero(m);
   for (int s = 0; s < 7; ++s) {
-    stage_q[s].setZero(n);
-    stage_v[s].setZero(n);
+    stage_q[s].setZero(nv);
+    stage_v[s].setZero(nv);
   }
-  trial_q.setZero(n);
-  trial_v.setZero(n);
-  next_q.setZero(n);
-  next_v.setZero(n);
-  error_q.setZero(n);
-  error_v.setZero(n);
+  theta.setZero(nv);
+  trial_q.setZero(nq);
+  trial_v.setZero(nv);
+  next_q.setZero(nq);
+  next_v.setZero(nv);
+  error_q.setZero(nv);
+  error_v.setZero(nv);
 }
 
-template struct Workspace<double>;
-template struct Workspace<Jet>;
+template <typename T>
+void AssembleSchur(const Model<T>& model, Workspace<T>* ws) {
+  AssembleSchur(model, ws->pattern, ws->rows, ws->inverse_mass.diagonal, ws->inverse_mass.rotational, &ws->weighted,
+                &ws->schur);
+}
+
+template <typename T>
+void EvaluateRows(const Model<T>& model, const VecX<T>& q, const VecX<T>& v, bool velocity_terms, Workspace<T>* ws) {
+  UpdateFrames(model, q, v, velocity_terms, &ws->frames);
+  EvaluateConstraintRows(model, ws->constraints, ws->frames, q, v, velocity_terms, &ws->rows);
+}
+
+#define TETHER_INSTANTIATE_WORKSPACE(T)                                                                    \
+  template struct Workspace<T>;                                                                           \
+  template InverseMass<T> BuildInverseMass<T>(const Model<T>&);                                           \
+  template void ApplyInverseMass<T>(const Model<T>&, const InverseMass<T>&, const VecX<T>&, VecX<T>*);    \
+  template void EvaluateRows<T>(const Model<T>&, const VecX<T>&, const VecX<T>&, bool, Workspace<T>*);        \
+  template void AssembleSchur<T>(const Model<T>&, Workspace<T>*);
+TETHER_FOR_EACH_SCALAR(TETHER_INSTANTIATE_WORKSPACE)
 
 }  // namespace tether

@@ -17,7 +17,7 @@ int main() {
     worst = std::fmax(worst, s.constraint_error);
   });
   tether::Observations observed;
-  observed.columns = {{"bob.y", tether::ObservedColumn::Source::kCoordinate, 1}};
+  observed.columns = {{"bob.y", tether::TrajectoryColumn::Kind::kConfiguration, 1}};
   observed.times = {1.0};
   observed.values = {{0.0}};
   observed.lines = {2};

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <random>
 
+#include "tether/dynamics/configuration_space.h"
 #include "tether/dynamics/constraint_rows.h"
 #include "tether/dynamics/effects.h"
 #include "tether/dynamics/errors.h"
@@ -15,9 +16,9 @@ namespace {
 // by 1 + kHorizonPerturbation) stay within kHorizonSeparation times the length scale (window rule).
 int HorizonSteps(const Model<double>& model, const ReferenceMotion& reference,
                  const std::vector<int>& translational) {
-  Model<double> nudged = model;
-  nudged.v0 *= 1.0 + kHorizonPerturbation;
-  const ReferenceMotion other = ComputeReference(nudged);
+  const State<double> start = InitialState(model);
+  const ReferenceMotion other =
+      ComputeReference(WithInitialState(model, start.q, VecX<double>((1.0 + kHorizonPerturbation) * start.v)));
   const double separation = kHorizonSeparation * LengthScale(model);
   for (size_t k = 0; k < reference.q.size(); ++k) {
     double squared = 0.0;
@@ -29,13 +30,13 @@ int HorizonSteps(const Model<double>& model, const ReferenceMotion& reference,
 
 // Initial velocities moved by 5% of the speed scale, deterministically for each sample.
 Model<double> Perturbed(const Model<double>& model, int sample) {
-  Model<double> out = model;
-  if (sample == 0) return out;
-  const double speed = std::max(model.v0.lpNorm<Eigen::Infinity>(), std::sqrt(9.81 * LengthScale(model)));
+  if (sample == 0) return model;
+  State<double> start = InitialState(model);
+  const double speed = std::max(start.v.lpNorm<Eigen::Infinity>(), std::sqrt(9.81 * LengthScale(model)));
   std::mt19937 random(static_cast<unsigned>(sample));
   std::normal_distribution<double> normal(0.0, 0.05 * speed);
-  for (int i = 0; i < out.v0.size(); ++i) out.v0[i] += normal(random);
-  return out;
+  for (int i = 0; i < start.v.size(); ++i) start.v[i] += normal(random);
+  return WithInitialState(model, start.q, start.v);
 }
 
 }  // namespace
@@ -53,7 +54,7 @@ Model<T> WithGains(const Model<T>& model, const T& alpha, const T& beta) {
 GainObjective::GainObjective(const Model<double>& model, const GainObjectiveSettings& settings)
     : settings_(settings), length_scale_(LengthScale(model)) {
   for (const Body<double>& body : model.bodies) {
-    for (int k = 0; k < model.dimension; ++k) translational_.push_back(body.offset + k);
+    for (int k = 0; k < model.dimension; ++k) translational_.push_back(body.q_offset + k);
   }
   const double h = model.simulation.step;
   int samples = 0;
@@ -73,9 +74,7 @@ GainObjective::GainObjective(const Model<double>& model, const GainObjectiveSett
     const int per_window = std::max(1, static_cast<int>(std::lround(window_ / h)));
     for (int first = 0; first < last; first += per_window) {
       const int end = std::min(last, first + per_window);
-      Window w{start, reference.t[first], {}, {}};
-      w.model.q0 = reference.q[first];
-      w.model.v0 = reference.v[first];
+      Window w{WithInitialState(start, reference.q[first], reference.v[first]), reference.t[first], {}, {}};
       w.model.simulation.duration = reference.t[end] - reference.t[first];
       for (int k = first + 1; k <= end; ++k) {
         w.times.push_back(reference.t[k]);
@@ -90,8 +89,6 @@ GainObjective::GainObjective(const Model<double>& model, const GainObjectiveSett
 
 template <typename T>
 bool GainObjective::Residuals(const Model<T>& stabilized, const Window& window, std::vector<T>* out) const {
-  std::vector<RowInfo> infos = DescribeRows(stabilized);
-  std::vector<ConstraintRow<T>> rows(infos.size());
   const bool drift = settings_.kind == GainObjectiveKind::kDrift;
   int sample = -1;
   T energy0(0.0);
@@ -107,10 +104,9 @@ bool GainObjective::Residuals(const Model<T>& stabilized, const Window& window, 
         const Eigen::VectorXd& reference = window.q[sample - 1];
         for (int i : translational_) out->push_back(s.q[i] - T(reference[i]));
       }
-      EvaluateConstraintRows(stabilized, s.q, s.v, false, &rows);
-      for (const ConstraintRow<T>& row : rows) out->push_back(row.value);
+      for (const ConstraintRow<T>& row : s.rows) out->push_back(row.value);
       if (drift) {
-        for (const ConstraintRow<T>& row : rows) {
+        for (const ConstraintRow<T>& row : s.rows) {
           out->push_back(T(kDriftTime) * (Dot(stabilized, row.a, s.v) + Dot(stabilized, row.b, s.v)));
         }
         const double scale = std::max(std::abs(::tether::Value(energy0)), 1.0);

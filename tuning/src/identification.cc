@@ -6,6 +6,7 @@
 #include <limits>
 #include <sstream>
 
+#include "tether/dynamics/configuration_space.h"
 #include "tether/dynamics/errors.h"
 #include "tether/dynamics/simulator.h"
 
@@ -15,27 +16,29 @@ namespace {
 using Kind = FieldRef::Kind;
 constexpr double kUnbounded = std::numeric_limits<double>::max();
 
-// The state of a run at requested times: q, v and the energy at each.
+// The state (q, v) of a run at requested times.
 template <typename T>
-struct States {
-  std::vector<VecX<T>> q, v;
-  std::vector<T> energy;
-};
-
-template <typename T>
-States<T> StatesAt(const Model<T>& model, double start, const std::vector<double>& times) {
-  States<T> out;
+std::vector<State<T>> StatesAt(const Model<T>& model, double start, const std::vector<double>& times) {
+  std::vector<State<T>> out;
   RunOptions options;
   options.every = std::numeric_limits<int>::max();
   options.start_time = start;
   options.stops = times;
   Simulate<T>(model, options, [&out](const Sample<T>& s) {
-    if (s.stop < 0) return;
-    out.q.push_back(s.q);
-    out.v.push_back(s.v);
-    out.energy.push_back(s.energy);
+    if (s.stop >= 0) out.push_back({s.q, s.v});
   });
   return out;
+}
+
+// The velocity index of configuration index i when it is a translation or a planar angle, -1 otherwise (a
+// quaternion component).
+int VelocityIndexOf(const Model<double>& model, int i) {
+  for (const Body<double>& body : model.bodies) {
+    if (i < body.q_offset || i >= body.q_offset + body.q_size) continue;
+    const int k = i - body.q_offset;
+    return body.kind == BodyKind::kRigid3d && k >= 3 ? -1 : body.v_offset + k;
+  }
+  return -1;
 }
 
 // Everything Identify needs to turn unknowns into residuals.
@@ -55,12 +58,14 @@ class ShootingProblem {
     if (!(end > 0.0)) throw InputError("the data has no observation after t = 0: there is nothing to fit");
     const int segments = std::max(1, settings.segments);
     for (int k = 0; k <= segments; ++k) boundaries_.push_back(end * k / segments);
-    state_size_ = 2 * model.NumCoordinates();
+    state_size_ = 2 * model.NumVelocities();
+    if (segments > 1) references_ = SegmentStarts();
     // the smoothing pairs: consecutive values of one schedule component
     for (int a = 0; a < parameters.size(); ++a) {
       for (int b = 0; b < parameters.size(); ++b) {
         const FieldRef &fa = parameters.field(a), &fb = parameters.field(b);
-        const bool schedule = fa.kind == Kind::kForceSchedule || fa.kind == Kind::kTorqueSchedule;
+        const bool schedule = fa.kind == Kind::kForceSchedule || fa.kind == Kind::kTorqueSchedule ||
+                              fa.kind == Kind::kJointTorqueSchedule;
         if (schedule && fb.kind == fa.kind && fb.index == fa.index && fb.component == fa.component &&
             fb.slot == fa.slot + 1) {
           smooth_pairs_.push_back({a, b});
@@ -77,28 +82,15 @@ class ShootingProblem {
   double ToUnknown(int i, double p) const { return log_space_[i] ? std::log(p) : p; }
   double ToParameter(int i, double x) const { return log_space_[i] ? std::exp(x) : x; }
 
-  // The starting unknowns: the scene's parameters and, for multiple shooting, segment start states from the
-  // initial-guess run with the observed components replaced by the data nearest in time.
+  // The starting unknowns: the scene's parameters and, for multiple shooting, the segments' start states as
+  // offsets from their references (zero) and velocities.
   std::vector<double> Start() const {
     std::vector<double> x;
     const std::vector<double> values = parameters_.Values(model_);
     for (int i = 0; i < parameters_.size(); ++i) x.push_back(ToUnknown(i, values[i]));
-    if (Segments() == 1) return x;
-    const std::vector<double> starts(boundaries_.begin() + 1, boundaries_.end() - 1);
-    Model<double> whole = model_;
-    whole.simulation.duration = boundaries_.back();
-    States<double> guess;
-    try {
-      guess = StatesAt(whole, 0.0, starts);
-    } catch (const SimulationDiverged&) {  // the guess diverges: start every segment from the initial state
-      guess.q.assign(starts.size(), model_.q0);
-      guess.v.assign(starts.size(), model_.v0);
-    }
-    for (size_t k = 0; k < starts.size(); ++k) {
-      VecX<double> q = guess.q[k], v = guess.v[k];
-      ReplaceByData(starts[k], &q, &v);
-      for (int i = 0; i < q.size(); ++i) x.push_back(q[i]);
-      for (int i = 0; i < v.size(); ++i) x.push_back(v[i]);
+    for (const State<double>& reference : references_) {
+      for (int i = 0; i < reference.v.size(); ++i) x.push_back(0.0);
+      for (int i = 0; i < reference.v.size(); ++i) x.push_back(reference.v[i]);
     }
     return x;
   }
@@ -139,7 +131,7 @@ class ShootingProblem {
     for (int i = 0; i < parameters_.size(); ++i) parameters_.Field(&guess, i) = ToParameter(i, x[i]);
     std::vector<ResidualStatistics> stats;
     for (const Observations& r : recordings_) {
-      for (const ObservedColumn& c : r.columns) stats.push_back({r.path, c.name});
+      for (const TrajectoryColumn& c : r.columns) stats.push_back({r.path, c.name});
     }
     DataResiduals<double>(guess, x, -1, [&stats](size_t group, double residual) {
       ResidualStatistics& s = stats[group];
@@ -160,7 +152,24 @@ class ShootingProblem {
     return out;
   }
 
+  // Segment start states (references) from the initial-guess run, with the observed coordinates replaced by the
+  // data nearest in time; a start state's unknowns are its offset d from the reference, q = q_ref (+) d, and v.
+  std::vector<State<double>> SegmentStarts() const {
+    const std::vector<double> starts(boundaries_.begin() + 1, boundaries_.end() - 1);
+    Model<double> whole = model_;
+    whole.simulation.duration = boundaries_.back();
+    std::vector<State<double>> guess;
+    try {
+      guess = StatesAt(whole, 0.0, starts);
+    } catch (const SimulationDiverged&) {  // the guess diverges: start every segment from the initial state
+      guess.assign(starts.size(), InitialState(model_));
+    }
+    for (size_t k = 0; k < starts.size(); ++k) ReplaceByData(starts[k], &guess[k].q, &guess[k].v);
+    return guess;
+  }
+
   void ReplaceByData(double t, VecX<double>* q, VecX<double>* v) const {
+    using Kind = TrajectoryColumn::Kind;
     for (const Observations& r : recordings_) {
       size_t nearest = 0;
       for (size_t row = 1; row < r.times.size(); ++row) {
@@ -169,14 +178,17 @@ class ShootingProblem {
       for (size_t c = 0; c < r.columns.size(); ++c) {
         const double value = r.values[nearest][c];
         if (std::isnan(value)) continue;
-        const ObservedColumn& column = r.columns[c];
-        if (column.source == ObservedColumn::Source::kCoordinate) (*q)[column.index] = value;
-        if (column.source == ObservedColumn::Source::kVelocity) (*v)[column.index] = value;
+        const TrajectoryColumn& column = r.columns[c];
+        if (column.kind == Kind::kVelocity) (*v)[column.index] = value;
+        if (column.kind != Kind::kConfiguration) continue;
+        const int velocity = VelocityIndexOf(model_, column.index);
+        if (velocity < 0) continue;  // a quaternion component: the run's orientation is kept
+        (*q)[column.index] = value;
         // a coordinate observed without its velocity: central difference of the neighbouring rows
-        if (column.source == ObservedColumn::Source::kCoordinate && nearest > 0 && nearest + 1 < r.times.size() &&
-            !std::isnan(r.values[nearest - 1][c]) && !std::isnan(r.values[nearest + 1][c])) {
-          (*v)[column.index] = (r.values[nearest + 1][c] - r.values[nearest - 1][c]) /
-                               (r.times[nearest + 1] - r.times[nearest - 1]);
+        if (nearest > 0 && nearest + 1 < r.times.size() && !std::isnan(r.values[nearest - 1][c]) &&
+            !std::isnan(r.values[nearest + 1][c])) {
+          (*v)[velocity] = (r.values[nearest + 1][c] - r.values[nearest - 1][c]) /
+                           (r.times[nearest + 1] - r.times[nearest - 1]);
         }
       }
     }
@@ -185,53 +197,75 @@ class ShootingProblem {
   // Calls add(group, residual) for every data residual (group: recording x column, as in Statistics), in a fixed
   // order; returns the end state of every segment but the last (for the continuity residuals).
   template <typename T, typename Add>
-  std::vector<std::pair<VecX<T>, VecX<T>>> DataResiduals(const Model<T>& model, const std::vector<double>& x,
-                                                         int first_seeded, Add add) const {
-    std::vector<std::pair<VecX<T>, VecX<T>>> ends;
+  std::vector<State<T>> DataResiduals(const Model<T>& model, const std::vector<double>& x, int first_seeded,
+                                      Add add) const {
+    std::vector<State<T>> ends;
     const int n_params = parameters_.size();
     for (int k = 0; k < Segments(); ++k) {
       Model<T> segment = TruncatedModel(model, k);
       if (k > 0) {  // this segment's start state is an unknown
-        const int offset = n_params + (k - 1) * state_size_;
-        const int n = model.NumCoordinates();
-        for (int i = 0; i < state_size_; ++i) {
-          T value(x[offset + i]);
-          SeedUnknown(offset + i, first_seeded, &value);
-          (i < n ? segment.q0[i] : segment.v0[i - n]) = value;
-        }
+        const State<T> start = SegmentStart(model, x, n_params + (k - 1) * state_size_, k - 1, first_seeded);
+        segment = WithInitialState(segment, start.q, start.v);
       }
       const double begin = boundaries_[k], end = boundaries_[k + 1];
+      auto inside = [&](double t) { return (t > begin || (k == 0 && t == begin)) && t <= end; };
       std::vector<double> times;  // every recording's times in (begin, end] (and t = 0 in the first segment)
       for (const Observations& r : recordings_) {
         for (double t : r.times) {
-          if ((t > begin || (k == 0 && t == begin)) && t <= end) times.push_back(t);
+          if (inside(t)) times.push_back(t);
         }
       }
       times.push_back(end);
       std::sort(times.begin(), times.end());
       times.erase(std::unique(times.begin(), times.end()), times.end());
-      const States<T> states = StatesAt(segment, begin, times);
-      size_t group = 0;
-      for (const Observations& r : recordings_) {
-        for (size_t row = 0; row < r.times.size(); ++row) {
-          const double t = r.times[row];
-          if (!((t > begin || (k == 0 && t == begin)) && t <= end)) continue;
-          const size_t at = std::lower_bound(times.begin(), times.end(), t) - times.begin();
-          for (size_t c = 0; c < r.columns.size(); ++c) {
-            const double observed = r.values[row][c];
-            if (std::isnan(observed)) continue;
-            const ObservedColumn& column = r.columns[c];
-            const T simulated = column.source == ObservedColumn::Source::kCoordinate ? states.q[at][column.index]
-                                : column.source == ObservedColumn::Source::kVelocity ? states.v[at][column.index]
-                                                                                     : states.energy[at];
-            add(group + c, simulated - T(observed));
-          }
+      // the residuals are added in recording, row, column order: collect them per stop first
+      std::vector<std::vector<std::vector<std::pair<size_t, T>>>> cells(recordings_.size());
+      for (size_t i = 0; i < recordings_.size(); ++i) cells[i].resize(recordings_[i].times.size());
+      RunOptions options;
+      options.every = std::numeric_limits<int>::max();
+      options.start_time = begin;
+      options.stops = times;
+      State<T> last;
+      Simulate<T>(segment, options, [&](const Sample<T>& s) {
+        if (s.stop < 0) return;
+        const double t = times[s.stop];
+        for (size_t i = 0; i < recordings_.size(); ++i) {
+          const Observations& r = recordings_[i];
+          const auto row = std::lower_bound(r.times.begin(), r.times.end(), t);
+          if (row == r.times.end() || *row != t || !inside(t)) continue;
+          const size_t index = row - r.times.begin();
+          ObservedResiduals(segment, r, index, s, [&](size_t c, const T& value) { cells[i][index].push_back({c, value}); });
         }
-        group += r.columns.size();
+        if (s.stop + 1 == static_cast<int>(times.size())) last = {s.q, s.v};
+      });
+      size_t group = 0;
+      for (size_t i = 0; i < recordings_.size(); ++i) {
+        for (const auto& row : cells[i]) {
+          for (const auto& [c, value] : row) add(group + c, value);
+        }
+        group += recordings_[i].columns.size();
       }
-      if (k + 1 < Segments()) ends.push_back({states.q.back(), states.v.back()});
+      if (k + 1 < Segments()) ends.push_back(last);
     }
     return ends;
+  }
+
+  // Segment (reference + 1)'s start state from the unknowns at x[offset ..]: q_ref (+) d and v.
+  template <typename T>
+  State<T> SegmentStart(const Model<T>& model, const std::vector<double>& x, int offset, int reference,
+                        int first_seeded) const {
+    const int nv = model.NumVelocities();
+    VecX<T> d(nv), v(nv);
+    for (int i = 0; i < 2 * nv; ++i) {
+      T value(x[offset + i]);
+      SeedUnknown(offset + i, first_seeded, &value);
+      (i < nv ? d[i] : v[i - nv]) = value;
+    }
+    State<T> start;
+    start.q.resize(model.NumCoordinates());
+    Integrate(model, VecX<T>(references_[reference].q.template cast<T>()), d, 1.0, &start.q);
+    start.v = v;
+    return start;
   }
 
   // Seeds derivative direction (unknown - first_seeded) when that unknown is in the current chunk.
@@ -256,15 +290,15 @@ class ShootingProblem {
     }
     std::vector<T> out;
     const auto ends = DataResiduals<T>(model, x, first_seeded, [&out](size_t, const T& r) { out.push_back(r); });
-    // continuity: end of segment k - start of segment k + 1
+    // continuity: end of segment k (-) start of segment k + 1
+    const int nv = model.NumVelocities();
+    VecX<T> gap(nv);
     for (size_t k = 0; k < ends.size(); ++k) {
-      const int offset = parameters_.size() + static_cast<int>(k) * state_size_;
-      const int n = model.NumCoordinates();
-      for (int i = 0; i < state_size_; ++i) {
-        T start(x[offset + i]);
-        SeedUnknown(offset + i, first_seeded, &start);
-        out.push_back((i < n ? ends[k].first[i] : ends[k].second[i - n]) - start);
-      }
+      const State<T> start =
+          SegmentStart(model, x, parameters_.size() + static_cast<int>(k) * state_size_, static_cast<int>(k), first_seeded);
+      Difference(model, start.q, ends[k].q, &gap);
+      for (int i = 0; i < nv; ++i) out.push_back(gap[i]);
+      for (int i = 0; i < nv; ++i) out.push_back(ends[k].v[i] - start.v[i]);
     }
     const double weight = std::sqrt(settings_.smooth);
     for (const auto& [a, b] : smooth_pairs_) {
@@ -279,7 +313,8 @@ class ShootingProblem {
   const IdentifySettings& settings_;
   std::vector<bool> log_space_;
   std::vector<double> boundaries_;
-  int state_size_ = 0;
+  int state_size_ = 0;                    // unknowns per segment start: an offset d and a velocity (2 nv)
+  std::vector<State<double>> references_;  // the start states the offsets are taken from
   std::vector<std::pair<int, int>> smooth_pairs_;
 };
 
@@ -297,7 +332,10 @@ bool PositiveKind(FieldRef::Kind kind) {
   switch (kind) {
     case Kind::kMass:
     case Kind::kInertia:
-    case Kind::kDistanceLength:
+    case Kind::kInertiaMoment:
+    case Kind::kJointLength:
+    case Kind::kJointSpringStiffness:
+    case Kind::kJointSpringDamping:
     case Kind::kSpringStiffness:
     case Kind::kSpringRestLength:
     case Kind::kSpringDamping:

@@ -27,7 +27,7 @@ double RmsPositionError(const Model<double>& model, const ReferenceMotion& refer
   const size_t samples = std::min(q.size(), reference.q.size());
   for (size_t k = 1; k < samples; ++k) {  // the first sample is the common initial state
     for (const Body<double>& body : model.bodies) {
-      for (int i = body.offset; i < body.offset + model.dimension; ++i) squared += std::pow(q[k][i] - reference.q[k][i], 2);
+      for (int i = body.q_offset; i < body.q_offset + model.dimension; ++i) squared += std::pow(q[k][i] - reference.q[k][i], 2);
     }
   }
   return std::sqrt(squared / std::max<size_t>(1, samples - 1));

@@ -1,26 +1,23 @@
-// Observations: a trajectory CSV (CONTRACT.md) with a `t` column and any subset of the trajectory's columns,
-// at any times within the simulated interval, in any row order; an empty cell is a missing value. Coordinates,
-// velocities and `energy` can be observed; `constraint_error` is a diagnostic and cannot.
+// Observations: a trajectory CSV (CONTRACT.md) with a `t` column and any subset of the trajectory's columns
+// (trajectory_columns.h), at any times within the simulated interval, in any row order; an empty cell is a
+// missing value. Coordinates, quaternion components, velocities, joint coordinates (encoders), markers and
+// `energy` can be observed; `constraint_error` is a diagnostic and cannot. q and -q are one rotation: a recorded
+// quaternion is compared with the simulated one after taking the sign that agrees with it (the sign of the dot
+// product over its recorded components, row by row), so a recording with sign flips fits as well as one without.
 // Every error names the file and the line (or the column).
 #pragma once
 
+#include <cmath>
 #include <string>
 #include <vector>
 
-#include "tether/dynamics/model.h"
+#include "tether/dynamics/trajectory_columns.h"
 
 namespace tether {
 
-struct ObservedColumn {
-  enum class Source { kCoordinate, kVelocity, kEnergy };
-  std::string name;  // as in the CSV header
-  Source source = Source::kCoordinate;
-  int index = 0;     // into q or v
-};
-
 struct Observations {
   std::string path;
-  std::vector<ObservedColumn> columns;
+  std::vector<TrajectoryColumn> columns;
   std::vector<double> times;               // strictly increasing
   std::vector<std::vector<double>> values;  // values[row][column]; NaN where the cell is empty
   std::vector<int> lines;                  // the file line of each row, for messages
@@ -31,5 +28,29 @@ struct Observations {
 
 // Reads and validates OBS.csv against a model (its bodies, its duration). Throws InputError.
 Observations ReadObservations(const std::string& path, const Model<double>& model);
+
+// Calls add(c, simulated - observed) for every observed cell c of row `row`, in column order, the simulated
+// value taken from a sample of a run of `model` at that row's time.
+template <typename T, typename Add>
+void ObservedResiduals(const Model<T>& model, const Observations& observations, size_t row, const Sample<T>& sample,
+                       Add add) {
+  const std::vector<double>& observed = observations.values[row];
+  const std::vector<TrajectoryColumn>& columns = observations.columns;
+  for (size_t c = 0; c < columns.size(); ++c) {
+    if (std::isnan(observed[c])) continue;
+    const T simulated = ColumnValue(model, columns[c], sample);
+    double sign = 1.0;
+    if (columns[c].body != kWorld) {  // a quaternion component: the sign of the recorded quaternion
+      double dot = 0.0;
+      for (size_t k = 0; k < columns.size(); ++k) {
+        if (columns[k].body == columns[c].body && !std::isnan(observed[k])) {
+          dot += observed[k] * Value(ColumnValue(model, columns[k], sample));
+        }
+      }
+      if (dot < 0.0) sign = -1.0;
+    }
+    add(c, simulated - T(sign * observed[c]));
+  }
+}
 
 }  // namespace tether

@@ -1,10 +1,12 @@
 // Parameters: numeric leaves of a scene named by JSON Pointers (RFC 6901), bound to the model fields they set,
 // so that a Model<T> can carry them as T (a Jet seeds their derivative directions).
 //
-// Differentiable: /bodies/i/{mass, inertia, position/k, angle, velocity/k, angular_velocity};
-// /constraints/i/{length, points/j/k, axis/k}; /effects/i/{acceleration/k (gravity), coefficient,
-// angular_coefficient (damping), stiffness, rest_length, damping, points/j/k (spring), value[/k], point/k,
-// schedule/values/j[/k] (force, torque)}; /stabilization/{alpha, beta}.
+// Differentiable: /bodies/i/{mass, inertia (planar), inertia/k (3D principal moment), inertia/r/c (3D tensor:
+// a product of inertia names both I_rc and I_cr, which follow it together), position/k, angle, orientation/k,
+// velocity/k, angular_velocity[/k]}; /constraints/i/{length, points/j/k, axis/k, axes/j/k, angle};
+// /markers/i/point/k; /effects/i/{acceleration/k (gravity), coefficient, angular_coefficient (damping),
+// stiffness, rest_length, damping, points/j/k (spring), value[/k], point/k, schedule/values/j[/k] (force,
+// torque, joint_torque), stiffness, rest, damping (joint_spring)}; /stabilization/{alpha, beta}.
 // Refused with a message naming the file and the pointer: pointers that are not in the scene file (a default
 // must be written out to become a parameter), that name an array or object instead of a number, and leaves
 // that are not differentiable (names, types, the integrator, step, duration, tolerance, schedule times).
@@ -20,17 +22,19 @@ namespace tether {
 // Where a parameter lives in a Model<T>.
 struct FieldRef {
   enum class Kind {
-    kMass, kInertia, kInitialPosition, kInitialVelocity,
-    kDistanceLength, kDistancePoint, kPinPoint, kSliderPoint, kSliderAxis,
+    kMass, kInertia, kInertiaMoment, kInertiaProduct,
+    kPosition, kAngle, kOrientation, kVelocity, kAngularVelocity,
+    kJointLength, kJointPoint, kJointAxis, kJointAxisB, kJointAngle, kMarkerPoint,
     kGravity, kDampingCoefficient, kDampingAngular,
     kSpringStiffness, kSpringRestLength, kSpringDamping, kSpringPoint,
     kForceValue, kForcePoint, kForceSchedule, kTorqueValue, kTorqueSchedule,
+    kJointTorqueValue, kJointTorqueSchedule, kJointSpringStiffness, kJointSpringRest, kJointSpringDamping,
     kAlpha, kBeta
   };
   Kind kind = Kind::kMass;
-  int index = 0;      // body, or position in the model's list of that kind of constraint or effect
-  int slot = 0;       // which point (0: first body's, 1: second's), or which schedule value
-  int component = 0;  // vector component, or coordinate index in q0 / v0
+  int index = 0;      // body, marker, or position in the model's list of that kind of constraint or effect
+  int slot = 0;       // which point (0: first body's, 1: second's), which schedule value, or a tensor's row
+  int component = 0;  // vector component, or a tensor's column
 };
 
 class ParameterSet {

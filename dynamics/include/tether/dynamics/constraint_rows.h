@@ -1,14 +1,27 @@
-// The constraint rows C_i(q) = 0 of a model, with their Jacobian rows J_i = dC_i/dq and the velocity-product
-// term Jdot_i q' (so that C_i'' = J_i q'' + Jdot_i q').
+// Constraint primitives and the rows C_i(q) = 0 they produce, with the Jacobian rows J_i (C_i' = J_i v) and the
+// velocity-product terms Jdot_i v (C_i'' = J_i v' + Jdot_i v). Every built-in joint is a list of primitives
+// (Jolt's constraint parts); d = p_B - p_A, c the centripetal parts of the points' accelerations, w the world
+// angular velocities (kinematics.h):
 //
-//   distance  C = |d| - L,   d = p_B - p_A,  n = d/|d|
-//             J q'' = n . (d'' without velocity products),  Jdot q' = (|d'|^2 - (n . d')^2)/|d| + n . (c_B - c_A)
-//   pin       C_k = (p_B - p_A)_k for each axis k;          Jdot q' = (c_B - c_A)_k
-//   slider    C_k = n_k . d with n_k normal to the axis (one row in 2D, two in 3D), n turning with body A:
-//             Jdot q' = -w_A^2 n . d + 2 w_A perp(n) . d' + n . (c_B - c_A)        (w_A = 0 in 3D)
-//   user      any residual of two bodies' coordinates, derived automatically (user_constraint.h)
-// where c is the centripetal part of a point's acceleration (kinematics.h). Every row touches at most two
-// bodies, so J is stored as two BodyVector blocks per row: the sparse structure is explicit.
+//   distance   C = |d| - L,   n = d/|d|:  J v = n . d',   Jdot v = (|d'|^2 - (n . d')^2)/|d| + n . (c_B - c_A)
+//   point      C_k = e_k . d for each world axis e_k (d rows):       Jdot v = e_k . (c_B - c_A)
+//   line       C_k = n_k . d, n_k = R_WA n_k^A normal to A's axis (d - 1 rows); n_k turns with A:
+//              J v = n . d' + w_A . (n x d),
+//              Jdot v = n . (c_B - c_A) + 2 (w_A x n) . d' + (w_A x (w_A x n)) . d
+//   angle      C_k = u_k . w_k - c_k, u_k = R_WA u_k^A, w_k = R_WB w_k^B (1 to 3 rows, radians for small errors):
+//              J v = (w_A - w_B) . (u x w),
+//              Jdot v = (w_A - w_B) . ((w_A x u) x w + u x (w_B x w))
+//   user       any residual of two bodies' coordinates, derived automatically (user_constraint.h)
+//
+// The joints (model.h) as primitives; "at the start" is the state the set is built at:
+//   distance: distance    pin: point    slider: line
+//   hinge: point + angle (n_1 . a_B, n_2 . a_B; n_k normal to A's axis, a_B A's axis as seen in B at the start)
+//   universal: point + angle (u_A . u_B - its start value)     cylindrical: line + the hinge's angle rows
+//   prismatic: line + frozen orientation      weld: point + frozen orientation
+//   frozen orientation: angle rows (e_1 . f_2, e_2 . f_3, e_3 . f_1), e_k A's axes, f_k their images in B at the
+//   start (so that C = 0 there and the three rows are independent).
+// Every row touches at most two bodies, so J is stored as two BodyVector blocks per row: the sparse structure is
+// explicit.
 #pragma once
 
 #include <vector>
@@ -19,36 +32,87 @@ namespace tether {
 
 template <typename T>
 struct ConstraintRow {
-  T value = T(0.0);  // C_i(q), metres for the built-in constraints
-  T bias = T(0.0);   // Jdot_i q'
+  T value = T(0.0);  // C_i(q): metres for points and lengths, the sine of an angle for angle rows
+  T bias = T(0.0);   // Jdot_i v
   BodyVector<T> a;   // J_i restricted to the first body
   BodyVector<T> b;   // J_i restricted to the second body
 };
 
 // What is known about a row before any evaluation: the constraint it belongs to and the bodies it touches.
+// Rows of one primitive are consecutive; `part` counts the primitives, so that a constraint's violation is the
+// largest norm over its primitives (metres and radians are not added).
 struct RowInfo {
   int scene_index = 0;
   int body_a = kWorld;
   int body_b = kWorld;
+  int part = 0;
 };
 
-// Rows in evaluation order (distances, pins, sliders, user constraints).
 template <typename T>
-std::vector<RowInfo> DescribeRows(const Model<T>& model);
+struct DistancePrimitive {
+  int scene_index = 0;
+  BodyPoint<T> a, b;
+  T length = T(1.0);
+};
 
-// Fills rows (sized as DescribeRows) at state (q, v). With velocity_terms false, `bias` is not computed and v
-// is not read (position-only uses: projection, output).
 template <typename T>
-void EvaluateConstraintRows(const Model<T>& model, const VecX<T>& q, const VecX<T>& v, bool velocity_terms,
+struct PointPrimitive {
+  int scene_index = 0;
+  BodyPoint<T> a, b;
+};
+
+template <typename T>
+struct LinePrimitive {
+  int scene_index = 0;
+  BodyPoint<T> a, b;
+  Vec3<T> normals[2];  // unit, in A's frame
+};
+
+template <typename T>
+struct AnglePrimitive {
+  int scene_index = 0;
+  int body_a = kWorld, body_b = kWorld;
+  int rows = 0;
+  Vec3<T> u[3], w[3];  // unit, in A's and in B's frame
+  T c[3];
+};
+
+// A run's constraint primitives, stored by kind; rows are laid out in this order, then the user constraints.
+template <typename T>
+struct ConstraintSet {
+  std::vector<DistancePrimitive<T>> distances;
+  std::vector<PointPrimitive<T>> points;
+  std::vector<LinePrimitive<T>> lines;
+  std::vector<AnglePrimitive<T>> angles;
+};
+
+// The primitives of the model's constraints, with the quantities fixed at the start taken at configuration q.
+template <typename T>
+ConstraintSet<T> BuildConstraintSet(const Model<T>& model, const VecX<T>& q);
+
+// Rows in evaluation order.
+template <typename T>
+std::vector<RowInfo> DescribeRows(const Model<T>& model, const ConstraintSet<T>& set);
+
+// Fills rows (sized as DescribeRows) at state (q, v), with frames already updated at (q, v). With
+// velocity_terms false, `bias` is not computed and v is not read (position-only uses: projection, output).
+template <typename T>
+void EvaluateConstraintRows(const Model<T>& model, const ConstraintSet<T>& set, const BodyFrames<T>& frames,
+                            const VecX<T>& q, const VecX<T>& v, bool velocity_terms,
                             std::vector<ConstraintRow<T>>* rows);
 
-// The largest geometric violation over the constraints (the Euclidean norm of each constraint's rows), and
-// the scene index of the constraint where it occurs (-1 when there are none).
+// The largest geometric violation over the constraints (per constraint, the largest Euclidean norm over its
+// primitives' rows), and the scene index of the constraint where it occurs (-1 when there are none).
 struct Violation {
   double largest = 0.0;
   int scene_index = -1;
 };
 template <typename T>
 Violation LargestViolation(const std::vector<RowInfo>& infos, const std::vector<ConstraintRow<T>>& rows);
+
+// Unit normals of an axis: in 2D perp(axis); in 3D two vectors completing the unit axis to a right-handed frame
+// (u, n1, n2) (the coordinate axis least aligned with it fixes the first).
+template <typename T>
+void AxisNormals(int dimension, const Vec3<T>& axis, Vec3<T>* n1, Vec3<T>* n2);
 
 }  // namespace tether

@@ -1,7 +1,7 @@
 // Definitions for constraint_rows.h; included only by the file that instantiates them.
 #pragma once
 
-#include <Eigen/Geometry>  // cross products for 3D slider normals
+#include <Eigen/Geometry>  // cross products
 #include <cmath>
 
 #include "tether/dynamics/constraint_rows.h"
@@ -10,79 +10,200 @@
 namespace tether {
 namespace internal {
 
+// R_WB of a body at configuration q (identity for the world and for particles, whose frame is the world's).
 template <typename T>
-int SliderRows(const Model<T>& model) {
-  return model.dimension - 1;
+Mat3<T> RotationAt(const Model<T>& model, int body, const VecX<T>& q) {
+  if (body == kWorld) return Mat3<T>::Identity();
+  const Body<T>& b = model.bodies[body];
+  if (b.kind == BodyKind::kRigid3d) return RotationMatrix(Orientation(b, q));
+  if (b.kind == BodyKind::kPlanar) {
+    using std::cos;
+    using std::sin;
+    const T c = cos(q[b.q_offset + 2]), s = sin(q[b.q_offset + 2]);
+    Mat3<T> R = Mat3<T>::Identity();
+    R(0, 0) = c;
+    R(0, 1) = -s;
+    R(1, 0) = s;
+    R(1, 1) = c;
+    return R;
+  }
+  return Mat3<T>::Identity();
 }
 
-// Unit normals of a slider axis: in 2D perp(axis); in 3D two vectors completing the axis to an orthonormal
-// frame (the second coordinate axis least aligned with it fixes the first normal).
 template <typename T>
-void SliderNormals(int dimension, const Vec3<T>& axis, Vec3<T>* n1, Vec3<T>* n2) {
-  const Vec3<T> u = axis / axis.norm();
-  if (dimension == 2) {
-    *n1 = Perp(u);
-    return;
+Vec3<T> Unit(const Vec3<T>& x) {
+  using std::sqrt;
+  return x / sqrt(x.squaredNorm());
+}
+
+// The angle rows that keep B's orientation relative to A as it is at configuration q.
+template <typename T>
+AnglePrimitive<T> FrozenOrientation(const Model<T>& model, const Joint<T>& joint, const VecX<T>& q) {
+  const Mat3<T> R_BA = RotationAt(model, joint.b.body, q).transpose() * RotationAt(model, joint.a.body, q);
+  AnglePrimitive<T> p{joint.scene_index, joint.a.body, joint.b.body, 3, {}, {}, {T(0.0), T(0.0), T(0.0)}};
+  for (int k = 0; k < 3; ++k) {
+    p.u[k] = Vec3<T>::Unit(k);
+    p.w[k] = R_BA.col((k + 1) % 3);  // A's next axis as seen in B
   }
-  int least = 0;
-  for (int k = 1; k < 3; ++k) {
-    if (std::abs(Value(u[k])) < std::abs(Value(u[least]))) least = k;
-  }
-  const Vec3<T> e = Vec3<T>::Unit(least);
-  const Vec3<T> w = u.cross(e);
-  *n1 = w / w.norm();
-  *n2 = u.cross(*n1);
+  return p;
+}
+
+// The angle rows that keep A's axis common to A and B (n_k of A's axis normal to the axis as seen in B).
+template <typename T>
+AnglePrimitive<T> CommonAxis(const Model<T>& model, const Joint<T>& joint, const VecX<T>& q) {
+  const Vec3<T> axis = Unit(joint.axis);
+  const Mat3<T> R_BA = RotationAt(model, joint.b.body, q).transpose() * RotationAt(model, joint.a.body, q);
+  AnglePrimitive<T> p{joint.scene_index, joint.a.body, joint.b.body, 2, {}, {}, {T(0.0), T(0.0), T(0.0)}};
+  AxisNormals(3, axis, &p.u[0], &p.u[1]);
+  p.w[0] = p.w[1] = R_BA * axis;
+  return p;
+}
+
+template <typename T>
+LinePrimitive<T> Line(const Model<T>& model, const Joint<T>& joint) {
+  LinePrimitive<T> p{joint.scene_index, joint.a, joint.b, {}};
+  AxisNormals(model.dimension, Unit(joint.axis), &p.normals[0], &p.normals[1]);
+  return p;
 }
 
 template <typename T>
 BodyState<T> StateOf(const Model<T>& model, int body, const VecX<T>& q, const VecX<T>& v, bool velocity_terms) {
   if (body == kWorld) return {};
   const Body<T>& b = model.bodies[body];
-  return {q.data() + b.offset, velocity_terms ? v.data() + b.offset : nullptr, b.size};
+  return {q.data() + b.q_offset, velocity_terms ? v.data() + b.v_offset : nullptr, b.q_size, b.v_size, b.kind,
+          b.principal_axes};
 }
 
-// Maps a gradient over one body's coordinates onto its BodyVector.
+// Maps a gradient over one body's velocities onto its BodyVector.
 template <typename T>
 BodyVector<T> GradientOf(const Model<T>& model, int body, const T* gradient) {
   BodyVector<T> g;
   g.body = body;
   if (body == kWorld) return g;
   const Body<T>& b = model.bodies[body];
-  for (int k = 0; k < model.dimension; ++k) g.translation[k] = gradient[k];
-  if (b.kind == BodyKind::kRigid) g.rotation = gradient[2];
+  switch (b.kind) {
+    case BodyKind::kParticle:
+      for (int k = 0; k < model.dimension; ++k) g.translation[k] = gradient[k];
+      break;
+    case BodyKind::kPlanar:
+      g.translation = Vec3<T>(gradient[0], gradient[1], T(0.0));
+      g.rotation[2] = gradient[2];
+      break;
+    case BodyKind::kRigid3d:
+      for (int k = 0; k < 3; ++k) {
+        g.translation[k] = gradient[k];
+        g.rotation[k] = gradient[3 + k];
+      }
+      break;
+  }
   return g;
+}
+
+// A block with only a rotational part: d(...)/d w_W = g_W.
+template <typename T>
+BodyVector<T> Turning(const Model<T>& model, const BodyFrames<T>& frames, int body, const Vec3<T>& g_W) {
+  BodyVector<T> g;
+  g.body = body;
+  g.rotation = RotationalPart(model, frames, body, g_W);
+  return g;
+}
+
+template <typename T>
+const BodyFrame<T>* FrameOf(const Model<T>& model, const BodyFrames<T>& frames, int body) {
+  return body == kWorld || model.bodies[body].kind == BodyKind::kParticle ? nullptr : &frames[body];
 }
 
 }  // namespace internal
 
 template <typename T>
-std::vector<RowInfo> DescribeRows(const Model<T>& model) {
+void AxisNormals(int dimension, const Vec3<T>& axis, Vec3<T>* n1, Vec3<T>* n2) {
+  if (dimension == 2) {
+    *n1 = Perp(axis);
+    *n2 = Vec3<T>::Zero();
+    return;
+  }
+  int least = 0;
+  for (int k = 1; k < 3; ++k) {
+    if (std::abs(Value(axis[k])) < std::abs(Value(axis[least]))) least = k;
+  }
+  const Vec3<T> e = Vec3<T>::Unit(least);
+  *n1 = internal::Unit(Vec3<T>(axis.cross(e)));
+  *n2 = axis.cross(*n1);
+}
+
+template <typename T>
+ConstraintSet<T> BuildConstraintSet(const Model<T>& model, const VecX<T>& q) {
+  ConstraintSet<T> set;
+  for (const Joint<T>& joint : model.joints) {
+    const int index = joint.scene_index;
+    switch (joint.type) {
+      case JointType::kDistance:
+        set.distances.push_back({index, joint.a, joint.b, joint.length});
+        break;
+      case JointType::kPin:
+        set.points.push_back({index, joint.a, joint.b});
+        break;
+      case JointType::kSlider:
+        set.lines.push_back(internal::Line(model, joint));
+        break;
+      case JointType::kHinge:
+        set.points.push_back({index, joint.a, joint.b});
+        set.angles.push_back(internal::CommonAxis(model, joint, q));
+        break;
+      case JointType::kUniversal: {
+        const Vec3<T> u = internal::Unit(joint.axis), w = internal::Unit(joint.axis_b);
+        const Vec3<T> u_W = internal::RotationAt(model, joint.a.body, q) * u;
+        const Vec3<T> w_W = internal::RotationAt(model, joint.b.body, q) * w;
+        set.points.push_back({index, joint.a, joint.b});
+        set.angles.push_back({index, joint.a.body, joint.b.body, 1, {u}, {w}, {T(u_W.dot(w_W))}});
+        break;
+      }
+      case JointType::kPrismatic:
+        set.lines.push_back(internal::Line(model, joint));
+        set.angles.push_back(internal::FrozenOrientation(model, joint, q));
+        break;
+      case JointType::kCylindrical:
+        set.lines.push_back(internal::Line(model, joint));
+        set.angles.push_back(internal::CommonAxis(model, joint, q));
+        break;
+      case JointType::kWeld:
+        set.points.push_back({index, joint.a, joint.b});
+        set.angles.push_back(internal::FrozenOrientation(model, joint, q));
+        break;
+    }
+  }
+  return set;
+}
+
+template <typename T>
+std::vector<RowInfo> DescribeRows(const Model<T>& model, const ConstraintSet<T>& set) {
   std::vector<RowInfo> infos;
-  for (const auto& c : model.distances) infos.push_back({c.scene_index, c.a.body, c.b.body});
-  for (const auto& c : model.pins) {
-    for (int k = 0; k < model.dimension; ++k) infos.push_back({c.scene_index, c.a.body, c.b.body});
-  }
-  for (const auto& c : model.sliders) {
-    for (int k = 0; k < internal::SliderRows(model); ++k) infos.push_back({c.scene_index, c.a.body, c.b.body});
-  }
-  for (const auto& c : model.user_constraints) {
-    for (int k = 0; k < c.residual->NumRows(); ++k) infos.push_back({c.scene_index, c.body_a, c.body_b});
-  }
+  int part = 0;
+  auto add = [&](int scene_index, int a, int b, int count) {
+    for (int k = 0; k < count; ++k) infos.push_back({scene_index, a, b, part});
+    ++part;
+  };
+  for (const auto& c : set.distances) add(c.scene_index, c.a.body, c.b.body, 1);
+  for (const auto& c : set.points) add(c.scene_index, c.a.body, c.b.body, model.dimension);
+  for (const auto& c : set.lines) add(c.scene_index, c.a.body, c.b.body, model.dimension - 1);
+  for (const auto& c : set.angles) add(c.scene_index, c.body_a, c.body_b, c.rows);
+  for (const auto& c : model.user_constraints) add(c.scene_index, c.body_a, c.body_b, c.residual->NumRows());
   return infos;
 }
 
 template <typename T>
-void EvaluateConstraintRows(const Model<T>& model, const VecX<T>& q, const VecX<T>& v, bool velocity_terms,
+void EvaluateConstraintRows(const Model<T>& model, const ConstraintSet<T>& set, const BodyFrames<T>& frames,
+                            const VecX<T>& q, const VecX<T>& v, bool velocity_terms,
                             std::vector<ConstraintRow<T>>* rows) {
   ConstraintRow<T>* row = rows->data();
-  for (const DistanceConstraint<T>& c : model.distances) {
-    const PointMotion<T> pa = MovePoint(model, c.a, q, v);
-    const PointMotion<T> pb = MovePoint(model, c.b, q, v);
+  auto move = [&](const BodyPoint<T>& p) { return MovePoint(model, frames, p, q, v, velocity_terms); };
+  for (const DistancePrimitive<T>& c : set.distances) {
+    const PointMotion<T> pa = move(c.a), pb = move(c.b);
     const Segment<T> segment = Between(pa, pb);
     const Vec3<T>& n = segment.n;
     row->value = segment.length - c.length;
-    row->a = PointGradient(c.a.body, Vec3<T>(-n), pa);
-    row->b = PointGradient(c.b.body, n, pb);
+    row->a = PointGradient(model, frames, c.a.body, Vec3<T>(-n), pa);
+    row->b = PointGradient(model, frames, c.b.body, n, pb);
     if (velocity_terms) {
       const Vec3<T> dv = pb.velocity - pa.velocity;
       const T along = n.dot(dv);
@@ -90,37 +211,48 @@ void EvaluateConstraintRows(const Model<T>& model, const VecX<T>& q, const VecX<
     }
     ++row;
   }
-  for (const PinConstraint<T>& c : model.pins) {
-    const PointMotion<T> pa = MovePoint(model, c.a, q, v);
-    const PointMotion<T> pb = MovePoint(model, c.b, q, v);
+  for (const PointPrimitive<T>& c : set.points) {
+    const PointMotion<T> pa = move(c.a), pb = move(c.b);
     for (int k = 0; k < model.dimension; ++k, ++row) {
       const Vec3<T> e = Vec3<T>::Unit(k);
       row->value = pb.position[k] - pa.position[k];
-      row->a = PointGradient(c.a.body, Vec3<T>(-e), pa);
-      row->b = PointGradient(c.b.body, e, pb);
+      row->a = PointGradient(model, frames, c.a.body, Vec3<T>(-e), pa);
+      row->b = PointGradient(model, frames, c.b.body, e, pb);
       if (velocity_terms) row->bias = pb.centripetal[k] - pa.centripetal[k];
     }
   }
-  for (const SliderConstraint<T>& c : model.sliders) {
-    const PointMotion<T> pa = MovePoint(model, c.a, q, v);
-    const PointMotion<T> pb = MovePoint(model, c.b, q, v);
-    const bool turning = c.a.body != kWorld && model.bodies[c.a.body].kind == BodyKind::kRigid;
-    const T angle_a = turning ? q[model.bodies[c.a.body].offset + 2] : T(0.0);
-    const T omega_a = turning && velocity_terms ? v[model.bodies[c.a.body].offset + 2] : T(0.0);
-    Vec3<T> normals[2];
-    internal::SliderNormals(model.dimension, Vec3<T>(Rotate(angle_a, c.axis)), &normals[0], &normals[1]);
+  for (const LinePrimitive<T>& c : set.lines) {
+    const PointMotion<T> pa = move(c.a), pb = move(c.b);
+    const BodyFrame<T>* frame_a = internal::FrameOf(model, frames, c.a.body);
+    const Vec3<T> w_A = frame_a && velocity_terms ? frame_a->w_W : Vec3<T>(Vec3<T>::Zero());
     const Vec3<T> d = pb.position - pa.position;
-    for (int k = 0; k < internal::SliderRows(model); ++k, ++row) {
-      const Vec3<T>& n = normals[k];
+    for (int k = 0; k < model.dimension - 1; ++k, ++row) {
+      const Vec3<T> n = frame_a ? Vec3<T>(frame_a->R_WB * c.normals[k]) : c.normals[k];
       row->value = n.dot(d);
-      row->a = PointGradient(c.a.body, Vec3<T>(-n), pa);
-      if (turning) row->a.rotation += Perp(n).dot(d);  // the normal turns with A
-      row->b = PointGradient(c.b.body, n, pb);
+      row->a = PointGradient(model, frames, c.a.body, Vec3<T>(-n), pa);
+      if (frame_a) row->a.rotation += RotationalPart(model, frames, c.a.body, Vec3<T>(n.cross(d)));  // n turns with A
+      row->b = PointGradient(model, frames, c.b.body, n, pb);
       if (velocity_terms) {
         const Vec3<T> dv = pb.velocity - pa.velocity;
-        row->bias = -(omega_a * omega_a) * n.dot(d) + T(2.0) * omega_a * Perp(n).dot(dv) +
-                    n.dot(pb.centripetal - pa.centripetal);
+        const Vec3<T> turn = w_A.cross(n);
+        row->bias = n.dot(pb.centripetal - pa.centripetal) + T(2.0) * turn.dot(dv) + w_A.cross(turn).dot(d);
       }
+    }
+  }
+  for (const AnglePrimitive<T>& c : set.angles) {
+    const BodyFrame<T>* frame_a = internal::FrameOf(model, frames, c.body_a);
+    const BodyFrame<T>* frame_b = internal::FrameOf(model, frames, c.body_b);
+    const Vec3<T> zero = Vec3<T>::Zero();
+    const Vec3<T>& w_A = frame_a && velocity_terms ? frame_a->w_W : zero;
+    const Vec3<T>& w_B = frame_b && velocity_terms ? frame_b->w_W : zero;
+    for (int k = 0; k < c.rows; ++k, ++row) {
+      const Vec3<T> u = frame_a ? Vec3<T>(frame_a->R_WB * c.u[k]) : c.u[k];
+      const Vec3<T> w = frame_b ? Vec3<T>(frame_b->R_WB * c.w[k]) : c.w[k];
+      const Vec3<T> normal = u.cross(w);
+      row->value = u.dot(w) - c.c[k];
+      row->a = internal::Turning(model, frames, c.body_a, normal);
+      row->b = internal::Turning(model, frames, c.body_b, Vec3<T>(-normal));
+      if (velocity_terms) row->bias = (w_A - w_B).dot(Vec3<T>(w_A.cross(u).cross(w) + u.cross(w_B.cross(w))));
     }
   }
   UserRow<T> out[kMaxUserRows];
@@ -133,7 +265,7 @@ void EvaluateConstraintRows(const Model<T>& model, const VecX<T>& q, const VecX<
       row->value = out[i].value;
       if (velocity_terms) row->bias = out[i].bias;
       row->a = internal::GradientOf(model, c.body_a, out[i].gradient);
-      row->b = internal::GradientOf(model, c.body_b, out[i].gradient + sa.size);
+      row->b = internal::GradientOf(model, c.body_b, out[i].gradient + sa.v_size);
     }
   }
 }
@@ -144,8 +276,9 @@ Violation LargestViolation(const std::vector<RowInfo>& infos, const std::vector<
   size_t i = 0;
   while (i < rows.size()) {
     double squared = 0.0;
+    const int part = infos[i].part;
     const int constraint = infos[i].scene_index;
-    for (; i < rows.size() && infos[i].scene_index == constraint; ++i) squared += Value(rows[i].value) * Value(rows[i].value);
+    for (; i < rows.size() && infos[i].part == part; ++i) squared += Value(rows[i].value) * Value(rows[i].value);
     const double norm = std::sqrt(squared);
     if (std::isnan(norm)) return {norm, constraint};
     if (norm > worst.largest) worst = {norm, constraint};

@@ -1,25 +1,38 @@
-// Applied forces: the generalized force f(t, q, q') of the declared effects, and the energy.
+// Applied forces: the generalized force f(t, q, v) of the declared effects (v-shaped: forces on translation,
+// torques on rotation in each body's velocity frame), and the energy.
 //
-//   gravity  f_x += m g on every body
-//   damping  f_x -= c x',  f_theta -= c_r theta'                 (listed bodies)
-//   spring   tension s = k (l - l0) + d l', l = |p_B - p_A|, n = (p_B - p_A)/l: F_B = -s n, F_A = +s n
-//   force    F at a body point (world frame): f_x += F, f_theta += perp(R r) . F
-//   torque   f_theta += tau
-// A point force enters the rotational coordinate through the lever perp(R r) (kinematics.h).
-// Energy E = sum 1/2 m |x'|^2 + 1/2 I theta'^2 - sum m g . x + sum 1/2 k (l - l0)^2.
+//   gravity       f_x += m g on every body
+//   damping       f_x -= c x',  torque -c_r w                        (listed bodies)
+//   spring        tension s = k (l - l0) + d l', l = |p_B - p_A|, n = (p_B - p_A)/l: F_B = -s n, F_A = +s n
+//   force         F at a body point (world frame): f_x += F, torque a x F (a the point's world arm)
+//   torque        tau (world frame; planar bodies: about z)
+//   joint_torque  tau on the joint's coordinate: f += tau dq'/dv (joint_coordinates.h)
+//   joint_spring  the same with tau = -k (q - rest) - d q'
+//   gyroscopic    3D rigid bodies, always: torque -w_P x (I_P w_P) in principal axes (Euler's equations)
+// A world-frame torque enters a body's rotation as R_PW tau (kinematics.h). I_P = R_PB I_B R_BP is the scene's
+// tensor (its upper triangle mirrored) seen in principal axes: diagonal at the values the scene was loaded with, and a full symmetric matrix
+// where a parameter (a product of inertia, or a Jet's derivative part) moves it off the diagonal.
+// Energy E = sum 1/2 m |x'|^2 + 1/2 I theta'^2 + 1/2 w_P . I_P w_P - sum m g . x + sum 1/2 k (l - l0)^2
+//            + sum 1/2 k (q - rest)^2 over joint springs.
 // Only the effects the model declares are visited; an empty list costs nothing.
 #pragma once
 
-#include "tether/dynamics/model.h"
+#include "tether/dynamics/joint_coordinates.h"
 
 namespace tether {
 
-// f += the generalized force at time t and state (q, v).
+// I_P of a 3D rigid body (kg m^2, principal axes).
 template <typename T>
-void AccumulateForces(const Model<T>& model, double t, const VecX<T>& q, const VecX<T>& v, VecX<T>* f);
+Mat3<T> PrincipalInertia(const Body<T>& body);
 
-// Kinetic + gravitational + spring potential energy, J.
+// f += the generalized force at time t and state (q, v); frames updated there with velocities.
 template <typename T>
-T Energy(const Model<T>& model, const VecX<T>& q, const VecX<T>& v);
+void AccumulateForces(const Model<T>& model, const JointCoordinates<T>& coordinates, const BodyFrames<T>& frames,
+                      double t, const VecX<T>& q, const VecX<T>& v, VecX<T>* f);
+
+// Kinetic + gravitational + spring and joint-spring potential energy, J; frames updated at q.
+template <typename T>
+T Energy(const Model<T>& model, const JointCoordinates<T>& coordinates, const BodyFrames<T>& frames,
+         const VecX<T>& q, const VecX<T>& v);
 
 }  // namespace tether

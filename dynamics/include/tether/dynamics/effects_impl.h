@@ -4,58 +4,108 @@
 #include <cmath>
 
 #include "tether/dynamics/effects.h"
-#include "tether/dynamics/kinematics.h"
 #include "tether/dynamics/schedule.h"
 
 namespace tether {
 
 template <typename T>
-void AccumulateForces(const Model<T>& model, double t, const VecX<T>& q, const VecX<T>& v, VecX<T>* f) {
+Mat3<T> PrincipalInertia(const Body<T>& body) {
+  Mat3<T> symmetric = body.inertia_tensor;  // the upper triangle holds the products of inertia (parameters.h)
+  symmetric(1, 0) = symmetric(0, 1);
+  symmetric(2, 0) = symmetric(0, 2);
+  symmetric(2, 1) = symmetric(1, 2);
+  if (body.principal_axes == Vec4<double>(1, 0, 0, 0)) return symmetric;
+  const Mat3<T> R_BP = RotationMatrix(Vec4<T>(body.principal_axes.template cast<T>()));
+  return R_BP.transpose() * symmetric * R_BP;
+}
+
+template <typename T>
+void AccumulateForces(const Model<T>& model, const JointCoordinates<T>& coordinates, const BodyFrames<T>& frames,
+                      double t, const VecX<T>& q, const VecX<T>& v, VecX<T>* f) {
+  const int d = model.dimension;
   for (const GravityEffect<T>& g : model.gravity) {
     for (const Body<T>& body : model.bodies) {
-      for (int k = 0; k < model.dimension; ++k) (*f)[body.offset + k] += body.mass * g.acceleration[k];
+      for (int k = 0; k < d; ++k) (*f)[body.v_offset + k] += body.mass * g.acceleration[k];
     }
   }
-  for (const DampingEffect<T>& d : model.damping) {
-    for (int index : d.bodies) {
+  for (const DampingEffect<T>& e : model.damping) {
+    for (int index : e.bodies) {
       const Body<T>& body = model.bodies[index];
-      for (int k = 0; k < model.dimension; ++k) (*f)[body.offset + k] -= d.coefficient * v[body.offset + k];
-      if (body.kind == BodyKind::kRigid) (*f)[body.offset + 2] -= d.angular_coefficient * v[body.offset + 2];
+      for (int k = 0; k < d; ++k) (*f)[body.v_offset + k] -= e.coefficient * v[body.v_offset + k];
+      if (body.kind == BodyKind::kPlanar) (*f)[body.v_offset + 2] -= e.angular_coefficient * v[body.v_offset + 2];
+      if (body.kind == BodyKind::kRigid3d) {
+        for (int k = 3; k < 6; ++k) (*f)[body.v_offset + k] -= e.angular_coefficient * v[body.v_offset + k];
+      }
     }
   }
   for (const SpringEffect<T>& s : model.springs) {
-    const PointMotion<T> pa = MovePoint(model, s.a, q, v);
-    const PointMotion<T> pb = MovePoint(model, s.b, q, v);
+    const PointMotion<T> pa = MovePoint(model, frames, s.a, q, v, true);
+    const PointMotion<T> pb = MovePoint(model, frames, s.b, q, v, true);
     const Segment<T> segment = Between(pa, pb);
     const T tension = s.stiffness * (segment.length - s.rest_length) +
                       s.damping * segment.n.dot(pb.velocity - pa.velocity);
-    AddScaled(model, PointGradient(s.a.body, segment.n, pa), tension, f);
-    AddScaled(model, PointGradient(s.b.body, segment.n, pb), T(-tension), f);
+    AddScaled(model, PointGradient(model, frames, s.a.body, segment.n, pa), tension, f);
+    AddScaled(model, PointGradient(model, frames, s.b.body, segment.n, pb), T(-tension), f);
   }
   for (const ForceEffect<T>& e : model.forces) {
-    const PointMotion<T> p = MovePoint(model, BodyPoint<T>{e.body, e.point}, q, v);
+    const PointMotion<T> p = MovePoint(model, frames, BodyPoint<T>{e.body, e.point}, q, v, false);
     const Vec3<T> value = e.schedule.empty() ? e.value : Sample(e.schedule, t);
-    AddScaled(model, PointGradient(e.body, value, p), T(1.0), f);
+    AddScaled(model, PointGradient(model, frames, e.body, value, p), T(1.0), f);
   }
   for (const TorqueEffect<T>& e : model.torques) {
-    (*f)[model.bodies[e.body].offset + 2] += e.schedule.empty() ? e.value : Sample(e.schedule, t);
+    const Vec3<T> value = e.schedule.empty() ? e.value : Sample(e.schedule, t);
+    BodyVector<T> g;
+    g.body = e.body;
+    g.rotation = RotationalPart(model, frames, e.body, value);
+    AddScaled(model, g, T(1.0), f);
+  }
+  for (const JointTorqueEffect<T>& e : model.joint_torques) {
+    const int k = coordinates.Find(e.joint, e.coordinate);
+    const CoordinateRow<T> row = EvaluateCoordinate(model, coordinates, k, frames, q, v, false);
+    const T value = e.schedule.empty() ? e.value : Sample(e.schedule, t);
+    AddScaled(model, row.a, value, f);
+    AddScaled(model, row.b, value, f);
+  }
+  for (const JointSpringEffect<T>& e : model.joint_springs) {
+    const int k = coordinates.Find(e.joint, e.coordinate);
+    const CoordinateRow<T> row = EvaluateCoordinate(model, coordinates, k, frames, q, v, true);
+    const T value = -e.stiffness * (row.value - e.rest) - e.damping * row.rate;
+    AddScaled(model, row.a, value, f);
+    AddScaled(model, row.b, value, f);
+  }
+  for (const Body<T>& body : model.bodies) {
+    if (body.kind != BodyKind::kRigid3d) continue;
+    const Vec3<T> w_P = v.template segment<3>(body.v_offset + 3);
+    f->template segment<3>(body.v_offset + 3) -= w_P.cross(Vec3<T>(PrincipalInertia(body) * w_P));
   }
 }
 
 template <typename T>
-T Energy(const Model<T>& model, const VecX<T>& q, const VecX<T>& v) {
+T Energy(const Model<T>& model, const JointCoordinates<T>& coordinates, const BodyFrames<T>& frames,
+         const VecX<T>& q, const VecX<T>& v) {
   T energy(0.0);
   for (const Body<T>& body : model.bodies) {
-    const Vec3<T> velocity = Translation(body, model.dimension, v);
+    const Vec3<T> velocity = Translation(model.dimension, v.data() + body.v_offset);
     energy += T(0.5) * body.mass * velocity.squaredNorm();
-    if (body.kind == BodyKind::kRigid) energy += T(0.5) * body.inertia * v[body.offset + 2] * v[body.offset + 2];
+    if (body.kind == BodyKind::kPlanar) energy += T(0.5) * body.inertia * v[body.v_offset + 2] * v[body.v_offset + 2];
+    if (body.kind == BodyKind::kRigid3d) {
+      const Vec3<T> w_P = v.template segment<3>(body.v_offset + 3);
+      energy += T(0.5) * w_P.dot(PrincipalInertia(body) * w_P);
+    }
     for (const GravityEffect<T>& g : model.gravity) {
-      energy -= body.mass * g.acceleration.dot(Translation(body, model.dimension, q));
+      energy -= body.mass * g.acceleration.dot(Translation(model.dimension, q.data() + body.q_offset));
     }
   }
   for (const SpringEffect<T>& s : model.springs) {
-    const T stretch = Between(MovePoint(model, s.a, q, v), MovePoint(model, s.b, q, v)).length - s.rest_length;
+    const PointMotion<T> pa = MovePoint(model, frames, s.a, q, v, false);
+    const PointMotion<T> pb = MovePoint(model, frames, s.b, q, v, false);
+    const T stretch = Between(pa, pb).length - s.rest_length;
     energy += T(0.5) * s.stiffness * stretch * stretch;
+  }
+  for (const JointSpringEffect<T>& e : model.joint_springs) {
+    const int k = coordinates.Find(e.joint, e.coordinate);
+    const T stretch = EvaluateCoordinate(model, coordinates, k, frames, q, v, false).value - e.rest;
+    energy += T(0.5) * e.stiffness * stretch * stretch;
   }
   return energy;
 }

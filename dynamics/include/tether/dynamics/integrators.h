@@ -1,10 +1,19 @@
-// Time integration of the first-order system y = (q, v), y' = (v, q''(t, q, v)).
+// Time integration of the first-order system q' = N(q) v, v' = a(t, q, v) (a from constrained_dynamics.h), on
+// the configuration space of configuration_space.h ((+): Integrate):
 //
-//   euler             q_{n+1} = q_n + h v_n,            v_{n+1} = v_n + h a(t_n, q_n, v_n)
-//   symplectic_euler  v_{n+1} = v_n + h a(t_n, q_n, v_n), q_{n+1} = q_n + h v_{n+1}
-//   rk4               the classical four-stage Runge-Kutta method
+//   euler             q_{n+1} = q_n (+) h v_n,            v_{n+1} = v_n + h a(t_n, q_n, v_n)
+//   symplectic_euler  v_{n+1} = v_n + h a(t_n, q_n, v_n), q_{n+1} = q_n (+) h v_{n+1}
+//   rk4, rk45         Runge-Kutta-Munthe-Kaas: with the method's tableau (a, b, c), the stages are
+//                       theta_i = h sum_j a_ij K_j,  q_i = q_n (+) theta_i,  v_i = v_n + h sum_j a_ij A_j,
+//                       A_i = a(t_n + c_i h, q_i, v_i),  K_i = DexpInv(theta_i, v_i),
+//                     and q_{n+1} = q_n (+) h sum_i b_i K_i, v_{n+1} = v_n + h sum_i b_i A_i: the method applied
+//                     to the vector-space system (theta, v), so it keeps its order on rotations (Munthe-Kaas
+//                     1998). On translations and planar angles K_i = v_i and this is the classical method.
+//   rk4               the classical four-stage tableau
 //   rk45              Dormand-Prince 5(4) with local error control: a step is accepted when the RMS over
-//                     components of e_i / (tol (1 + max(|y_i|, |y_new_i|))) is at most 1, and the next step is
+//                     components of e_i / (tol (1 + max(|y_i|, |y_new_i|))) is at most 1 (the error of the
+//                     configuration taken in the tangent space, sum_i e_i K_i, with |y_i| = 1 for a 3D body's
+//                     rotation), and the next step is
 //                     h * min(5, max(0.2, 0.9 err^(-1/5))). Internal steps never cross an output step, so the
 //                     output lies on the grid t_k = k h. The error control looks at values only: with Jets the
 //                     derivatives are those of the accepted steps. With the projection stabilization the

@@ -1,19 +1,26 @@
 // Kinematics of bodies and of points fixed in them, in maximal coordinates.
 //
-// For a point with body-local offset r on a planar rigid body with centre x and angle theta:
-//   p   = x + R(theta) r
-//   p'  = x' + theta' perp(R r)                       perp(u) = (-u_y, u_x, 0)
-//   p'' = x'' + theta'' perp(R r) - theta'^2 R r
-// so dp/dx = I, dp/dtheta = perp(R r) (the "lever"), and -theta'^2 R r is the velocity-product
-// ("centripetal") part of p''. A particle is the same with no angle (p = x + r); the world has p = r.
+// A point Q with offset r (body axes, from the centre of mass) on a body with centre x, rotation R_WB and
+// angular velocity w (world frame) moves as
+//   p   = x + R_WB r = x + a                              (a: the world-frame arm)
+//   p'  = x' + w x a
+//   p'' = x'' + w' x a + w x (w x a)
+// so a world-frame direction g sees g . p' = g . x' + w . (a x g): the body block of the generalized vector
+// of "g . p" is (g, a x g), its rotational part expressed in the frame of the body's angular velocity in v
+// (a planar body: the z component; a 3D body: its principal axes, R_PW (a x g)). w x (w x a) is the
+// velocity-product ("centripetal") part of p''. A particle is the same with no rotation (p = x + r); the world
+// has p = r.
 //
-// A generalized vector over one body's coordinates (a Jacobian row block, a generalized force) is kept as a
-// translational part (a Vec3 whose unused components are zero) and a rotational part (planar rigid bodies).
+// A generalized vector over one body's velocities (a Jacobian row block, a generalized force) is kept as a
+// translational part and a rotational part (Vec3 each; unused components are zero). BodyFrames caches every
+// rigid body's rotation and world angular velocity once per evaluation.
 #pragma once
 
 #include <cmath>
+#include <vector>
 
-#include "tether/dynamics/model.h"
+#include "tether/dynamics/configuration_space.h"
+#include "tether/dynamics/rotation.h"
 
 namespace tether {
 
@@ -24,62 +31,99 @@ Vec3<T> Perp(const Vec3<T>& u) {
 
 // Rotates u (in the x-y plane) by angle.
 template <typename T>
-Vec3<T> Rotate(const T& angle, const Vec3<T>& u) {
+Vec3<T> RotatePlanar(const T& angle, const Vec3<T>& u) {
   using std::cos;
   using std::sin;
   const T c = cos(angle), s = sin(angle);
   return Vec3<T>(c * u.x() - s * u.y(), s * u.x() + c * u.y(), u.z());
 }
 
-// Translational part of a body's coordinates (or velocities) in q.
+// A rigid body's frame at one state.
+template <typename T>
+struct BodyFrame {
+  Mat3<T> R_WB = Mat3<T>::Identity();  // body axes -> world (planar: about z)
+  Mat3<T> R_WP = Mat3<T>::Identity();  // principal axes -> world (3D bodies; R_WB for planar ones)
+  Vec3<T> w_W = Vec3<T>::Zero();       // angular velocity, world frame
+};
+
+// One frame per body (particles' entries unused).
+template <typename T>
+using BodyFrames = std::vector<BodyFrame<T>>;
+
+// Fills frames (sized to the bodies) at (q, v); v is read only when `velocities` is true.
+template <typename T>
+void UpdateFrames(const Model<T>& model, const VecX<T>& q, const VecX<T>& v, bool velocities, BodyFrames<T>* frames) {
+  frames->resize(model.bodies.size());
+  for (size_t i = 0; i < model.bodies.size(); ++i) {
+    const Body<T>& body = model.bodies[i];
+    BodyFrame<T>& f = (*frames)[i];
+    if (body.kind == BodyKind::kPlanar) {
+      using std::cos;
+      using std::sin;
+      const T angle = q[body.q_offset + 2];
+      const T c = cos(angle), s = sin(angle);
+      f.R_WB << c, -s, T(0.0), s, c, T(0.0), T(0.0), T(0.0), T(1.0);
+      f.R_WP = f.R_WB;
+      if (velocities) f.w_W = Vec3<T>(T(0.0), T(0.0), v[body.v_offset + 2]);
+    } else if (body.kind == BodyKind::kRigid3d) {
+      f.R_WB = RotationMatrix(Orientation(body, q));
+      const bool principal = body.principal_axes == Vec4<double>(1, 0, 0, 0);
+      f.R_WP = principal ? f.R_WB : Mat3<T>(f.R_WB * RotationMatrix(Vec4<T>(body.principal_axes.template cast<T>())));
+      if (velocities) f.w_W = f.R_WP * v.template segment<3>(body.v_offset + 3);
+    }
+  }
+}
+
+// A body's translational part of q or v: d numbers (Vec3 padded with zero).
 // (Written out for d = 2 or 3: a loop over d compiles to a call of memcpy, a third of the time of a Dot.)
 template <typename T>
-Vec3<T> Translation(const Body<T>& body, int dimension, const VecX<T>& q) {
-  const T* x = q.data() + body.offset;
+Vec3<T> Translation(int dimension, const T* x) {
   return Vec3<T>(x[0], x[1], dimension == 3 ? x[2] : T(0.0));
 }
 
-// Angle (or angular velocity) of a planar rigid body; zero for a particle.
-template <typename T>
-T Rotation(const Body<T>& body, const VecX<T>& q) {
-  return body.kind == BodyKind::kRigid ? q[body.offset + 2] : T(0.0);
-}
-
-// A generalized vector restricted to one body: translation and (planar rigid bodies) rotation.
+// A generalized vector restricted to one body: translation and rotation (see above).
 template <typename T>
 struct BodyVector {
   int body = kWorld;
   Vec3<T> translation = Vec3<T>::Zero();
-  T rotation = T(0.0);
+  Vec3<T> rotation = Vec3<T>::Zero();
 };
 
 template <typename T>
 struct PointMotion {
   Vec3<T> position = Vec3<T>::Zero();     // p
   Vec3<T> velocity = Vec3<T>::Zero();     // p'
-  Vec3<T> lever = Vec3<T>::Zero();        // dp/dtheta = perp(R r)
-  Vec3<T> centripetal = Vec3<T>::Zero();  // -theta'^2 R r
+  Vec3<T> arm = Vec3<T>::Zero();          // a = R_WB r (zero for particles and the world)
+  Vec3<T> centripetal = Vec3<T>::Zero();  // w x (w x a)
 };
 
 template <typename T>
-PointMotion<T> MovePoint(const Model<T>& model, const BodyPoint<T>& point, const VecX<T>& q, const VecX<T>& v) {
+PointMotion<T> MovePoint(const Model<T>& model, const BodyFrames<T>& frames, const BodyPoint<T>& point,
+                         const VecX<T>& q, const VecX<T>& v, bool velocities) {
   PointMotion<T> m;
   if (point.body == kWorld) {
     m.position = point.local;
     return m;
   }
   const Body<T>& body = model.bodies[point.body];
-  m.position = Translation(body, model.dimension, q);
-  m.velocity = Translation(body, model.dimension, v);
-  if (body.kind == BodyKind::kRigid) {
-    const Vec3<T> arm = Rotate(q[body.offset + 2], point.local);
-    const T omega = v[body.offset + 2];
-    m.position += arm;
-    m.lever = Perp(arm);
-    m.velocity += omega * m.lever;
-    m.centripetal = -(omega * omega) * arm;
-  } else {
+  m.position = Translation(model.dimension, q.data() + body.q_offset);
+  if (velocities) m.velocity = Translation(model.dimension, v.data() + body.v_offset);
+  if (body.kind == BodyKind::kParticle) {
     m.position += point.local;
+    return m;
+  }
+  const BodyFrame<T>& f = frames[point.body];
+  if (body.kind == BodyKind::kPlanar) {  // written out: the z rows of R_WB are trivial
+    m.arm = Vec3<T>(f.R_WB(0, 0) * point.local.x() + f.R_WB(0, 1) * point.local.y(),
+                    f.R_WB(1, 0) * point.local.x() + f.R_WB(1, 1) * point.local.y(), T(0.0));
+  } else {
+    m.arm = f.R_WB * point.local;
+  }
+  m.position += m.arm;
+  if (velocities) {
+    const Vec3<T> spin = f.w_W.cross(m.arm);
+    m.velocity += spin;
+    m.centripetal = f.w_W.cross(spin);
   }
   return m;
 }
@@ -105,10 +149,34 @@ Segment<T> Between(const PointMotion<T>& a, const PointMotion<T>& b) {
   return s;
 }
 
-// The generalized vector of "direction . p" for a point: d(n . p)/d(body coordinates).
+// The rotational block of a world-frame angular gradient g_W (d(...)/d w_W), in the body's velocity frame.
 template <typename T>
-BodyVector<T> PointGradient(int body, const Vec3<T>& direction, const PointMotion<T>& point) {
-  return {body, direction, direction.dot(point.lever)};
+Vec3<T> RotationalPart(const Model<T>& model, const BodyFrames<T>& frames, int body, const Vec3<T>& g_W) {
+  if (body == kWorld) return Vec3<T>::Zero();
+  switch (model.bodies[body].kind) {
+    case BodyKind::kParticle:
+      return Vec3<T>::Zero();
+    case BodyKind::kPlanar:
+      return Vec3<T>(T(0.0), T(0.0), g_W.z());
+    case BodyKind::kRigid3d:
+      break;
+  }
+  return frames[body].R_WP.transpose() * g_W;
+}
+
+// The generalized vector of "direction . p" for a point: d(g . p)/d(body velocities).
+template <typename T>
+BodyVector<T> PointGradient(const Model<T>& model, const BodyFrames<T>& frames, int body, const Vec3<T>& direction,
+                            const PointMotion<T>& point) {
+  BodyVector<T> g;
+  g.body = body;
+  g.translation = direction;
+  if (body != kWorld && model.bodies[body].kind == BodyKind::kPlanar) {
+    g.rotation.z() = point.arm.x() * direction.y() - point.arm.y() * direction.x();
+  } else if (body != kWorld && model.bodies[body].kind == BodyKind::kRigid3d) {
+    g.rotation = frames[body].R_WP.transpose() * point.arm.cross(direction);
+  }
+  return g;
 }
 
 // g . x for the body's slice of a generalized vector x (velocities, accelerations, M^-1 f, ...).
@@ -116,10 +184,19 @@ template <typename T>
 T Dot(const Model<T>& model, const BodyVector<T>& g, const VecX<T>& x) {
   if (g.body == kWorld) return T(0.0);
   const Body<T>& body = model.bodies[g.body];
-  const T* x_b = x.data() + body.offset;
+  const T* x_b = x.data() + body.v_offset;
   T sum = g.translation[0] * x_b[0] + g.translation[1] * x_b[1];
-  if (model.dimension == 3) sum += g.translation[2] * x_b[2];
-  if (body.kind == BodyKind::kRigid) sum += g.rotation * x_b[2];
+  switch (body.kind) {
+    case BodyKind::kParticle:
+      if (model.dimension == 3) sum += g.translation[2] * x_b[2];
+      break;
+    case BodyKind::kPlanar:
+      sum += g.rotation[2] * x_b[2];
+      break;
+    case BodyKind::kRigid3d:
+      sum += g.translation[2] * x_b[2] + g.rotation[0] * x_b[3] + g.rotation[1] * x_b[4] + g.rotation[2] * x_b[5];
+      break;
+  }
   return sum;
 }
 
@@ -128,11 +205,21 @@ template <typename T>
 void AddScaled(const Model<T>& model, const BodyVector<T>& g, const T& scale, VecX<T>* x) {
   if (g.body == kWorld) return;
   const Body<T>& body = model.bodies[g.body];
-  T* x_b = x->data() + body.offset;
+  T* x_b = x->data() + body.v_offset;
   x_b[0] += scale * g.translation[0];
   x_b[1] += scale * g.translation[1];
-  if (model.dimension == 3) x_b[2] += scale * g.translation[2];
-  if (body.kind == BodyKind::kRigid) x_b[2] += scale * g.rotation;
+  switch (body.kind) {
+    case BodyKind::kParticle:
+      if (model.dimension == 3) x_b[2] += scale * g.translation[2];
+      break;
+    case BodyKind::kPlanar:
+      x_b[2] += scale * g.rotation[2];
+      break;
+    case BodyKind::kRigid3d:
+      x_b[2] += scale * g.translation[2];
+      for (int k = 0; k < 3; ++k) x_b[3 + k] += scale * g.rotation[k];
+      break;
+  }
 }
 
 }  // namespace tether

@@ -1,10 +1,19 @@
 // Model<T>: the immutable description of a scene in maximal coordinates.
 //
-// Coordinates q stack every body's own coordinates in scene order: a particle has its position (d numbers,
-// d = 2 or 3), a planar rigid body has (x, y, angle) of its centre of mass. The mass matrix is therefore
-// diagonal: m for each translational coordinate, the inertia I about the centre of mass for an angle.
-// Constraints and effects are stored by kind, so evaluation loops run only over what the scene declares.
-// Fields mirror the scene file (CONTRACT.md) one to one, which is what lets a JSON Pointer name any of them.
+// Configuration q and velocity v stack every body's own in scene order, each with its own layout
+// (configuration_space.h):
+//   particle           q = p_W (d numbers)                      v = p_W' (d)
+//   planar rigid body  q = (x, y, theta)                        v = (x', y', theta')
+//   3D rigid body      q = (p_WBo, q_WB) (3 + a unit quaternion) v = (p_WBo', w_WB_P) (3 + 3)
+// where w_WB_P is the body's angular velocity expressed in its principal axes P. The mass matrix is therefore
+// diagonal: m on translation, I on a planar angle, the principal moments on w_WB_P. A full inertia tensor from
+// the scene is diagonalised once, at load: R_BP (the principal axes in body axes) is fixed in the model, and
+// the tensor, which stays a parameter, is seen in P at the start of every run (constrained_dynamics.h).
+//
+// Fields mirror the scene file (CONTRACT.md) one to one, which is what lets a JSON Pointer name any of them:
+// the initial state is held as the scene gives it (world-frame angular velocity, the quaternion as written),
+// and turned into (q, v) at the start of a run (InitialState in configuration_space.h). Constraints and effects
+// are stored by kind, so evaluation loops run only over what the scene declares.
 #pragma once
 
 #include <memory>
@@ -17,7 +26,7 @@ namespace tether {
 
 class UserConstraint;
 
-enum class BodyKind { kParticle, kRigid };
+enum class BodyKind { kParticle, kPlanar, kRigid3d };
 enum class Integrator { kEuler, kSymplecticEuler, kRk4, kRk45 };
 enum class Stabilization { kNone, kBaumgarte, kProjection };
 // kAuto is kSparse, the faster path at every size (see schur_solver.h).
@@ -30,13 +39,23 @@ template <typename T>
 struct Body {
   std::string name;
   BodyKind kind = BodyKind::kParticle;
-  T mass = T(1.0);     // kg, > 0
-  T inertia = T(0.0);  // kg m^2 about the centre of mass; planar rigid bodies only
-  int offset = 0;      // index of the body's first coordinate in q
-  int size = 0;        // d for a particle, 3 (x, y, angle) for a planar rigid body
+  T mass = T(1.0);                                 // kg, > 0
+  T inertia = T(0.0);                              // planar: kg m^2 about the centre of mass
+  Mat3<T> inertia_tensor = Mat3<T>::Zero();        // 3D: kg m^2 about the centre of mass, body axes, symmetric
+  Vec4<double> principal_axes = Vec4<double>(1, 0, 0, 0);  // 3D: R_BP, fixed at load (identity when the
+                                                   // scene gives principal moments)
+  // the initial state as the scene gives it
+  Vec3<T> position = Vec3<T>::Zero();              // m, world (components beyond the dimension are zero)
+  T angle = T(0.0);                                // planar: rad
+  Vec4<T> orientation = Vec4<T>(T(1.0), T(0.0), T(0.0), T(0.0));  // 3D: q_WB, normalised at the start of a run
+  Vec3<T> velocity = Vec3<T>::Zero();              // m/s
+  Vec3<T> angular_velocity = Vec3<T>::Zero();      // rad/s, world frame (planar: z only)
+  // where the body's numbers sit in q and in v
+  int q_offset = 0, q_size = 0;
+  int v_offset = 0, v_size = 0;
 };
 
-// A point fixed in a body, in body-local coordinates (world coordinates when body == kWorld).
+// A point fixed in a body, in body axes from the centre of mass (world coordinates when body == kWorld).
 // Components beyond the scene's dimension are zero.
 template <typename T>
 struct BodyPoint {
@@ -44,28 +63,34 @@ struct BodyPoint {
   Vec3<T> local = Vec3<T>::Zero();
 };
 
-// |p_B - p_A| = length.
+// The built-in constraints (CONTRACT.md), each a list of constraint primitives (constraint_rows.h):
+//   distance     |p_B - p_A| = length
+//   pin          p_B = p_A (a revolute joint in 2D, a ball joint in 3D)
+//   slider       p_B on the line through p_A along `axis` (A's frame)
+//   hinge        pin + the axis common to A and B (3D rigid bodies)
+//   universal    pin + the angle between `axis` (A) and `axis_b` (B) as at the start
+//   prismatic    slider + the relative orientation as at the start
+//   cylindrical  slider + the axis common to A and B
+//   weld         pin + the relative orientation as at the start
+enum class JointType { kDistance, kPin, kSlider, kHinge, kUniversal, kPrismatic, kCylindrical, kWeld };
+
+// "hinge", "pin", ...: the scene file's name of a joint type.
+const char* JointTypeName(JointType type);
+
 template <typename T>
-struct DistanceConstraint {
+struct Joint {
   int scene_index = 0;
+  JointType type = JointType::kPin;
+  std::string name;                     // empty when the scene names none
   BodyPoint<T> a, b;
-  T length = T(1.0);  // m, > 0
+  Vec3<T> axis = Vec3<T>::UnitX();      // in A's frame, any non-zero length
+  Vec3<T> axis_b = Vec3<T>::UnitY();    // universal: B's axis in B's frame
+  T length = T(1.0);                    // distance: m, > 0
+  T angle = T(0.0);                     // hinge, cylindrical, 2D hinge pin: the angle coordinate at the start
 };
 
-// p_B = p_A: a revolute joint in 2D, a ball joint in 3D.
-template <typename T>
-struct PinConstraint {
-  int scene_index = 0;
-  BodyPoint<T> a, b;
-};
-
-// p_B stays on the line through p_A along `axis` (given in A's frame, any non-zero length).
-template <typename T>
-struct SliderConstraint {
-  int scene_index = 0;
-  BodyPoint<T> a, b;
-  Vec3<T> axis = Vec3<T>::UnitX();
-};
+// The coordinates of a joint (CSV columns NAME.angle, NAME.omega; NAME.displacement, NAME.speed).
+enum class JointCoordinate { kAngle, kDisplacement };
 
 // A constraint given as a residual function of two bodies' coordinates (see user_constraint.h).
 struct UserConstraintInstance {
@@ -73,6 +98,13 @@ struct UserConstraintInstance {
   int body_a = kWorld;
   int body_b = kWorld;
   std::shared_ptr<const UserConstraint> residual;
+};
+
+// A named point of a body: output columns, data and targets.
+template <typename T>
+struct Marker {
+  std::string name;
+  BodyPoint<T> point;
 };
 
 // Piecewise linear in time through (times[k], values[k]), held at the end values outside [times.front(),
@@ -119,13 +151,34 @@ struct ForceEffect {
   Schedule<Vec3<T>> schedule;
 };
 
-// A torque on a planar rigid body: constant `value`, or `schedule` when it is not empty.
+// A world-frame torque on a rigid body (planar: about z, the value in z): constant or scheduled.
 template <typename T>
 struct TorqueEffect {
   int scene_index = 0;
   int body = 0;
+  Vec3<T> value = Vec3<T>::Zero();
+  Schedule<Vec3<T>> schedule;
+};
+
+// A motor: torque (or force) `value` on B along the joint's coordinate, and its reaction on A.
+template <typename T>
+struct JointTorqueEffect {
+  int scene_index = 0;
+  int joint = 0;  // index into Model::joints
+  JointCoordinate coordinate = JointCoordinate::kAngle;
   T value = T(0.0);
   Schedule<T> schedule;
+};
+
+// -k (coordinate - rest) - d coordinate' along the joint's coordinate.
+template <typename T>
+struct JointSpringEffect {
+  int scene_index = 0;
+  int joint = 0;
+  JointCoordinate coordinate = JointCoordinate::kAngle;
+  T stiffness = T(0.0);  // N m/rad or N/m
+  T rest = T(0.0);       // rad or m
+  T damping = T(0.0);    // N m s/rad or N s/m
 };
 
 struct SimulationSettings {
@@ -149,37 +202,57 @@ template <typename T>
 struct Model {
   int dimension = 2;
   std::vector<Body<T>> bodies;
-  VecX<T> q0;  // initial coordinates, laid out by Body::offset and Body::size
-  VecX<T> v0;  // initial velocities, same layout
 
-  std::vector<DistanceConstraint<T>> distances;
-  std::vector<PinConstraint<T>> pins;
-  std::vector<SliderConstraint<T>> sliders;
+  std::vector<Joint<T>> joints;
   std::vector<UserConstraintInstance> user_constraints;
+  std::vector<Marker<T>> markers;
 
   std::vector<GravityEffect<T>> gravity;
   std::vector<DampingEffect<T>> damping;
   std::vector<SpringEffect<T>> springs;
   std::vector<ForceEffect<T>> forces;
   std::vector<TorqueEffect<T>> torques;
+  std::vector<JointTorqueEffect<T>> joint_torques;
+  std::vector<JointSpringEffect<T>> joint_springs;
 
   SimulationSettings simulation;
   StabilizationSettings<T> stabilization;
 
-  int NumCoordinates() const { return static_cast<int>(q0.size()); }
-  int NumConstraints() const {
-    return static_cast<int>(distances.size() + pins.size() + sliders.size() + user_constraints.size());
-  }
+  int NumCoordinates() const { return bodies.empty() ? 0 : bodies.back().q_offset + bodies.back().q_size; }
+  int NumVelocities() const { return bodies.empty() ? 0 : bodies.back().v_offset + bodies.back().v_size; }
+  int NumConstraints() const { return static_cast<int>(joints.size() + user_constraints.size()); }
 };
 
 // Model<double> -> Model<U>: every quantity converted, derivatives (if any) zero.
 template <typename U>
 Model<U> CastModel(const Model<double>& model);
 
-// Appends a body and its initial state; returns its index. `position` holds d numbers, and for a rigid body
-// (dimension 2 only) `angle` and `angular_velocity` are used.
+// Appends a particle or a planar rigid body (model->dimension 2 only) with its initial state; returns its
+// index. `angle`, `angular_velocity` and `inertia` are used by planar rigid bodies only.
 template <typename T>
 int AddBody(Model<T>* model, const std::string& name, BodyKind kind, const T& mass, const T& inertia,
             const Vec3<T>& position, const T& angle, const Vec3<T>& velocity, const T& angular_velocity);
+
+// Appends a 3D rigid body (model->dimension 3) with its inertia tensor about the centre of mass in body axes,
+// its orientation q_WB and its world-frame angular velocity; R_BP is worked out from the tensor (identity when
+// it is diagonal). Returns its index.
+template <typename T>
+int AddRigidBody3d(Model<T>* model, const std::string& name, const T& mass, const Mat3<T>& inertia,
+                   const Vec3<T>& position, const Vec4<T>& orientation, const Vec3<T>& velocity,
+                   const Vec3<T>& angular_velocity);
+
+// Appends a built-in constraint; returns its index in model->joints. scene_index is its position among all
+// constraints.
+template <typename T>
+int AddJoint(Model<T>* model, const Joint<T>& joint);
+
+// The index in model.joints of the constraint with this scene index, or -1.
+template <typename T>
+int JointIndex(const Model<T>& model, int scene_index);
+
+// The coordinates a joint has (CONTRACT.md): a hinge its angle, a prismatic joint its displacement, a cylindrical
+// joint both, a named 2D pin between planar rigid bodies (or one and the world) its angle; none otherwise.
+template <typename T>
+bool HasCoordinate(const Model<T>& model, const Joint<T>& joint, JointCoordinate coordinate);
 
 }  // namespace tether

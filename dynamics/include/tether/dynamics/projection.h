@@ -1,8 +1,9 @@
 // Mass-weighted projection onto the constraint manifold, used for the `projection` stabilization and for
 // assembling an initial state that violates its constraints.
 //
-// Positions: q* = argmin (q - q_t)^T M (q - q_t) subject to C(q) = 0, by Gauss-Newton on the KKT conditions:
-//   S_k mu = C(q_k) + J_k (q_t - q_k),   q_{k+1} = q_t - M^-1 J_k^T mu,    S_k = J_k M^-1 J_k^T,
+// Positions: q* = q_t (+) d*, d* = argmin d^T M d subject to C(q_t (+) d) = 0, by Gauss-Newton on the KKT
+// conditions (configuration_space.h; d_k = q_k (-) q_t):
+//   S_k mu = C(q_k) - J_k d_k,   q_{k+1} = q_t (+) (-M^-1 J_k^T mu),    S_k = J_k M^-1 J_k^T,
 // iterated until max |C| <= tolerance. Velocities: v* = v - M^-1 J^T S^-1 J v, the nearest velocity (in the
 // kinetic-energy metric) that satisfies J v* = 0. Both are differentiable: the iteration runs once more after
 // the values converge so that Jet derivatives settle too (for every scalar, so that values never differ).

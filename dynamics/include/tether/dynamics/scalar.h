@@ -31,6 +31,10 @@ double Value(const ceres::Jet<double, N>& x) {
 template <typename T>
 using Vec3 = Eigen::Matrix<T, 3, 1>;
 template <typename T>
+using Vec4 = Eigen::Matrix<T, 4, 1>;  // a quaternion (w, x, y, z)
+template <typename T>
+using Mat3 = Eigen::Matrix<T, 3, 3>;
+template <typename T>
 using VecX = Eigen::Matrix<T, Eigen::Dynamic, 1>;
 
 }  // namespace tether

@@ -1,14 +1,15 @@
 // A static look at a scene's constraints in its initial state, for `tether check`.
 //
-// With J the constraint Jacobian (rows x coordinates) at q0 and M the mass matrix, the singular values of
+// With J the constraint Jacobian (rows x velocities) at the initial state and M the mass matrix, the singular values of
 // J M^-1/2 tell what the KKT solve will face:
 //   rank r      the number of singular values above kRankTolerance times the largest,
-//   dof         coordinates - r (degrees of freedom of the mechanism there),
+//   dof         velocities - r (degrees of freedom of the mechanism there: the Bricard linkage, which
+//               Grubler's count calls rigid, has one),
 //   redundant   rows - r rows add nothing; a rank-revealing (column-pivoted) QR of (J M^-1/2)^T names the
 //               constraints whose rows it leaves out after the first r pivots (one valid choice of rows to drop),
 //   condition   largest / smallest of the r singular values kept (the conditioning of the Schur complement
 //               S = J M^-1 J^T is its square).
-// The initial violation is the largest constraint violation at q0, before assembly.
+// The initial violation is the largest constraint violation at the initial state, before assembly.
 #pragma once
 
 #include <string>
@@ -21,7 +22,7 @@ namespace tether {
 inline constexpr double kRankTolerance = 1e-10;
 
 struct SceneCheck {
-  int coordinates = 0;
+  int coordinates = 0;                     // velocity coordinates (v's size)
   int constraint_rows = 0;
   int rank = 0;
   int degrees_of_freedom = 0;

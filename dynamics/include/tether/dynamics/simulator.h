@@ -12,24 +12,28 @@
 #include <string>
 #include <vector>
 
-#include "tether/dynamics/model.h"
+#include "tether/dynamics/constraint_rows.h"
 
 namespace tether {
 
 template <typename T>
 struct Sample {
   double t;
-  const VecX<T>& q;
-  const VecX<T>& v;
-  double constraint_error;  // largest geometric violation over the constraints, m
-  T energy;                 // kinetic + gravity + spring potential, J
-  bool output = true;       // a row of the output grid (every k-th step, the first and the last)
-  int stop = -1;            // index into RunOptions::stops when the sample is at a stop time, else -1
+  const VecX<T>& q;                    // configuration (model.h's layout)
+  const VecX<T>& v;                    // velocity
+  double constraint_error;             // largest geometric violation over the constraints, m (rad for angles)
+  T energy;                            // kinetic + gravity + spring potential, J
+  const VecX<T>& coordinates;          // every named joint's coordinates (joint_coordinates.h's order)
+  const VecX<T>& coordinate_rates;     // and their rates
+  const BodyFrames<T>& frames;         // the bodies' frames at (q, v)
+  const std::vector<ConstraintRow<T>>& rows;  // the constraint rows at q (values and Jacobian blocks; no bias)
+  bool output = true;                  // a row of the output grid (every k-th step, the first and the last)
+  int stop = -1;                       // index into RunOptions::stops when the sample is at a stop time, else -1
 };
 
 struct RunOptions {
   int every = 1;  // output every k-th step (the first and the last state are always output)
-  // Time of the initial state (model.q0, model.v0): the run covers [start_time, start_time + duration] on the
+  // Time of the initial state (the bodies' initial state in the model): the run covers [start_time, start_time + duration] on the
   // grid start_time + k h. Time-dependent effects (schedules) see these times.
   double start_time = 0.0;
   // Times (strictly increasing, within the run's interval) at which the run must sample its state exactly: the
@@ -52,7 +56,7 @@ template <typename T>
 RunReport Simulate(const Model<T>& model, const RunOptions& options,
                    const std::function<void(const Sample<T>&)>& observer);
 
-// The length scale above, m.
+// The length scale above, m (from the initial positions, lengths and point offsets).
 template <typename T>
 double LengthScale(const Model<T>& model);
 

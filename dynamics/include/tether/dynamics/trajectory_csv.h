@@ -1,7 +1,5 @@
-// The trajectory CSV of CONTRACT.md: a header row, then one row per output state with
-//   t, then for each body in scene order NAME.x, NAME.y[, NAME.z][, NAME.angle], NAME.vx, NAME.vy[, NAME.vz]
-//   [, NAME.omega], then constraint_error (m) and energy (J),
-// every number printed in the shortest form that reads back as the same double (std::to_chars): full double
+// The trajectory CSV of CONTRACT.md: a header row, then one row per output state with the columns of
+// trajectory_columns.h, every number printed in the shortest form that reads back as the same double (std::to_chars): full double
 // precision without noise digits (0.1, not 0.10000000000000001).
 #pragma once
 
@@ -10,12 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "tether/dynamics/model.h"
-#include "tether/dynamics/simulator.h"
+#include "tether/dynamics/trajectory_columns.h"
 
 namespace tether {
-
-std::vector<std::string> TrajectoryColumns(const Model<double>& model);
 
 class TrajectoryCsvWriter {
  public:
@@ -25,6 +20,7 @@ class TrajectoryCsvWriter {
 
  private:
   const Model<double>& model_;
+  std::vector<TrajectoryColumn> columns_;
   std::ostream* out_;
   std::string line_;
 };

@@ -1,6 +1,7 @@
 // User-defined constraints: write the residual C(q_A, q_B) once, as a template on its scalar, and tether
-// derives the Jacobian J = dC/d(q_A, q_B) and the term Jdot q' = q'^T (d^2 C/dq^2) q' with dual numbers
-// (dual.h), for double and for Jet scalars alike.
+// derives the Jacobian with respect to the velocities, J = dC/dq N(q) (q' = N(q) v, configuration_space.h), and
+// the term Jdot v = q'^T (d^2 C/dq^2) q' + dC/dq (N' v) with dual numbers (dual.h), for double and for Jet
+// scalars alike: seeding q + eps1 q' + eps2 (q' + eps1 N' v) gives both at once.
 //
 // A residual is a functor
 //   struct Residual {
@@ -8,7 +9,8 @@
 //     template <typename S> void operator()(const S* q_a, const S* q_b, S* c) const;
 //   };
 // where q_a holds body A's coordinates (a particle: its d position coordinates; a planar rigid body:
-// x, y, angle; the world: nothing, the pointer must not be read). Use `using std::sqrt;` etc. inside, write
+// x, y, angle; a 3D rigid body: x, y, z, then its unit quaternion q_WB = (w, x, y, z); the world: nothing,
+// the pointer must not be read). Use `using std::sqrt;` etc. inside, write
 // constants as S(k), and keep to the functions dual.h lists. Example, a particle held on the circle
 // x^2 + y^2 = r^2 (body A is the world):
 //   struct OnCircle {
@@ -24,13 +26,15 @@
 
 #include <memory>
 
+#include "tether/dynamics/configuration_space.h"
 #include "tether/dynamics/constraint_rows.h"
 #include "tether/dynamics/dual.h"
 
 namespace tether {
 
-// Largest number of coordinates of one body (a planar rigid body or a 3D particle).
-inline constexpr int kMaxBodyCoordinates = 3;
+// Largest number of coordinates and of velocities of one body (a 3D rigid body).
+inline constexpr int kMaxBodyCoordinates = 7;
+inline constexpr int kMaxBodyVelocities = 6;
 // Largest number of rows of one user constraint (the step keeps them on the stack).
 inline constexpr int kMaxUserRows = 8;
 
@@ -38,15 +42,18 @@ template <typename T>
 struct BodyState {
   const T* q = nullptr;  // the body's coordinates (nullptr for the world)
   const T* v = nullptr;  // and velocities
-  int size = 0;          // how many (0 for the world)
+  int q_size = 0;        // how many (0 for the world)
+  int v_size = 0;
+  BodyKind kind = BodyKind::kParticle;
+  Vec4<double> principal_axes = Vec4<double>(1, 0, 0, 0);  // R_BP of a 3D rigid body
 };
 
-// One row of a user constraint: value, bias = Jdot q', and the gradient over (q_A, q_B) concatenated.
+// One row of a user constraint: value, bias = Jdot v, and the gradient over (v_A, v_B) concatenated.
 template <typename T>
 struct UserRow {
   T value = T(0.0);
   T bias = T(0.0);
-  T gradient[2 * kMaxBodyCoordinates];
+  T gradient[2 * kMaxBodyVelocities];
 };
 
 // The type-erased interface the simulator calls, once per scalar tether is compiled for.
@@ -79,42 +86,51 @@ class AutoDiffUserConstraint final : public UserConstraint {
   static constexpr int kRows = Residual::kRows;
   static_assert(kRows >= 1 && kRows <= kMaxUserRows, "a user constraint has 1 to kMaxUserRows rows");
 
-  // Evaluates the residual at q + eps * direction (q and direction over (q_A, q_B) concatenated).
+  // The residual at q + eps dq (dq over (q_A, q_B) concatenated), with S a dual number over T.
   template <typename S, typename T>
-  void Seeded(const BodyState<T>& a, const BodyState<T>& b, const T* direction, S* c) const {
+  void Seeded(const BodyState<T>& a, const BodyState<T>& b, const T* dq, S* c) const {
     S x[2 * kMaxBodyCoordinates];
-    const int n = a.size + b.size;
+    const int n = a.q_size + b.q_size;
     for (int k = 0; k < n; ++k) {
-      const T& value = k < a.size ? a.q[k] : b.q[k - a.size];
-      x[k] = S(value, direction[k]);
+      const T& value = k < a.q_size ? a.q[k] : b.q[k - a.q_size];
+      x[k] = S(value, dq[k]);
     }
-    residual_(x, x + a.size, c);
+    residual_(x, x + a.q_size, c);
+  }
+
+  // N(q) v and N' v (configuration_space.h) for both bodies, concatenated over (q_A, q_B).
+  template <typename T>
+  static void Rates(const BodyState<T>& a, const BodyState<T>& b, const T* v_a, const T* v_b, T* rate, T* second) {
+    if (a.q_size) ConfigurationRate(a.kind, a.principal_axes, a.q_size, a.q, v_a, rate, second);
+    if (b.q_size) ConfigurationRate(b.kind, b.principal_axes, b.q_size, b.q, v_b, rate + a.q_size, second + a.q_size);
   }
 
   template <typename T>
   void EvaluateWith(const BodyState<T>& a, const BodyState<T>& b, bool velocity_terms, UserRow<T>* rows) const {
-    const int n = a.size + b.size;
+    const int n = a.v_size + b.v_size;
     Dual<T> c[kRows];
-    T unit[2 * kMaxBodyCoordinates];
-    for (int j = 0; j < n; ++j) {
+    T unit[2 * kMaxBodyVelocities], dq[2 * kMaxBodyCoordinates], unused[2 * kMaxBodyCoordinates];
+    for (int j = 0; j < n; ++j) {  // column j of J: the residual along the configuration direction N(q) e_j
       for (int k = 0; k < n; ++k) unit[k] = T(k == j ? 1.0 : 0.0);
-      Seeded<Dual<T>>(a, b, unit, c);
+      Rates(a, b, unit, unit + a.v_size, dq, unused);
+      Seeded<Dual<T>>(a, b, dq, c);
       for (int i = 0; i < kRows; ++i) {
         rows[i].value = c[i].v;
         rows[i].gradient[j] = c[i].d;
       }
     }
     if (!velocity_terms) return;
-    // q'^T H q' from C(q + eps1 q' + eps2 q'): seed both levels with the velocity.
+    // q'^T H q' + dC/dq (N' v) from C(q + eps1 q' + eps2 (q' + eps1 N' v))
+    T rate[2 * kMaxBodyCoordinates], second[2 * kMaxBodyCoordinates];
+    Rates(a, b, a.v, b.v, rate, second);
     using D2 = Dual<Dual<T>>;
     D2 x[2 * kMaxBodyCoordinates];
-    for (int k = 0; k < n; ++k) {
-      const T& q = k < a.size ? a.q[k] : b.q[k - a.size];
-      const T& v = k < a.size ? a.v[k] : b.v[k - a.size];
-      x[k] = D2(Dual<T>(q, v), Dual<T>(v, T(0.0)));
+    for (int k = 0; k < a.q_size + b.q_size; ++k) {
+      const T& q = k < a.q_size ? a.q[k] : b.q[k - a.q_size];
+      x[k] = D2(Dual<T>(q, rate[k]), Dual<T>(rate[k], second[k]));
     }
     D2 c2[kRows];
-    residual_(x, x + a.size, c2);
+    residual_(x, x + a.q_size, c2);
     for (int i = 0; i < kRows; ++i) rows[i].bias = c2[i].d.d;
   }
 

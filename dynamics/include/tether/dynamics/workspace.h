@@ -1,41 +1,72 @@
 // Workspace<T>: everything a run computes into, made once per run so that a step allocates nothing
-// (Pinocchio's Model/Data split). It holds the row layout, the Schur pattern and its factorization (analyzed
-// once), M^-1, the gains in use, and scratch vectors for the integrators.
+// (Pinocchio's Model/Data split). It holds the run's constraint primitives (their fixed quantities taken at the
+// start), the row layout, the Schur pattern and its factorization (analyzed once), M^-1, the joint coordinates,
+// the bodies' frames at the last evaluation, the gains in use, and scratch vectors for the integrators.
 #pragma once
 
 #include <array>
 #include <vector>
 
 #include "tether/dynamics/constraint_rows.h"
+#include "tether/dynamics/joint_coordinates.h"
 #include "tether/dynamics/schur_solver.h"
 
 namespace tether {
 
+// M^-1 for the model's mass matrix, block diagonal by body and diagonal in its translations and planar angles.
+template <typename T>
+struct InverseMass {
+  VecX<T> diagonal;                 // per velocity: 1/m, 1/I (planar); zero on a 3D body's rotation
+  std::vector<Mat3<T>> rotational;  // per body: I_P^-1 of a 3D rigid body (zero for the others)
+};
+
+template <typename T>
+InverseMass<T> BuildInverseMass(const Model<T>& model);
+
+// *out = M^-1 x (v-shaped); out may alias x.
+template <typename T>
+void ApplyInverseMass(const Model<T>& model, const InverseMass<T>& inverse, const VecX<T>& x, VecX<T>* out);
+
 template <typename T>
 struct Workspace {
-  // factor_jet_matrices: see RunOptions (a test oracle; the default applies the implicit function theorem).
-  explicit Workspace(const Model<T>& model, bool factor_jet_matrices = false);
+  // `q_start` fixes the constraints' quantities taken at the start (model.h); factor_jet_matrices: see
+  // RunOptions (a test oracle; the default applies the implicit function theorem).
+  Workspace(const Model<T>& model, const VecX<T>& q_start, bool factor_jet_matrices = false);
   Workspace(const Workspace&) = delete;  // the solver points into the pattern
   Workspace& operator=(const Workspace&) = delete;
 
+  ConstraintSet<T> constraints;         // the run's constraint primitives
   std::vector<RowInfo> infos;           // one per constraint row
   SchurPattern pattern;                 // of S = J M^-1 J^T
   SchurSolver solver;                   // its factorization
-  VecX<T> inverse_mass;                 // diagonal of M^-1 (size n)
+  InverseMass<T> inverse_mass;
+  JointCoordinates<T> coordinates;      // references set once the initial state is assembled
   T alpha = T(0.0), beta = T(0.0);      // Baumgarte gains in use (0 unless the method is baumgarte)
 
+  BodyFrames<T> frames;                 // at the last evaluation
   std::vector<ConstraintRow<T>> rows;   // rows at the last evaluation
   std::vector<T> schur;                 // S at the last evaluation (pattern.nonzeros())
-  VecX<T> force;                        // generalized force f (size n)
+  std::vector<Vec3<T>> weighted;        // AssembleSchur's scratch (two per row)
+  VecX<T> force;                        // generalized force f (size nv)
   VecX<T> rhs, lambda;                  // Schur right-hand side and multipliers (size m)
-  VecX<T> reaction;                     // M^-1 J^T lambda (size n)
+  VecX<T> reaction;                     // M^-1 J^T lambda (size nv)
 
-  // integrator scratch: stage derivatives and trial states (size n each)
+  // integrator scratch: stage increments (v-shaped: Munthe-Kaas stage derivatives K and accelerations),
+  // trial and next states
   std::array<VecX<T>, 7> stage_q, stage_v;
+  VecX<T> theta;                        // a stage's increment h sum a_ij K_j (size nv)
   VecX<T> trial_q, trial_v, next_q, next_v;
-  VecX<T> error_q, error_v;             // rk45's local error estimate
+  VecX<T> error_q, error_v;             // rk45's local error estimate (size nv each)
   double rk45_step = 0.0;               // rk45's current internal step (0: not started)
   bool rk45_first_stage_valid = false;  // first-same-as-last: stage 0 holds f at the current state
 };
+
+// ws->schur from ws->rows.
+template <typename T>
+void AssembleSchur(const Model<T>& model, Workspace<T>* ws);
+
+// Rows (and frames) at (q, v) into ws->rows.
+template <typename T>
+void EvaluateRows(const Model<T>& model, const VecX<T>& q, const VecX<T>& v, bool velocity_terms, Workspace<T>* ws);
 
 }  // namespace tether

@@ -1,0 +1,62 @@
+// Joint coordinates (CONTRACT.md): a hinge's angle, a prismatic joint's displacement, both for a cylindrical
+// joint, the angle of a 2D pin between planar rigid bodies; with their rates and their gradients with respect to
+// v, which is how motors and joint springs act (a torque tau on the coordinate is the generalized force
+// tau dq'/dv, equal and opposite on the two bodies, so it does no net work on the pair but through the joint).
+//
+//   hinge (3D)   theta = theta_0 + atan2((n_A x n_B) . a, n_A . n_B), n_A a normal of A's axis a (A's frame),
+//                n_B its image in B at the start, all turned into the world; continuous (the branch nearest the
+//                last value), theta' = (w_B - w_A) . a
+//   pin (2D)     theta = theta_0 + (theta_B - theta_A) - (theta_B - theta_A)_start,   theta' = w_B - w_A
+//   displacement s = u . (p_B - p_A), u = R_WA a / |a|:  s' = u . (p_B' - p_A') + w_A . (u x (p_B - p_A))
+// theta_0 is the joint's "angle" key; "the start" is the state the references are built at (the assembled
+// initial state).
+#pragma once
+
+#include <vector>
+
+#include "tether/dynamics/kinematics.h"
+
+namespace tether {
+
+template <typename T>
+struct CoordinateReference {
+  int joint = 0;  // index into Model::joints
+  JointCoordinate coordinate = JointCoordinate::kAngle;
+  Vec3<T> axis = Vec3<T>::UnitZ();    // unit, A's frame
+  Vec3<T> normal_a = Vec3<T>::Zero();  // hinge: a unit normal of the axis, A's frame
+  Vec3<T> normal_b = Vec3<T>::Zero();  // hinge: the same vector in B's frame at the start
+  T offset = T(0.0);                   // angle: theta_0 (3D), theta_0 - (theta_B - theta_A)_start (2D)
+};
+
+// Value, rate and gradient (dq'/dv on each body) of one coordinate at a state.
+template <typename T>
+struct CoordinateRow {
+  T value = T(0.0);
+  T rate = T(0.0);
+  BodyVector<T> a, b;
+};
+
+template <typename T>
+struct JointCoordinates {
+  std::vector<CoordinateReference<T>> references;  // every coordinate of every named joint, in scene order
+  std::vector<double> last;                         // the last value of each (picks the branch of an angle)
+
+  // The position in `references` of a joint's coordinate, -1 if it has none.
+  int Find(int joint, JointCoordinate coordinate) const;
+};
+
+template <typename T>
+JointCoordinates<T> BuildJointCoordinates(const Model<T>& model, const VecX<T>& q);
+
+// Coordinate k at (q, v), frames updated there (velocities too when `velocities`).
+template <typename T>
+CoordinateRow<T> EvaluateCoordinate(const Model<T>& model, const JointCoordinates<T>& coordinates, int k,
+                                    const BodyFrames<T>& frames, const VecX<T>& q, const VecX<T>& v,
+                                    bool velocities);
+
+// Moves every `last` to the coordinates' values at (q, v) (after an accepted step).
+template <typename T>
+void TrackCoordinates(const Model<T>& model, const BodyFrames<T>& frames, const VecX<T>& q, const VecX<T>& v,
+                      JointCoordinates<T>* coordinates);
+
+}  // namespace tether
