@@ -60,8 +60,11 @@ int AppendBody(Model<T>* model, Body<T> body, int q_size, int v_size) {
   body.v_offset = model->NumVelocities();
   body.q_size = q_size;
   body.v_size = v_size;
+  const int index = static_cast<int>(model->bodies.size());
+  if (body.kind != BodyKind::kParticle) model->rigid_bodies.push_back(index);
+  if (body.kind == BodyKind::kRigid3d) model->spatial_bodies.push_back(index);
   model->bodies.push_back(std::move(body));
-  return static_cast<int>(model->bodies.size()) - 1;
+  return index;
 }
 
 }  // namespace
@@ -70,6 +73,8 @@ template <typename U>
 Model<U> CastModel(const Model<double>& m) {
   Model<U> out;
   out.dimension = m.dimension;
+  out.rigid_bodies = m.rigid_bodies;
+  out.spatial_bodies = m.spatial_bodies;
   for (const Body<double>& b : m.bodies) {
     Body<U> c;
     c.name = b.name;

@@ -54,7 +54,8 @@ void AssembleSchur(const Model<T>& model, const SchurPattern& pattern, const std
                    std::vector<Vec3<T>>* weighted, std::vector<T>* values) {
   // a 3D body's rotational blocks weighted by its I_P^-1 once per row, not once per entry they enter
   weighted->resize(2 * rows.size());
-  for (size_t i = 0; i < rows.size(); ++i) {
+  const bool spatial = model.NumCoordinates() != model.NumVelocities();  // some body is a 3D rigid body
+  for (size_t i = 0; spatial && i < rows.size(); ++i) {
     for (int slot = 0; slot < 2; ++slot) {
       const BodyVector<T>& g = slot == 0 ? rows[i].a : rows[i].b;
       if (g.body != kWorld && model.bodies[g.body].kind == BodyKind::kRigid3d) {
@@ -69,15 +70,10 @@ void AssembleSchur(const Model<T>& model, const SchurPattern& pattern, const std
     const Body<T>& body = model.bodies[term.body];
     // translational coordinates share one inverse mass
     T entry = gi.translation.dot(gj.translation) * inverse_diagonal[body.v_offset];
-    switch (body.kind) {
-      case BodyKind::kParticle:
-        break;
-      case BodyKind::kPlanar:
-        entry += gi.rotation[2] * gj.rotation[2] * inverse_diagonal[body.v_offset + 2];
-        break;
-      case BodyKind::kRigid3d:
-        entry += gi.rotation.dot((*weighted)[2 * term.row_j + term.slot_j]);
-        break;
+    if (body.kind == BodyKind::kPlanar) {
+      entry += gi.rotation[2] * gj.rotation[2] * inverse_diagonal[body.v_offset + 2];
+    } else if (body.kind == BodyKind::kRigid3d) {
+      entry += gi.rotation.dot((*weighted)[2 * term.row_j + term.slot_j]);
     }
     (*values)[term.value] += entry;
   }

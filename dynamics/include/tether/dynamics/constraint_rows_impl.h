@@ -196,9 +196,9 @@ void EvaluateConstraintRows(const Model<T>& model, const ConstraintSet<T>& set, 
                             const VecX<T>& q, const VecX<T>& v, bool velocity_terms,
                             std::vector<ConstraintRow<T>>* rows) {
   ConstraintRow<T>* row = rows->data();
-  auto move = [&](const BodyPoint<T>& p) { return MovePoint(model, frames, p, q, v, velocity_terms); };
+  const bool vt = velocity_terms;
   for (const DistancePrimitive<T>& c : set.distances) {
-    const PointMotion<T> pa = move(c.a), pb = move(c.b);
+    const PointMotion<T> pa = MovePoint(model, frames, c.a, q, v, vt), pb = MovePoint(model, frames, c.b, q, v, vt);
     const Segment<T> segment = Between(pa, pb);
     const Vec3<T>& n = segment.n;
     row->value = segment.length - c.length;
@@ -212,7 +212,7 @@ void EvaluateConstraintRows(const Model<T>& model, const ConstraintSet<T>& set, 
     ++row;
   }
   for (const PointPrimitive<T>& c : set.points) {
-    const PointMotion<T> pa = move(c.a), pb = move(c.b);
+    const PointMotion<T> pa = MovePoint(model, frames, c.a, q, v, vt), pb = MovePoint(model, frames, c.b, q, v, vt);
     for (int k = 0; k < model.dimension; ++k, ++row) {
       const Vec3<T> e = Vec3<T>::Unit(k);
       row->value = pb.position[k] - pa.position[k];
@@ -222,7 +222,7 @@ void EvaluateConstraintRows(const Model<T>& model, const ConstraintSet<T>& set, 
     }
   }
   for (const LinePrimitive<T>& c : set.lines) {
-    const PointMotion<T> pa = move(c.a), pb = move(c.b);
+    const PointMotion<T> pa = MovePoint(model, frames, c.a, q, v, vt), pb = MovePoint(model, frames, c.b, q, v, vt);
     const BodyFrame<T>* frame_a = internal::FrameOf(model, frames, c.a.body);
     const Vec3<T> w_A = frame_a && velocity_terms ? frame_a->w_W : Vec3<T>(Vec3<T>::Zero());
     const Vec3<T> d = pb.position - pa.position;

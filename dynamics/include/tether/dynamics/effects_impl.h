@@ -73,8 +73,8 @@ void AccumulateForces(const Model<T>& model, const JointCoordinates<T>& coordina
     AddScaled(model, row.a, value, f);
     AddScaled(model, row.b, value, f);
   }
-  for (const Body<T>& body : model.bodies) {
-    if (body.kind != BodyKind::kRigid3d) continue;
+  for (int index : model.spatial_bodies) {
+    const Body<T>& body = model.bodies[index];
     const Vec3<T> w_P = v.template segment<3>(body.v_offset + 3);
     f->template segment<3>(body.v_offset + 3) -= w_P.cross(Vec3<T>(PrincipalInertia(body) * w_P));
   }

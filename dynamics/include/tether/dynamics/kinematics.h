@@ -54,7 +54,7 @@ using BodyFrames = std::vector<BodyFrame<T>>;
 template <typename T>
 void UpdateFrames(const Model<T>& model, const VecX<T>& q, const VecX<T>& v, bool velocities, BodyFrames<T>* frames) {
   frames->resize(model.bodies.size());
-  for (size_t i = 0; i < model.bodies.size(); ++i) {
+  for (int i : model.rigid_bodies) {
     const Body<T>& body = model.bodies[i];
     BodyFrame<T>& f = (*frames)[i];
     if (body.kind == BodyKind::kPlanar) {
@@ -77,7 +77,7 @@ void UpdateFrames(const Model<T>& model, const VecX<T>& q, const VecX<T>& v, boo
 // A body's translational part of q or v: d numbers (Vec3 padded with zero).
 // (Written out for d = 2 or 3: a loop over d compiles to a call of memcpy, a third of the time of a Dot.)
 template <typename T>
-Vec3<T> Translation(int dimension, const T* x) {
+TETHER_HOT_INLINE Vec3<T> Translation(int dimension, const T* x) {
   return Vec3<T>(x[0], x[1], dimension == 3 ? x[2] : T(0.0));
 }
 
@@ -98,7 +98,7 @@ struct PointMotion {
 };
 
 template <typename T>
-PointMotion<T> MovePoint(const Model<T>& model, const BodyFrames<T>& frames, const BodyPoint<T>& point,
+TETHER_HOT_INLINE PointMotion<T> MovePoint(const Model<T>& model, const BodyFrames<T>& frames, const BodyPoint<T>& point,
                          const VecX<T>& q, const VecX<T>& v, bool velocities) {
   PointMotion<T> m;
   if (point.body == kWorld) {
@@ -139,7 +139,7 @@ struct Segment {
 };
 
 template <typename T>
-Segment<T> Between(const PointMotion<T>& a, const PointMotion<T>& b) {
+TETHER_HOT_INLINE Segment<T> Between(const PointMotion<T>& a, const PointMotion<T>& b) {
   using std::sqrt;
   Segment<T> s;
   s.d = b.position - a.position;
@@ -151,7 +151,7 @@ Segment<T> Between(const PointMotion<T>& a, const PointMotion<T>& b) {
 
 // The rotational block of a world-frame angular gradient g_W (d(...)/d w_W), in the body's velocity frame.
 template <typename T>
-Vec3<T> RotationalPart(const Model<T>& model, const BodyFrames<T>& frames, int body, const Vec3<T>& g_W) {
+TETHER_HOT_INLINE Vec3<T> RotationalPart(const Model<T>& model, const BodyFrames<T>& frames, int body, const Vec3<T>& g_W) {
   if (body == kWorld) return Vec3<T>::Zero();
   switch (model.bodies[body].kind) {
     case BodyKind::kParticle:
@@ -166,59 +166,54 @@ Vec3<T> RotationalPart(const Model<T>& model, const BodyFrames<T>& frames, int b
 
 // The generalized vector of "direction . p" for a point: d(g . p)/d(body velocities).
 template <typename T>
-BodyVector<T> PointGradient(const Model<T>& model, const BodyFrames<T>& frames, int body, const Vec3<T>& direction,
+TETHER_HOT_INLINE BodyVector<T> PointGradient(const Model<T>& model, const BodyFrames<T>& frames, int body, const Vec3<T>& direction,
                             const PointMotion<T>& point) {
   BodyVector<T> g;
   g.body = body;
   g.translation = direction;
-  if (body != kWorld && model.bodies[body].kind == BodyKind::kPlanar) {
+  if (body == kWorld) return g;
+  const BodyKind kind = model.bodies[body].kind;
+  if (kind == BodyKind::kPlanar) {
     g.rotation.z() = point.arm.x() * direction.y() - point.arm.y() * direction.x();
-  } else if (body != kWorld && model.bodies[body].kind == BodyKind::kRigid3d) {
+  } else if (kind == BodyKind::kRigid3d) {
     g.rotation = frames[body].R_WP.transpose() * point.arm.cross(direction);
   }
   return g;
 }
 
 // g . x for the body's slice of a generalized vector x (velocities, accelerations, M^-1 f, ...).
+// (The kinds are tested in the order of how common they are in large systems: particles first.)
 template <typename T>
-T Dot(const Model<T>& model, const BodyVector<T>& g, const VecX<T>& x) {
+TETHER_HOT_INLINE T Dot(const Model<T>& model, const BodyVector<T>& g, const VecX<T>& x) {
   if (g.body == kWorld) return T(0.0);
   const Body<T>& body = model.bodies[g.body];
   const T* x_b = x.data() + body.v_offset;
   T sum = g.translation[0] * x_b[0] + g.translation[1] * x_b[1];
-  switch (body.kind) {
-    case BodyKind::kParticle:
-      if (model.dimension == 3) sum += g.translation[2] * x_b[2];
-      break;
-    case BodyKind::kPlanar:
-      sum += g.rotation[2] * x_b[2];
-      break;
-    case BodyKind::kRigid3d:
-      sum += g.translation[2] * x_b[2] + g.rotation[0] * x_b[3] + g.rotation[1] * x_b[4] + g.rotation[2] * x_b[5];
-      break;
+  if (body.kind == BodyKind::kParticle) {
+    if (model.dimension == 3) sum += g.translation[2] * x_b[2];
+  } else if (body.kind == BodyKind::kPlanar) {
+    sum += g.rotation[2] * x_b[2];
+  } else {
+    sum += g.translation[2] * x_b[2] + g.rotation[0] * x_b[3] + g.rotation[1] * x_b[4] + g.rotation[2] * x_b[5];
   }
   return sum;
 }
 
 // x += scale * g on the body's slice.
 template <typename T>
-void AddScaled(const Model<T>& model, const BodyVector<T>& g, const T& scale, VecX<T>* x) {
+TETHER_HOT_INLINE void AddScaled(const Model<T>& model, const BodyVector<T>& g, const T& scale, VecX<T>* x) {
   if (g.body == kWorld) return;
   const Body<T>& body = model.bodies[g.body];
   T* x_b = x->data() + body.v_offset;
   x_b[0] += scale * g.translation[0];
   x_b[1] += scale * g.translation[1];
-  switch (body.kind) {
-    case BodyKind::kParticle:
-      if (model.dimension == 3) x_b[2] += scale * g.translation[2];
-      break;
-    case BodyKind::kPlanar:
-      x_b[2] += scale * g.rotation[2];
-      break;
-    case BodyKind::kRigid3d:
-      x_b[2] += scale * g.translation[2];
-      for (int k = 0; k < 3; ++k) x_b[3 + k] += scale * g.rotation[k];
-      break;
+  if (body.kind == BodyKind::kParticle) {
+    if (model.dimension == 3) x_b[2] += scale * g.translation[2];
+  } else if (body.kind == BodyKind::kPlanar) {
+    x_b[2] += scale * g.rotation[2];
+  } else {
+    x_b[2] += scale * g.translation[2];
+    for (int k = 0; k < 3; ++k) x_b[3 + k] += scale * g.rotation[k];
   }
 }
 

@@ -202,6 +202,9 @@ template <typename T>
 struct Model {
   int dimension = 2;
   std::vector<Body<T>> bodies;
+  // The indices of the planar and 3D rigid bodies, and of the 3D ones, kept by AddBody and AddRigidBody3d (the
+  // only ways to add a body), so that a step visits frames and gyroscopic torques only where there are some.
+  std::vector<int> rigid_bodies, spatial_bodies;
 
   std::vector<Joint<T>> joints;
   std::vector<UserConstraintInstance> user_constraints;

@@ -39,6 +39,14 @@ using VecX = Eigen::Matrix<T, Eigen::Dynamic, 1>;
 
 }  // namespace tether
 
+// Small functions on the hot path of a step (a point's motion, a Jacobian block's dot product) that the compiler
+// must inline although their switch over body kinds makes it hesitate (Eigen's EIGEN_STRONG_INLINE does the same).
+#if defined(__GNUC__)
+#define TETHER_HOT_INLINE __attribute__((always_inline)) inline
+#else
+#define TETHER_HOT_INLINE inline
+#endif
+
 // Expands MACRO(T) once for every scalar the library is compiled for (explicit instantiation, see DESIGN.md).
 #define TETHER_FOR_EACH_SCALAR(MACRO) \
   MACRO(double)                       \
