@@ -169,7 +169,9 @@ TEST_F(StudyTest, MetricsMatchTheirDefinitionsAndRankTheIntegratorsByAccuracy) {
     worst = std::max(worst, s.constraint_error);
     drift = std::max(drift, std::abs(s.energy - energy0));
   });
-  const double rms = RmsPositionError(model, ComputeReference(model), q);
+  Trajectory<double> run;
+  run.q = q;
+  const double rms = RmsPositionError(model, ComputeReference(model), run);
   EXPECT_NEAR(rows[0].metrics[0], rms, 1e-12 * rms);
   EXPECT_NEAR(rows[0].metrics[1], worst, 1e-12 * worst + 1e-300);
   const double energy_drift = drift / std::max(std::abs(energy0), 1.0);

@@ -12,15 +12,9 @@ Model<double> SceneFromJson(const std::string& json_text) {
 }
 
 Recording Record(const Model<double>& model, int every) {
-  Recording r;
-  Simulate<double>(model, RunOptions{every}, [&r](const Sample<double>& s) {
-    r.t.push_back(s.t);
-    r.q.push_back(s.q);
-    r.v.push_back(s.v);
-    r.constraint_error.push_back(s.constraint_error);
-    r.energy.push_back(s.energy);
-  });
-  return r;
+  RunOptions options;
+  options.every = every;
+  return tether::Record(model, options);
 }
 
 std::string TrajectoryCsvAt(const Model<double>& model, const std::vector<double>& times) {

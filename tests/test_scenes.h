@@ -7,17 +7,15 @@
 
 #include "tether/dynamics/scene_reader.h"
 #include "tether/dynamics/simulator.h"
+#include "tether/dynamics/trajectory.h"
 
 namespace tether::testing {
 
 // Parses a scene given as JSON text (throws InputError like a file would).
 Model<double> SceneFromJson(const std::string& json_text);
 
-// A stored trajectory: time, q, v, constraint_error and energy of every output row.
-struct Recording {
-  std::vector<double> t, constraint_error, energy;
-  std::vector<VecX<double>> q, v;
-};
+// A stored trajectory (time, q, v, constraint_error, energy, ...) of every output row.
+using Recording = Trajectory<double>;
 Recording Record(const Model<double>& model, int every = 1);
 
 // The trajectory CSV (header and rows) of the model sampled exactly at `times` (RunOptions::stops).

@@ -71,10 +71,8 @@ StudyRow MeasureRow(const StudySpec& spec, int index, ReferenceCache* references
   row.values = Combination(spec, index);
   row.metrics.assign(spec.metrics.size(), NAN);
   RowScene scene = SceneOfRow(spec, row.values, "row " + std::to_string(index));
-  const bool wants_reference =
-      std::find(spec.metrics.begin(), spec.metrics.end(), "rms_position_error") != spec.metrics.end();
-  std::vector<Eigen::VectorXd> q;
-  double worst = 0.0, energy0 = 0.0, drift = 0.0, seconds = 0.0;
+  Trajectory<double> run;
+  double seconds = 0.0;
   if (scene.tune_gains) {
     try {
       const TuneResult tuned = TuneGains(scene.model, TuneSettings{});
@@ -86,14 +84,7 @@ StudyRow MeasureRow(const StudySpec& spec, int index, ReferenceCache* references
   }
   try {
     const auto begin = std::chrono::steady_clock::now();
-    bool first = true;
-    Simulate<double>(scene.model, RunOptions{}, [&](const Sample<double>& s) {
-      if (first) energy0 = s.energy;
-      first = false;
-      if (wants_reference) q.push_back(s.q);
-      worst = std::max(worst, s.constraint_error);
-      drift = std::max(drift, std::abs(s.energy - energy0));
-    });
+    run = Record(scene.model);
     seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
   } catch (const SimulationDiverged& e) {
     row.status = std::string("diverged: ") + e.what();
@@ -103,15 +94,15 @@ StudyRow MeasureRow(const StudySpec& spec, int index, ReferenceCache* references
   GainsInUse(scene.model, &alpha, &beta);
   for (size_t m = 0; m < spec.metrics.size(); ++m) {
     const std::string& name = spec.metrics[m];
-    if (name == "max_constraint_error") row.metrics[m] = worst;
-    if (name == "energy_drift") row.metrics[m] = drift / std::max(std::abs(energy0), 1.0);
+    if (name == "max_constraint_error") row.metrics[m] = run.LargestViolation();
+    if (name == "energy_drift") row.metrics[m] = run.EnergyDrift();
     if (name == "seconds") row.metrics[m] = seconds;
     if (name == "seconds_per_simulated_second") row.metrics[m] = seconds / scene.model.simulation.duration;
     if (name == "alpha") row.metrics[m] = alpha;
     if (name == "beta") row.metrics[m] = beta;
     if (name == "rms_position_error") {
       try {
-        row.metrics[m] = RmsPositionError(scene.model, references->Get(scene).get(), q);
+        row.metrics[m] = RmsPositionError(scene.model, references->Get(scene).get(), run);
       } catch (const SimulationDiverged& e) {
         row.status = std::string("reference diverged: ") + e.what();
       }

@@ -31,25 +31,19 @@ GainMetrics MeasureGains(const Model<double>& model, const std::string& name, do
   m.beta = beta;
   if (beta > 0.0) m.objective = objective.Value(0.5 * std::log(beta), alpha / (2.0 * std::sqrt(beta)));
   const ReferenceMotion& reference = objective.reference();
-  std::vector<Eigen::VectorXd> q;
-  double energy0 = 0.0, drift = 0.0, worst = 0.0;
+  Trajectory<double> run;
   const auto begin = std::chrono::steady_clock::now();
   try {
-    Simulate<double>(WithGains(model, alpha, beta), RunOptions{}, [&](const Sample<double>& s) {
-      if (q.empty()) energy0 = s.energy;
-      drift = std::max(drift, std::abs(s.energy - energy0));
-      worst = std::max(worst, s.constraint_error);
-      q.push_back(s.q);
-    });
+    run = Record(WithGains(model, alpha, beta));
   } catch (const SimulationDiverged& e) {
     m.diverged = true;
     m.divergence = e.what();
     return m;
   }
   m.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
-  if (!reference.q.empty()) m.rms_position_error = RmsPositionError(model, reference, q);
-  m.max_constraint_error = worst;
-  m.energy_drift = drift / std::max(std::abs(energy0), 1.0);
+  if (!reference.q.empty()) m.rms_position_error = RmsPositionError(model, reference, run);
+  m.max_constraint_error = run.LargestViolation();
+  m.energy_drift = run.EnergyDrift();
   return m;
 }
 

@@ -9,26 +9,13 @@
 #include "tether/dynamics/configuration_space.h"
 #include "tether/dynamics/errors.h"
 #include "tether/dynamics/simulator.h"
+#include "tether/dynamics/trajectory.h"
 
 namespace tether {
 namespace {
 
 using Kind = FieldRef::Kind;
 constexpr double kUnbounded = std::numeric_limits<double>::max();
-
-// The state (q, v) of a run at requested times.
-template <typename T>
-std::vector<State<T>> StatesAt(const Model<T>& model, double start, const std::vector<double>& times) {
-  std::vector<State<T>> out;
-  RunOptions options;
-  options.every = std::numeric_limits<int>::max();
-  options.start_time = start;
-  options.stops = times;
-  Simulate<T>(model, options, [&out](const Sample<T>& s) {
-    if (s.stop >= 0) out.push_back({s.q, s.v});
-  });
-  return out;
-}
 
 // The velocity index of configuration index i when it is a translation or a planar angle, -1 otherwise (a
 // quaternion component).
@@ -158,11 +145,14 @@ class ShootingProblem {
     const std::vector<double> starts(boundaries_.begin() + 1, boundaries_.end() - 1);
     Model<double> whole = model_;
     whole.simulation.duration = boundaries_.back();
-    std::vector<State<double>> guess;
+    std::vector<State<double>> guess(starts.size(), InitialState(model_));
+    RunOptions options;
+    options.every = std::numeric_limits<int>::max();
+    options.stops = starts;
     try {
-      guess = StatesAt(whole, 0.0, starts);
+      const Trajectory<double> run = Record(whole, options, RecordWhat::kStops);
+      for (size_t k = 0; k < starts.size(); ++k) guess[k] = {run.q[k], run.v[k]};
     } catch (const SimulationDiverged&) {  // the guess diverges: start every segment from the initial state
-      guess.assign(starts.size(), InitialState(model_));
     }
     for (size_t k = 0; k < starts.size(); ++k) ReplaceByData(starts[k], &guess[k].q, &guess[k].v);
     return guess;

@@ -12,17 +12,11 @@ ReferenceMotion ComputeReference(const Model<double>& model) {
   accurate.simulation.integrator = Integrator::kRk45;
   accurate.simulation.tolerance = kReferenceTolerance;
   accurate.stabilization.method = Stabilization::kProjection;
-  ReferenceMotion reference;
-  Simulate<double>(accurate, RunOptions{}, [&reference](const Sample<double>& s) {
-    reference.t.push_back(s.t);
-    reference.q.push_back(s.q);
-    reference.v.push_back(s.v);
-  });
-  return reference;
+  return Record(accurate);
 }
 
-double RmsPositionError(const Model<double>& model, const ReferenceMotion& reference,
-                        const std::vector<Eigen::VectorXd>& q) {
+double RmsPositionError(const Model<double>& model, const ReferenceMotion& reference, const Trajectory<double>& run) {
+  const std::vector<VecX<double>>& q = run.q;
   double squared = 0.0;
   const size_t samples = std::min(q.size(), reference.q.size());
   for (size_t k = 1; k < samples; ++k) {  // the first sample is the common initial state

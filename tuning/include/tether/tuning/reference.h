@@ -6,23 +6,19 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "tether/dynamics/model.h"
+#include "tether/dynamics/trajectory.h"
 
 namespace tether {
 
 inline constexpr double kReferenceTolerance = 1e-10;
 
-struct ReferenceMotion {
-  std::vector<double> t;
-  std::vector<Eigen::VectorXd> q, v;
-};
+using ReferenceMotion = Trajectory<double>;
 
 // Throws SimulationDiverged if even the reference diverges.
 ReferenceMotion ComputeReference(const Model<double>& model);
 
-// sqrt(mean over the samples of |x(t) - x_ref(t)|^2) over the translational coordinates, for a run sampled on
-// the same grid (q[k] at reference.t[k]).
-double RmsPositionError(const Model<double>& model, const ReferenceMotion& reference,
-                        const std::vector<Eigen::VectorXd>& q);
+// sqrt(mean over the samples of |x(t) - x_ref(t)|^2) over the translational coordinates (the centres of mass),
+// for a run sampled on the same grid (run.q[k] at reference.t[k]).
+double RmsPositionError(const Model<double>& model, const ReferenceMotion& reference, const Trajectory<double>& run);
 
 }  // namespace tether
