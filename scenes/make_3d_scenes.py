@@ -6,8 +6,9 @@ none of them needs assembling: python3 scenes/make_3d_scenes.py [OUT_DIR] (defau
                      at 50 rad/s about its axis: it precesses and nutates under gravity
   tumbling_box.json  a free box spun about its intermediate principal axis with a small perturbation: it flips
                      over every few seconds (the Dzhanibekov effect), no gravity
-  robot_arm.json     a 7-joint arm (hinges alternating about z and y, like a KUKA iiwa) standing upright, a motor
-                     (joint_torque) at every joint, gravity; named joints give encoder columns, a fingertip marker
+  robot_arm.json     a 7-joint arm (hinges alternating about z and y, like a KUKA iiwa) hanging from its base, a
+                     motor (joint_torque) at every joint driving it for 2 s, gravity, angular damping; named joints
+                     give encoder columns, a fingertip marker
   rssr.json          a spatial four-bar: a crank hinged about z (starting at 60 degrees, away from the
                      configuration where crank and rocker move independently) and driven by a motor, a rocker hinged about x, a
                      coupler with ball joints at both ends (its spin about its own line is the linkage's second,
@@ -92,23 +93,23 @@ def robot_arm():
     lengths = [0.34, 0.4, 0.4, 0.4, 0.3, 0.2, 0.1]
     masses = [4.0, 4.0, 3.0, 2.7, 1.7, 1.8, 0.3]
     axes = [[0, 0, 1], [0, 1, 0]] * 3 + [[0, 0, 1]]
-    upright = qaxis([0, 1, 0], -math.pi / 2)  # body x (each link's length) along world z
+    hanging = qaxis([0, 1, 0], math.pi / 2)  # body x (each link's length) along world -z
     bodies, joints, effects = [], [], [{"type": "gravity", "acceleration": [0, 0, -G]}]
     z = 0.0
     for k, (length, mass) in enumerate(zip(lengths, masses)):
-        bodies.append(rigid(f"link{k + 1}", mass, rod(mass, length, 0.06), [0, 0, z + length / 2], upright))
+        bodies.append(rigid(f"link{k + 1}", mass, rod(mass, length, 0.06), [0, 0, z - length / 2], hanging))
         parent = "world" if k == 0 else f"link{k}"
         on_parent = [0, 0, 0] if k == 0 else [lengths[k - 1] / 2, 0, 0]
-        # the axis in the parent's frame: the world axis turned into body axes (every link starts upright)
-        axis = axes[k] if k == 0 else qrot([upright[0]] + [-x for x in upright[1:]], axes[k])
+        # the axis in the parent's frame: the world axis turned into body axes (every link starts hanging)
+        axis = axes[k] if k == 0 else qrot([hanging[0]] + [-x for x in hanging[1:]], axes[k])
         joints.append({"type": "hinge", "name": f"a{k + 1}", "bodies": [parent, f"link{k + 1}"],
                        "points": [on_parent, [-length / 2, 0, 0]], "axis": [round(x, 15) + 0.0 for x in axis]})
-        z += length
-    torques = [2.0, 15.0, 0.5, -8.0, 0.2, 1.0, 0.05]
+        z -= length
+    torques = [3.0, 20.0, 1.0, -8.0, 0.5, 1.5, 0.1]
     for k, value in enumerate(torques):
         effects.append({"type": "joint_torque", "joint": f"a{k + 1}",
                         "schedule": {"times": [0.0, 1.0, 2.0], "values": [0.0, value, 0.0]}})
-    effects.append({"type": "damping", "coefficient": 0.0, "angular_coefficient": 0.5})
+    effects.append({"type": "damping", "coefficient": 0.0, "angular_coefficient": 0.02})
     markers = [{"name": "fingertip", "body": "link7", "point": [lengths[-1] / 2, 0, 0]}]
     return scene(bodies, joints, effects, markers, duration=2.0)
 

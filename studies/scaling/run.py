@@ -5,12 +5,13 @@
     python3 studies/scaling/run.py --json studies/scaling/results.json    # redraw only
 
 Runs the step benchmarks of bench/chain_bench.cc (StepChain: a chain of n particles, rk4 and symplectic Euler;
-StepTree: a binary tree of n particles, rk4; StepFourBar: the IFToMM A02 N-four-bar, rk4; each with the sparse
-and the dense KKT path), writes their JSON output to results.json and draws scaling.png and .svg beside it (or
+StepTree: a binary tree of n particles, rk4; StepFourBar: the IFToMM A02 N-four-bar, rk4; StepHingeChain and
+StepHingeTree: 3D chains and binary trees of rigid rods on hinges; each with the sparse and the dense KKT path), writes their JSON output to results.json and draws scaling.png and .svg beside it (or
 in --out): CPU time per step against the number of constraint rows m (the size of the KKT system: n for the
 chain and the tree, 6N + 2 for the four-bars), log-log, with the slope of each line fitted over m >= 100 and
 reference slopes O(m) and O(m^3). It also prints the
-slopes and where the dense path stops being faster (dense time / sparse time around there). With the defaults it
+slopes, where the dense path stops being faster (dense time / sparse time around there), and the README's
+step-cost table. With the defaults it
 takes about 1.5 minutes on two cores (1.3 on the machine of the README).
 Python 3 with matplotlib (Debian: python3-matplotlib).
 """
@@ -25,11 +26,17 @@ sys.path.insert(0, os.path.join(ROOT, "bench"))
 
 import bench_json  # noqa: E402
 
-NAME = re.compile(r"^Step(Chain|Tree|FourBar)/(rk4|symplectic_euler)_(sparse|dense)/(\d+)$")
+NAME = re.compile(r"^Step(Chain|Tree|FourBar|HingeChain|HingeTree)/(rk4|symplectic_euler)_(sparse|dense)/(\d+)$")
 MIN_TIME, REPETITIONS = "0.2", 3
 FIT_FROM = 100  # constraint rows: slopes are fitted from here on, where the per-step overhead no longer counts
 MODELS = [("Chain", "chain of n particles: m = n"), ("Tree", "binary tree of n particles: m = n"),
-          ("FourBar", "N-four-bar (IFToMM A02): m = 6N + 2")]
+          ("FourBar", "N-four-bar (IFToMM A02): m = 6N + 2"),
+          ("HingeChain", "3D chain of n rigid rods on hinges: m = 5n"),
+          ("HingeTree", "3D binary tree of n rigid rods on hinges: m = 5n")]
+TABLE_SIZES = {"Chain": {10, 20, 50, 100, 200, 500, 1000, 5000}, "Tree": {10, 100, 1000, 5000},
+               "FourBar": {1, 2, 10, 50, 500}, "HingeChain": {10, 100, 200, 1000}, "HingeTree": {10, 100, 1000}}
+TABLE_NAMES = {"Chain": ("chain", "particles"), "Tree": ("binary tree", "particles"), "FourBar": ("four-bar", "N ="),
+               "HingeChain": ("3D hinge chain", "rods"), "HingeTree": ("3D hinge tree", "rods")}
 INTEGRATORS = {"rk4": "rk4", "symplectic_euler": "symplectic Euler"}
 COLORS = {"sparse": "tab:blue", "dense": "tab:red"}
 STYLES = {"rk4": "-o", "symplectic_euler": "--s"}
@@ -99,10 +106,29 @@ def summary(series):
     return "\n".join(lines)
 
 
+def table(series):
+    """The README's step-cost table: a row per scene and size, a column per integrator and KKT path."""
+    columns = [("rk4", "sparse"), ("rk4", "dense"), ("symplectic_euler", "sparse"), ("symplectic_euler", "dense")]
+    lines = ["| scene | rows | rk4, sparse | rk4, dense | symplectic Euler, sparse | symplectic Euler, dense |",
+             "|---|---|---|---|---|---|"]
+    for model, _ in MODELS:
+        sizes = sorted({(m, n) for (mod, _, _), points in series.items() if mod == model for m, n, _ in points
+                        if n in TABLE_SIZES[model]})
+        for m, n in sizes:
+            cells = []
+            for integrator, path in columns:
+                t = [t for mm, nn, t in series.get((model, integrator, path), []) if nn == n]
+                cells.append(microseconds(t[0]) if t else "")
+            label, unit = TABLE_NAMES[model]
+            scene = f"{label}, {unit} {n}" if unit == "N =" else f"{label}, {n} {unit}"
+            lines.append(f"| {scene} | {m} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
 def draw(report, out):
     plt = bench_json.pyplot()
     series = parse(report)
-    figure, panels = plt.subplots(1, len(MODELS), figsize=(15, 5), sharey=True)
+    figure, panels = plt.subplots(1, len(MODELS), figsize=(25, 5), sharey=True)
     for axes, (model, title) in zip(panels, MODELS):
         keys = [k for k in series if k[0] == model]
         for _, integrator, path in sorted(keys, key=lambda k: (list(INTEGRATORS).index(k[1]), k[2] == "dense")):
@@ -140,11 +166,13 @@ def draw(report, out):
 
 def main(argv):
     def run_steps(binary, min_time, repetitions, extra):
-        return bench_json.run(binary, "^Step(Chain|Tree|FourBar)/", min_time, repetitions, extra)
+        return bench_json.run(binary, "^Step(Chain|Tree|FourBar|HingeChain|HingeTree)/", min_time, repetitions, extra)
 
     report, out = bench_json.study_report(argv, "Runs the step benchmarks and draws time per step against size.",
                                           HERE, MIN_TIME, REPETITIONS, run_steps)
     print(summary(parse(report)))
+    print()
+    print(table(parse(report)))
     print("host: " + bench_json.host(report))
     draw(report, out)
 
