@@ -474,15 +474,8 @@ class SceneBuilder {
         f.scene_index = index;
         f.body = BodyIndex(check_.Required(e, at, "body"), Child(at, "body"), false);
         if (const json* p = check_.Optional(e, "point")) f.point = check_.Vector(*p, Child(at, "point"), Dim());
-        ValueOrSchedule(e, at);
-        if (const json* v = check_.Optional(e, "value")) {
-          f.value = check_.Vector(*v, Child(at, "value"), Dim());
-        } else {
-          f.schedule = ReadSchedule<Vec3<double>>(e.at("schedule"), Child(at, "schedule"),
-                                                  [this](const json& j, const std::string& p) {
-                                                    return check_.Vector(j, p, Dim());
-                                                  });
-        }
+        ReadValueOrSchedule(e, at, [this](const json& j, const std::string& p) { return check_.Vector(j, p, Dim()); },
+                            &f.value, &f.schedule);
         model_.forces.push_back(f);
       } else if (type == "torque") {
         check_.Object(e, at, {"type", "body", "value", "schedule"});
@@ -493,29 +486,19 @@ class SceneBuilder {
           check_.Fail(Child(at, "body"), "a torque acts on a rigid body, and '" + model_.bodies[t.body].name +
                                              "' is a particle");
         }
-        ValueOrSchedule(e, at);
         auto read = [this](const json& j, const std::string& p) {  // planar: a number about z; 3D: a vector
           if (Dim() == 2) return Vec3<double>(0.0, 0.0, check_.Number(j, p));
           return check_.Vector(j, p, 3);
         };
-        if (const json* v = check_.Optional(e, "value")) {
-          t.value = read(*v, Child(at, "value"));
-        } else {
-          t.schedule = ReadSchedule<Vec3<double>>(e.at("schedule"), Child(at, "schedule"), read);
-        }
+        ReadValueOrSchedule(e, at, read, &t.value, &t.schedule);
         model_.torques.push_back(t);
       } else if (type == "joint_torque") {
         check_.Object(e, at, {"type", "joint", "coordinate", "value", "schedule"});
         JointTorqueEffect<double> t;
         t.scene_index = index;
         ReadJointReference(e, at, &t.joint, &t.coordinate);
-        ValueOrSchedule(e, at);
-        auto read = [this](const json& j, const std::string& p) { return check_.Number(j, p); };
-        if (const json* v = check_.Optional(e, "value")) {
-          t.value = read(*v, Child(at, "value"));
-        } else {
-          t.schedule = ReadSchedule<double>(e.at("schedule"), Child(at, "schedule"), read);
-        }
+        ReadValueOrSchedule(e, at, [this](const json& j, const std::string& p) { return check_.Number(j, p); }, &t.value,
+                            &t.schedule);
         model_.joint_torques.push_back(t);
       } else if (type == "joint_spring") {
         check_.Object(e, at, {"type", "joint", "coordinate", "stiffness", "rest", "damping"});
@@ -566,9 +549,16 @@ class SceneBuilder {
     }
   }
 
-  void ValueOrSchedule(const json& e, const std::string& at) const {
-    const bool value = e.contains("value"), schedule = e.contains("schedule");
-    if (value == schedule) check_.Fail(at, "give exactly one of 'value' and 'schedule'");
+  // An effect's "value" or "schedule" (exactly one), each entry read by read_value.
+  template <typename V, typename ReadValue>
+  void ReadValueOrSchedule(const json& e, const std::string& at, ReadValue read_value, V* value,
+                           Schedule<V>* schedule) const {
+    if (e.contains("value") == e.contains("schedule")) check_.Fail(at, "give exactly one of 'value' and 'schedule'");
+    if (const json* v = check_.Optional(e, "value")) {
+      *value = read_value(*v, Child(at, "value"));
+    } else {
+      *schedule = ReadSchedule<V>(e.at("schedule"), Child(at, "schedule"), read_value);
+    }
   }
 
   void ReadSimulation(const json& s) {

@@ -12,34 +12,12 @@ than the one fitted) and recorded by the two joint encoders every 20 ms with Gau
 guess.json has a 1 kg forearm with the moments of a 1 kg rod, a damping of 0.05 and rk4 at h = 1e-3: the
 unknowns are the forearm's mass, its two transverse moments and the damping.
 """
-import argparse, csv, json, math, os, random, subprocess, tempfile
+import argparse, csv, json, os, random, subprocess, sys, tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.join(HERE, "..", "..", "..")
-
-
-def qaxis(axis, angle):
-    n = math.sqrt(sum(a * a for a in axis))
-    return [math.cos(angle / 2)] + [math.sin(angle / 2) * a / n for a in axis]
-
-
-def qmul(a, b):
-    w1, x1, y1, z1 = a
-    w2, x2, y2, z2 = b
-    return [w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2, w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
-            w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2, w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2]
-
-
-def rotate(q, r):
-    w, v = q[0], q[1:]
-    t = [2 * (v[1] * r[2] - v[2] * r[1]), 2 * (v[2] * r[0] - v[0] * r[2]), 2 * (v[0] * r[1] - v[1] * r[0])]
-    c = [v[1] * t[2] - v[2] * t[1], v[2] * t[0] - v[0] * t[2], v[0] * t[1] - v[1] * t[0]]
-    return [r[k] + w * t[k] + c[k] for k in range(3)]
-
-
-def rod(mass, length, radius=0.02):
-    transverse = mass * (3 * radius * radius + length * length) / 12
-    return [0.5 * mass * radius * radius, transverse, transverse]
+sys.path.insert(0, os.path.join(ROOT, "scenes"))
+from make_3d_scenes import qaxis, qmul, qrot as rotate, rod  # noqa: E402  (the shipped scenes' helpers)
 
 
 def arm(forearm_mass, damping, integrator):
