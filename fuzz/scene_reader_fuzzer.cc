@@ -55,23 +55,33 @@ void CheckModel(const tether::Model<double>& model) {
   const tether::State<double> start = tether::InitialState(model);
   if (start.q.size() != q_offset || start.v.size() != v_offset) Finding("the initial state does not match the bodies");
   if (!start.q.allFinite() || !start.v.allFinite()) Finding("non-finite initial state");
-  for (const auto& c : model.distances) {
+  for (const auto& c : model.joints) {
     if (!ValidBody(model, c.a.body, true) || !ValidBody(model, c.b.body, true) || c.a.body == c.b.body) {
-      Finding("distance constraint with bad bodies");
+      Finding(std::string(tether::JointTypeName(c.type)) + " constraint with bad bodies");
     }
-    if (!(c.length > 0) || !std::isfinite(c.length)) Finding("distance length not finite and positive");
-    if (!Finite(c.a.local) || !Finite(c.b.local)) Finding("non-finite distance point");
+    if (!Finite(c.a.local) || !Finite(c.b.local)) Finding("non-finite constraint point");
+    if (c.type == tether::JointType::kDistance && (!(c.length > 0) || !std::isfinite(c.length))) {
+      Finding("distance length not finite and positive");
+    }
+    if (!Finite(c.axis) || !(c.axis.norm() > 0) || !Finite(c.axis_b) || !(c.axis_b.norm() > 0)) {
+      Finding("constraint axis zero or non-finite");
+    }
   }
-  for (const auto& c : model.pins) {
-    if (!ValidBody(model, c.a.body, true) || !ValidBody(model, c.b.body, true) || c.a.body == c.b.body) {
-      Finding("pin constraint with bad bodies");
+  for (const auto& m : model.markers) {
+    if (!ValidBody(model, m.point.body, false) || !Finite(m.point.local)) Finding("marker with a bad body or point");
+  }
+  for (const auto& e : model.joint_torques) {
+    if (e.joint < 0 || e.joint >= static_cast<int>(model.joints.size()) ||
+        !tether::HasCoordinate(model, model.joints[e.joint], e.coordinate)) {
+      Finding("motor on a joint without that coordinate");
     }
   }
-  for (const auto& c : model.sliders) {
-    if (!ValidBody(model, c.a.body, true) || !ValidBody(model, c.b.body, true) || c.a.body == c.b.body) {
-      Finding("slider constraint with bad bodies");
+  for (const auto& e : model.joint_springs) {
+    if (e.joint < 0 || e.joint >= static_cast<int>(model.joints.size()) ||
+        !tether::HasCoordinate(model, model.joints[e.joint], e.coordinate)) {
+      Finding("joint spring on a joint without that coordinate");
     }
-    if (!Finite(c.axis) || !(c.axis.norm() > 0)) Finding("slider axis zero or non-finite");
+    if (!(e.stiffness >= 0) || !(e.damping >= 0)) Finding("negative joint spring parameter");
   }
   for (const auto& g : model.gravity) {
     if (!Finite(g.acceleration)) Finding("non-finite gravity");
@@ -95,7 +105,7 @@ void CheckModel(const tether::Model<double>& model) {
   }
   for (const auto& t : model.torques) {
     if (!ValidBody(model, t.body, false)) Finding("torque on a bad body");
-    if (model.bodies[t.body].kind != tether::BodyKind::kRigid) Finding("torque on a particle");
+    if (model.bodies[t.body].kind == tether::BodyKind::kParticle) Finding("torque on a particle");
     if (t.schedule.times.size() != t.schedule.values.size()) Finding("torque schedule sizes differ");
   }
   const tether::SimulationSettings& sim = model.simulation;
