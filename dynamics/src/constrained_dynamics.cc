@@ -21,7 +21,7 @@ bool ComputeAcceleration(const Model<T>& model, double t, const VecX<T>& q, cons
     const T velocity = Dot(model, row.a, v) + Dot(model, row.b, v);  // C_i' = J_i v
     ws->rhs[i] = Dot(model, row.a, *a) + Dot(model, row.b, *a) + row.bias + ws->alpha * velocity + ws->beta * row.value;
   }
-  AssembleSchur(model, ws);
+  AssembleSchur(ws);
   if (!ws->solver.Solve(ws->schur, ws->rhs, &ws->lambda)) {
     a->setConstant(T(std::numeric_limits<double>::quiet_NaN()));
     return false;

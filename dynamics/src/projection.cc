@@ -52,7 +52,7 @@ ProjectionResult ProjectPositions(const Model<T>& model, double tolerance, Works
     Difference(model, ws->trial_q, *q, &ws->reaction);
     MultiplyJacobian(model, ws->reaction, ws);
     for (size_t i = 0; i < ws->rows.size(); ++i) ws->rhs[i] = ws->rows[i].value - ws->rhs[i];
-    AssembleSchur(model, ws);
+    AssembleSchur(ws);
     if (!ws->solver.Solve(ws->schur, ws->rhs, &ws->lambda)) break;
     ApplyReaction(model, ws, &ws->reaction);
     Integrate(model, ws->trial_q, ws->reaction, -1.0, q);
@@ -65,7 +65,7 @@ bool ProjectVelocities(const Model<T>& model, const VecX<T>& q, Workspace<T>* ws
   if (ws->rows.empty()) return true;
   EvaluateRows(model, q, *v, false, ws);
   MultiplyJacobian(model, *v, ws);
-  AssembleSchur(model, ws);
+  AssembleSchur(ws);
   if (!ws->solver.Solve(ws->schur, ws->rhs, &ws->lambda)) return false;
   ApplyReaction(model, ws, &ws->reaction);
   *v -= ws->reaction;

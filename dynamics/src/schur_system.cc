@@ -49,16 +49,25 @@ SchurPattern::SchurPattern(const std::vector<RowInfo>& infos, int num_bodies) : 
 }
 
 template <typename T>
-void AssembleSchur(const Model<T>& model, const SchurPattern& pattern, const std::vector<ConstraintRow<T>>& rows,
-                   const VecX<T>& inverse_diagonal, const std::vector<Mat3<T>>& inverse_rotational,
-                   std::vector<Vec3<T>>* weighted, std::vector<T>* values) {
+std::vector<BodyLayout> LayoutOf(const Model<T>& model) {
+  std::vector<BodyLayout> layout;
+  for (const Body<T>& body : model.bodies) layout.push_back({body.kind, body.v_offset});
+  return layout;
+}
+
+template <typename T>
+void AssembleSchur(const std::vector<BodyLayout>& layout, const SchurPattern& pattern,
+                   const std::vector<ConstraintRow<T>>& rows, const VecX<T>& inverse_diagonal,
+                   const std::vector<Mat3<T>>& inverse_rotational, std::vector<Vec3<T>>* weighted,
+                   std::vector<T>* values) {
   // a 3D body's rotational blocks weighted by its I_P^-1 once per row, not once per entry they enter
   weighted->resize(2 * rows.size());
-  const bool spatial = model.NumCoordinates() != model.NumVelocities();  // some body is a 3D rigid body
+  const bool spatial =
+      std::any_of(layout.begin(), layout.end(), [](const BodyLayout& b) { return b.kind == BodyKind::kRigid3d; });
   for (size_t i = 0; spatial && i < rows.size(); ++i) {
     for (int slot = 0; slot < 2; ++slot) {
       const BodyVector<T>& g = slot == 0 ? rows[i].a : rows[i].b;
-      if (g.body != kWorld && model.bodies[g.body].kind == BodyKind::kRigid3d) {
+      if (g.body != kWorld && layout[g.body].kind == BodyKind::kRigid3d) {
         (*weighted)[2 * i + slot] = inverse_rotational[g.body] * g.rotation;
       }
     }
@@ -67,7 +76,7 @@ void AssembleSchur(const Model<T>& model, const SchurPattern& pattern, const std
   for (const SchurPattern::Term& term : pattern.terms()) {
     const BodyVector<T>& gi = term.slot_i == 0 ? rows[term.row_i].a : rows[term.row_i].b;
     const BodyVector<T>& gj = term.slot_j == 0 ? rows[term.row_j].a : rows[term.row_j].b;
-    const Body<T>& body = model.bodies[term.body];
+    const BodyLayout& body = layout[term.body];
     // translational coordinates share one inverse mass
     T entry = gi.translation.dot(gj.translation) * inverse_diagonal[body.v_offset];
     if (body.kind == BodyKind::kPlanar) {
@@ -97,9 +106,10 @@ void MultiplySymmetric(const SchurPattern& pattern, const std::vector<S>& values
 }
 
 #define TETHER_INSTANTIATE_SCHUR_SYSTEM(T)                                                                      \
-  template void AssembleSchur<T>(const Model<T>&, const SchurPattern&, const std::vector<ConstraintRow<T>>&, \
-                                 const VecX<T>&, const std::vector<Mat3<T>>&, std::vector<Vec3<T>>*,         \
-                                 std::vector<T>*);                                                              \
+  template std::vector<BodyLayout> LayoutOf<T>(const Model<T>&);                                                 \
+  template void AssembleSchur<T>(const std::vector<BodyLayout>&, const SchurPattern&,                           \
+                                 const std::vector<ConstraintRow<T>>&, const VecX<T>&,                          \
+                                 const std::vector<Mat3<T>>&, std::vector<Vec3<T>>*, std::vector<T>*);         \
   template void MultiplySymmetric<T, T>(const SchurPattern&, const std::vector<T>&, const VecX<T>&, VecX<T>*);
 TETHER_FOR_EACH_SCALAR(TETHER_INSTANTIATE_SCHUR_SYSTEM)
 template void MultiplySymmetric<Jet, double>(const SchurPattern&, const std::vector<Jet>&, const VecX<double>&,

@@ -42,6 +42,7 @@ template <typename T>
 Workspace<T>::Workspace(const Model<T>& model, const VecX<T>& q_start, bool factor_jet_matrices)
     : constraints(BuildConstraintSet(model, q_start)),
       infos(DescribeRows(model, constraints)),
+      layout(LayoutOf(model)),
       pattern(infos, static_cast<int>(model.bodies.size())),
       solver(pattern, model.simulation.solver, factor_jet_matrices),
       inverse_mass(BuildInverseMass(model)),
@@ -69,9 +70,9 @@ Workspace<T>::Workspace(const Model<T>& model, const VecX<T>& q_start, bool fact
 }
 
 template <typename T>
-void AssembleSchur(const Model<T>& model, Workspace<T>* ws) {
-  AssembleSchur(model, ws->pattern, ws->rows, ws->inverse_mass.diagonal, ws->inverse_mass.rotational, &ws->weighted,
-                &ws->schur);
+void AssembleSchur(Workspace<T>* ws) {
+  AssembleSchur(ws->layout, ws->pattern, ws->rows, ws->inverse_mass.diagonal, ws->inverse_mass.rotational,
+                &ws->weighted, &ws->schur);
 }
 
 template <typename T>
@@ -85,7 +86,7 @@ void EvaluateRows(const Model<T>& model, const VecX<T>& q, const VecX<T>& v, boo
   template InverseMass<T> BuildInverseMass<T>(const Model<T>&);                                           \
   template void ApplyInverseMass<T>(const Model<T>&, const InverseMass<T>&, const VecX<T>&, VecX<T>*);    \
   template void EvaluateRows<T>(const Model<T>&, const VecX<T>&, const VecX<T>&, bool, Workspace<T>*);        \
-  template void AssembleSchur<T>(const Model<T>&, Workspace<T>*);
+  template void AssembleSchur<T>(Workspace<T>*);
 TETHER_FOR_EACH_SCALAR(TETHER_INSTANTIATE_WORKSPACE)
 
 }  // namespace tether

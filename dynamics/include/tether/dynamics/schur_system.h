@@ -52,13 +52,22 @@ class SchurPattern {
   std::vector<Term> terms_;
 };
 
+// What the assembly needs of a body, compact: its kind and where its velocities start.
+struct BodyLayout {
+  BodyKind kind = BodyKind::kParticle;
+  int v_offset = 0;
+};
+template <typename T>
+std::vector<BodyLayout> LayoutOf(const Model<T>& model);
+
 // values (sized pattern.nonzeros()) = the regularized S at the given rows, for M^-1 given by its diagonal over the
 // velocities (translations, planar angles) and the rotational blocks of 3D bodies (workspace.h's InverseMass);
 // `weighted` is scratch (I_P^-1 times the rotational blocks of 3D bodies, two per row).
 template <typename T>
-void AssembleSchur(const Model<T>& model, const SchurPattern& pattern, const std::vector<ConstraintRow<T>>& rows,
-                   const VecX<T>& inverse_diagonal, const std::vector<Mat3<T>>& inverse_rotational,
-                   std::vector<Vec3<T>>* weighted, std::vector<T>* values);
+void AssembleSchur(const std::vector<BodyLayout>& layout, const SchurPattern& pattern,
+                   const std::vector<ConstraintRow<T>>& rows, const VecX<T>& inverse_diagonal,
+                   const std::vector<Mat3<T>>& inverse_rotational, std::vector<Vec3<T>>* weighted,
+                   std::vector<T>* values);
 
 // y = S x for the symmetric S stored as its lower triangle.
 template <typename S, typename X>

@@ -37,6 +37,7 @@ struct Workspace {
 
   ConstraintSet<T> constraints;         // the run's constraint primitives
   std::vector<RowInfo> infos;           // one per constraint row
+  std::vector<BodyLayout> layout;       // the bodies' kinds and velocity offsets, compact
   SchurPattern pattern;                 // of S = J M^-1 J^T
   SchurSolver solver;                   // its factorization
   InverseMass<T> inverse_mass;
@@ -63,7 +64,7 @@ struct Workspace {
 
 // ws->schur from ws->rows.
 template <typename T>
-void AssembleSchur(const Model<T>& model, Workspace<T>* ws);
+void AssembleSchur(Workspace<T>* ws);
 
 // Rows (and frames) at (q, v) into ws->rows.
 template <typename T>
