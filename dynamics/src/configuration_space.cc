@@ -10,16 +10,11 @@ Vec4<T> PrincipalAxes(const Body<T>& body) {
   return body.principal_axes.template cast<T>();
 }
 
-template <typename T>
-bool Euclidean(const Model<T>& model) {  // no 3D rigid body: q and v share one layout
-  return model.NumCoordinates() == model.NumVelocities();
-}
-
 }  // namespace
 
 template <typename T>
 void Integrate(const Model<T>& model, const VecX<T>& q, const VecX<T>& v, double h, VecX<T>* out) {
-  if (Euclidean(model)) {
+  if (model.spatial_bodies.empty()) {  // q and v share one layout
     out->noalias() = q + h * v;
     return;
   }
@@ -42,7 +37,7 @@ void Integrate(const Model<T>& model, const VecX<T>& q, const VecX<T>& v, double
 
 template <typename T>
 void Difference(const Model<T>& model, const VecX<T>& q0, const VecX<T>& q1, VecX<T>* d) {
-  if (Euclidean(model)) {
+  if (model.spatial_bodies.empty()) {  // q and v share one layout
     d->noalias() = q1 - q0;
     return;
   }
@@ -64,7 +59,7 @@ void Difference(const Model<T>& model, const VecX<T>& q0, const VecX<T>& q1, Vec
 template <typename T>
 void DexpInv(const Model<T>& model, const VecX<T>& theta, const VecX<T>& v, VecX<T>* k) {
   if (k != &v) *k = v;
-  if (Euclidean(model)) return;
+  if (model.spatial_bodies.empty()) return;
   for (const Body<T>& body : model.bodies) {
     if (body.kind != BodyKind::kRigid3d) continue;
     const int r = body.v_offset + 3;

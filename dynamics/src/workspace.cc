@@ -22,7 +22,7 @@ InverseMass<T> BuildInverseMass(const Model<T>& model) {
 
 template <typename T>
 void ApplyInverseMass(const Model<T>& model, const InverseMass<T>& inverse, const VecX<T>& x, VecX<T>* out) {
-  if (model.NumCoordinates() == model.NumVelocities()) {  // no 3D rigid body: M is diagonal
+  if (model.spatial_bodies.empty()) {  // M is diagonal
     out->noalias() = inverse.diagonal.cwiseProduct(x);
     return;
   }
