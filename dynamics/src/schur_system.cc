@@ -5,7 +5,12 @@
 
 namespace tether {
 
-SchurPattern::SchurPattern(const std::vector<RowInfo>& infos, int num_bodies) : size_(static_cast<int>(infos.size())) {
+SchurPattern::SchurPattern(const std::vector<RowInfo>& infos, int num_bodies)
+    : SchurPattern(infos, std::vector<BodyLayout>(num_bodies)) {}
+
+SchurPattern::SchurPattern(const std::vector<RowInfo>& infos, const std::vector<BodyLayout>& layout)
+    : size_(static_cast<int>(infos.size())) {
+  const int num_bodies = static_cast<int>(layout.size());
   // rows touching each body, with the slot (0: first body of the row, 1: second)
   std::vector<std::vector<std::pair<int, int>>> touching(num_bodies);
   for (int i = 0; i < size_; ++i) {
@@ -38,8 +43,19 @@ SchurPattern::SchurPattern(const std::vector<RowInfo>& infos, int num_bodies) : 
   diagonal_.resize(size_);
   for (int i = 0; i < size_; ++i) diagonal_[i] = index.at({i, i});
   for (int body = 0; body < num_bodies; ++body) {
-    for (const auto& [i, si] : touching[body]) {
-      for (const auto& [j, sj] : touching[body]) {
+    const std::vector<std::pair<int, int>>& list = touching[body];  // rows in increasing order
+    if (layout[body].kind == BodyKind::kRigid3d) {
+      const int count = static_cast<int>(list.size());
+      dense_bodies_.push_back({body, static_cast<int>(blocks_.size()), count, static_cast<int>(entries_.size())});
+      largest_dense_count_ = std::max(largest_dense_count_, count);
+      blocks_.insert(blocks_.end(), list.begin(), list.end());
+      for (int p = 0; p < count; ++p) {
+        for (int q = 0; q <= p; ++q) entries_.push_back(index.at({list[p].first, list[q].first}));
+      }
+      continue;
+    }
+    for (const auto& [i, si] : list) {
+      for (const auto& [j, sj] : list) {
         if (i >= j) terms_.push_back({body, i, si, j, sj, index.at({i, j})});
       }
     }
@@ -58,32 +74,45 @@ std::vector<BodyLayout> LayoutOf(const Model<T>& model) {
 template <typename T>
 void AssembleSchur(const std::vector<BodyLayout>& layout, const SchurPattern& pattern,
                    const std::vector<ConstraintRow<T>>& rows, const VecX<T>& inverse_diagonal,
-                   const std::vector<Mat3<T>>& inverse_rotational, std::vector<Vec3<T>>* weighted,
+                   const std::vector<Mat3<T>>& inverse_rotational, std::vector<T>* scratch,
                    std::vector<T>* values) {
-  // a 3D body's rotational blocks weighted by its I_P^-1 once per row, not once per entry they enter
-  weighted->resize(2 * rows.size());
-  const bool spatial =
-      std::any_of(layout.begin(), layout.end(), [](const BodyLayout& b) { return b.kind == BodyKind::kRigid3d; });
-  for (size_t i = 0; spatial && i < rows.size(); ++i) {
-    for (int slot = 0; slot < 2; ++slot) {
-      const BodyVector<T>& g = slot == 0 ? rows[i].a : rows[i].b;
-      if (g.body != kWorld && layout[g.body].kind == BodyKind::kRigid3d) {
-        (*weighted)[2 * i + slot] = inverse_rotational[g.body] * g.rotation;
+  std::fill(values->begin(), values->end(), T(0.0));
+  // 3D rigid bodies: G (k x 6) gathered, W = G M_b^-1, the lower triangle of G W^T scattered
+  scratch->resize(12 * static_cast<size_t>(pattern.largest_dense_count()));
+  T* G = scratch->data();
+  T* W = G + 6 * pattern.largest_dense_count();
+  for (const SchurPattern::DenseBody& dense : pattern.dense_bodies()) {
+    const T inverse_mass = inverse_diagonal[layout[dense.body].v_offset];
+    const Mat3<T>& inverse_inertia = inverse_rotational[dense.body];
+    for (int p = 0; p < dense.count; ++p) {
+      const auto [row, slot] = pattern.blocks()[dense.first_block + p];
+      const BodyVector<T>& g = slot == 0 ? rows[row].a : rows[row].b;
+      const Vec3<T> w = inverse_inertia * g.rotation;
+      for (int k = 0; k < 3; ++k) {
+        G[6 * p + k] = g.translation[k];
+        G[6 * p + 3 + k] = g.rotation[k];
+        W[6 * p + k] = g.translation[k] * inverse_mass;
+        W[6 * p + 3 + k] = w[k];
+      }
+    }
+    const int* entry = pattern.entries().data() + dense.first_entry;
+    for (int p = 0; p < dense.count; ++p) {
+      const T* gp = G + 6 * p;
+      for (int q = 0; q <= p; ++q) {
+        const T* wq = W + 6 * q;
+        (*values)[*entry++] += gp[0] * wq[0] + gp[1] * wq[1] + gp[2] * wq[2] + gp[3] * wq[3] + gp[4] * wq[4] +
+                               gp[5] * wq[5];
       }
     }
   }
-  std::fill(values->begin(), values->end(), T(0.0));
+  // particles and planar rigid bodies: term by term
   for (const SchurPattern::Term& term : pattern.terms()) {
     const BodyVector<T>& gi = term.slot_i == 0 ? rows[term.row_i].a : rows[term.row_i].b;
     const BodyVector<T>& gj = term.slot_j == 0 ? rows[term.row_j].a : rows[term.row_j].b;
     const BodyLayout& body = layout[term.body];
     // translational coordinates share one inverse mass
     T entry = gi.translation.dot(gj.translation) * inverse_diagonal[body.v_offset];
-    if (body.kind == BodyKind::kPlanar) {
-      entry += gi.rotation[2] * gj.rotation[2] * inverse_diagonal[body.v_offset + 2];
-    } else if (body.kind == BodyKind::kRigid3d) {
-      entry += gi.rotation.dot((*weighted)[2 * term.row_j + term.slot_j]);
-    }
+    if (body.kind == BodyKind::kPlanar) entry += gi.rotation[2] * gj.rotation[2] * inverse_diagonal[body.v_offset + 2];
     (*values)[term.value] += entry;
   }
   double largest = 0.0;
@@ -109,7 +138,7 @@ void MultiplySymmetric(const SchurPattern& pattern, const std::vector<S>& values
   template std::vector<BodyLayout> LayoutOf<T>(const Model<T>&);                                                 \
   template void AssembleSchur<T>(const std::vector<BodyLayout>&, const SchurPattern&,                           \
                                  const std::vector<ConstraintRow<T>>&, const VecX<T>&,                          \
-                                 const std::vector<Mat3<T>>&, std::vector<Vec3<T>>*, std::vector<T>*);         \
+                                 const std::vector<Mat3<T>>&, std::vector<T>*, std::vector<T>*);               \
   template void MultiplySymmetric<T, T>(const SchurPattern&, const std::vector<T>&, const VecX<T>&, VecX<T>*);
 TETHER_FOR_EACH_SCALAR(TETHER_INSTANTIATE_SCHUR_SYSTEM)
 template void MultiplySymmetric<Jet, double>(const SchurPattern&, const std::vector<Jet>&, const VecX<double>&,

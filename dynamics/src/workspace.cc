@@ -43,12 +43,12 @@ Workspace<T>::Workspace(const Model<T>& model, const VecX<T>& q_start, bool fact
     : constraints(BuildConstraintSet(model, q_start)),
       infos(DescribeRows(model, constraints)),
       layout(LayoutOf(model)),
-      pattern(infos, static_cast<int>(model.bodies.size())),
+      pattern(infos, layout),
       solver(pattern, model.simulation.solver, factor_jet_matrices),
       inverse_mass(BuildInverseMass(model)),
       rows(infos.size()),
       schur(pattern.nonzeros(), T(0.0)),
-      weighted(2 * infos.size(), Vec3<T>::Zero()) {
+      assembly_scratch(12 * static_cast<size_t>(pattern.largest_dense_count()), T(0.0)) {
   const int nq = model.NumCoordinates(), nv = model.NumVelocities();
   const int m = static_cast<int>(infos.size());
   frames.resize(model.bodies.size());
@@ -72,7 +72,7 @@ Workspace<T>::Workspace(const Model<T>& model, const VecX<T>& q_start, bool fact
 template <typename T>
 void AssembleSchur(Workspace<T>* ws) {
   AssembleSchur(ws->layout, ws->pattern, ws->rows, ws->inverse_mass.diagonal, ws->inverse_mass.rotational,
-                &ws->weighted, &ws->schur);
+                &ws->assembly_scratch, &ws->schur);
 }
 
 template <typename T>

@@ -12,7 +12,10 @@
 // dividing by a round-off pivot.
 //
 // The pattern (lower triangle, compressed columns, rows sorted) and the scatter list are built once per model;
-// assembly is then a loop over the scatter list with no allocation.
+// assembly is then a loop over the scatter list with no allocation. A 3D rigid body, whose blocks have six
+// numbers each and which enters many entries (a hinge puts five rows on each of its bodies), is assembled as a
+// small dense product instead: its k blocks G (k x 6) are gathered once, W = G M_b^-1, and the k (k + 1) / 2
+// entries of G W^T are added where the pattern puts them.
 #pragma once
 
 #include <vector>
@@ -24,10 +27,20 @@ namespace tether {
 inline constexpr double kSchurRegularization = 1e-12;
 inline constexpr double kSchurDiagonalFloor = 1e-12;  // delta above, for rows whose Jacobian vanishes
 
+// What the assembly needs of a body, compact: its kind and where its velocities start.
+struct BodyLayout {
+  BodyKind kind = BodyKind::kParticle;
+  int v_offset = 0;
+};
+template <typename T>
+std::vector<BodyLayout> LayoutOf(const Model<T>& model);
+
 class SchurPattern {
  public:
   SchurPattern() = default;
-  // `infos` as DescribeRows(model); `num_bodies` the model's body count.
+  // `infos` as DescribeRows(model); `layout` the model's bodies (LayoutOf).
+  SchurPattern(const std::vector<RowInfo>& infos, const std::vector<BodyLayout>& layout);
+  // The same for `num_bodies` particles (the pattern alone: tests, the solver's analysis).
   SchurPattern(const std::vector<RowInfo>& infos, int num_bodies);
 
   int size() const { return size_; }
@@ -44,29 +57,35 @@ class SchurPattern {
     int row_j, slot_j;
     int value;
   };
-  const std::vector<Term>& terms() const { return terms_; }
+  const std::vector<Term>& terms() const { return terms_; }  // the bodies that are not 3D rigid bodies
+
+  // A 3D rigid body's share: its blocks blocks()[first_block, + count) as (row, slot), and the value indices
+  // entries()[first_entry, + count (count + 1) / 2) of the pairs (p, q), q <= p, in that order.
+  struct DenseBody {
+    int body, first_block, count, first_entry;
+  };
+  const std::vector<DenseBody>& dense_bodies() const { return dense_bodies_; }
+  const std::vector<std::pair<int, int>>& blocks() const { return blocks_; }
+  const std::vector<int>& entries() const { return entries_; }
+  int largest_dense_count() const { return largest_dense_count_; }
 
  private:
   int size_ = 0;
   std::vector<int> column_start_, row_index_, column_index_, diagonal_;
   std::vector<Term> terms_;
+  std::vector<DenseBody> dense_bodies_;
+  std::vector<std::pair<int, int>> blocks_;
+  std::vector<int> entries_;
+  int largest_dense_count_ = 0;
 };
-
-// What the assembly needs of a body, compact: its kind and where its velocities start.
-struct BodyLayout {
-  BodyKind kind = BodyKind::kParticle;
-  int v_offset = 0;
-};
-template <typename T>
-std::vector<BodyLayout> LayoutOf(const Model<T>& model);
 
 // values (sized pattern.nonzeros()) = the regularized S at the given rows, for M^-1 given by its diagonal over the
 // velocities (translations, planar angles) and the rotational blocks of 3D bodies (workspace.h's InverseMass);
-// `weighted` is scratch (I_P^-1 times the rotational blocks of 3D bodies, two per row).
+// `scratch` holds the dense products' G and W (12 numbers per block of the largest 3D body).
 template <typename T>
 void AssembleSchur(const std::vector<BodyLayout>& layout, const SchurPattern& pattern,
                    const std::vector<ConstraintRow<T>>& rows, const VecX<T>& inverse_diagonal,
-                   const std::vector<Mat3<T>>& inverse_rotational, std::vector<Vec3<T>>* weighted,
+                   const std::vector<Mat3<T>>& inverse_rotational, std::vector<T>* scratch,
                    std::vector<T>* values);
 
 // y = S x for the symmetric S stored as its lower triangle.

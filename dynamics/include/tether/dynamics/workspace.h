@@ -47,7 +47,7 @@ struct Workspace {
   BodyFrames<T> frames;                 // at the last evaluation
   std::vector<ConstraintRow<T>> rows;   // rows at the last evaluation
   std::vector<T> schur;                 // S at the last evaluation (pattern.nonzeros())
-  std::vector<Vec3<T>> weighted;        // AssembleSchur's scratch (two per row)
+  std::vector<T> assembly_scratch;      // AssembleSchur's dense products
   VecX<T> force;                        // generalized force f (size nv)
   VecX<T> rhs, lambda;                  // Schur right-hand side and multipliers (size m)
   VecX<T> reaction;                     // M^-1 J^T lambda (size nv)
