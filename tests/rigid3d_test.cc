@@ -217,23 +217,18 @@ TEST(Hinge, PendulumOnATiltedAxisFollowsItsOneDegreeOfFreedomEquation) {
 
 TEST(Prismatic, DampedOscillatorOnATiltedRail) {
   const Vec3<double> a = Vec3<double>(1.0, 0.5, -0.5).normalized();
+  const Vec4<double> q = Vec4<double>(0.9, 0.3, 0.3, 0.1).normalized();
   const double m = 2.0, k = 50.0, c = 0.8, rest = 0.3, d0 = 0.6;
-  char text[2048];
-  std::snprintf(text, sizeof text,
+  char scene[2048];
+  std::snprintf(scene, sizeof scene,
                 R"({"dimension": 3, "bodies": [{"name": "box", "type": "rigid", "mass": %.17g, "inertia": [0.1, 0.2, 0.25],
-                 "position": [%.17g, %.17g, %.17g], "orientation": [0.9, 0.3, 0.3, 0.1]}],
+                 "position": [%.17g, %.17g, %.17g], "orientation": [%.17g, %.17g, %.17g, %.17g]}],
                  "constraints": [{"type": "prismatic", "name": "rail", "bodies": ["world", "box"],
                    "points": [[0, 0, 0], [0, 0, 0]], "axis": [%.17g, %.17g, %.17g]}],
                  "effects": [{"type": "gravity", "acceleration": [0, 0, -9.81]},
                    {"type": "joint_spring", "joint": "rail", "stiffness": %.17g, "rest": %.17g, "damping": %.17g}],
                  "simulation": {"integrator": "rk4", "step": 1e-3, "duration": 2.0}})",
-                m, d0 * a[0], d0 * a[1], d0 * a[2], a[0], a[1], a[2], k, rest, c);
-  // the quaternion above is not unit: the reader refuses it; normalise it in the text instead
-  std::string scene = text;
-  const Vec4<double> q = Vec4<double>(0.9, 0.3, 0.3, 0.1).normalized();
-  char orientation[200];
-  std::snprintf(orientation, sizeof orientation, "[%.17g, %.17g, %.17g, %.17g]", q[0], q[1], q[2], q[3]);
-  scene.replace(scene.find("[0.9, 0.3, 0.3, 0.1]"), std::string("[0.9, 0.3, 0.3, 0.1]").size(), orientation);
+                m, d0 * a[0], d0 * a[1], d0 * a[2], q[0], q[1], q[2], q[3], a[0], a[1], a[2], k, rest, c);
   const Model<double> model = SceneFromJson(scene);
   const double equilibrium = rest + m * (-9.81 * a[2]) / k;
   const double wn = std::sqrt(k / m), zeta = c / (2 * std::sqrt(k * m)), wd = wn * std::sqrt(1 - zeta * zeta);
