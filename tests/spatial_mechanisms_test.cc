@@ -4,7 +4,8 @@
 //     three redundant rows and one degree of freedom; an RSSR four-bar has two (one the coupler's idle spin);
 //   - Jet gradients of a loss against central differences for every new kind of parameter (principal moments,
 //     products of inertia, orientation components, angular velocities, axes, joint angle keys, marker points,
-//     joint springs and motors), with quaternion, encoder and marker columns as data, and Jets against doubles.
+//     joint springs and motors), with quaternion, encoder and marker columns as data, and Jets against doubles;
+//   - a recorded quaternion of either sign fits the same.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -167,6 +168,41 @@ TEST(Gradients, JetsMatchCentralDifferencesForEveryThreeDimensionalParameter) {
     EXPECT_NEAR(jet.gradient[i], fd.gradient[i], 1e-6 * std::max(1.0, std::abs(fd.gradient[i])))
         << parameters.pointers()[i];
   }
+}
+
+TEST(Observations, ARecordedQuaternionOfEitherSignFitsTheSame) {
+  // a free tumbling body recorded with its quaternion negated on every other row: q and -q are one rotation, so
+  // the residuals against its own run are zero either way
+  const Model<double> model = SceneFromJson(R"({"dimension": 3,
+    "bodies": [{"name": "b", "type": "rigid", "mass": 1, "inertia": [0.2, 0.3, 0.4], "position": [0, 0, 0],
+                "angular_velocity": [1, 2, 3]}],
+    "simulation": {"integrator": "rk4", "step": 1e-3, "duration": 1.0}})");
+  const std::vector<double> times = {0.2, 0.4, 0.6, 0.8};
+  const std::string run = testing::TrajectoryCsvAt(model, times);
+  const std::vector<TrajectoryColumn> columns = TrajectoryColumns(model);
+  const std::string path = ::testing::TempDir() + "flipped_quaternions.csv";
+  {
+    std::istringstream in(run);
+    std::ofstream out(path);
+    std::string line;
+    std::getline(in, line);
+    out << "t,b.qw,b.qx,b.qy,b.qz\n";
+    for (int row = 0; std::getline(in, line); ++row) {
+      std::vector<double> cells;
+      std::stringstream cells_in(line);
+      for (std::string cell; std::getline(cells_in, cell, ',');) cells.push_back(std::stod(cell));
+      const double sign = row % 2 == 0 ? -1.0 : 1.0;
+      out.precision(17);
+      out << cells[0];
+      for (int k = 4; k < 8; ++k) out << "," << sign * cells[k];  // columns b.qw .. b.qz follow t, b.x, b.y, b.z
+      out << "\n";
+    }
+  }
+  ASSERT_EQ(columns[4].name, "b.qw");
+  const Observations observations = ReadObservations(path, model);
+  const VecX<double> residuals = ObservationResiduals(model, observations);
+  ASSERT_EQ(residuals.size(), 16);
+  EXPECT_LT(residuals.lpNorm<Eigen::Infinity>(), 1e-15);
 }
 
 }  // namespace
