@@ -15,7 +15,11 @@ Vec4<T> PrincipalAxes(const Body<T>& body) {
 template <typename T>
 void Integrate(const Model<T>& model, const VecX<T>& q, const VecX<T>& v, double h, VecX<T>* out) {
   if (model.spatial_bodies.empty()) {  // q and v share one layout
-    out->noalias() = q + h * v;
+    if (h == 1.0) {
+      out->noalias() = q + v;
+    } else {
+      out->noalias() = q + h * v;
+    }
     return;
   }
   for (const Body<T>& body : model.bodies) {

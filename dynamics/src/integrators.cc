@@ -30,14 +30,24 @@ StepStatus SymplecticEuler(const Model<T>& model, double t, double h, Workspace<
   return StepStatus::kOk;
 }
 
-// One Munthe-Kaas stage: the state q (+) theta, v + dv, its acceleration into *a and its stage derivative
-// DexpInv(theta, v_stage) into *k.
+// A Munthe-Kaas stage at the state ws->trial_q = q (+) theta, ws->trial_v: its acceleration into *a and its stage
+// derivative DexpInv(theta, v_stage) into *k (without 3D bodies K_i is v_i, and ws->theta is not read).
+template <typename T>
+bool StageAt(const Model<T>& model, double t, Workspace<T>* ws, VecX<T>* k, VecX<T>* a) {
+  if (!ComputeAcceleration(model, t, ws->trial_q, ws->trial_v, ws, a)) return false;
+  if (model.spatial_bodies.empty()) {
+    *k = ws->trial_v;
+  } else {
+    DexpInv(model, ws->theta, ws->trial_v, k);
+  }
+  return true;
+}
+
+// The same from q and the increment ws->theta.
 template <typename T>
 bool Stage(const Model<T>& model, double t, const VecX<T>& q, Workspace<T>* ws, VecX<T>* k, VecX<T>* a) {
   Integrate(model, q, ws->theta, 1.0, &ws->trial_q);
-  if (!ComputeAcceleration(model, t, ws->trial_q, ws->trial_v, ws, a)) return false;
-  DexpInv(model, ws->theta, ws->trial_v, k);
-  return true;
+  return StageAt(model, t, ws, k, a);
 }
 
 template <typename T>
@@ -45,15 +55,18 @@ StepStatus Rk4(const Model<T>& model, double t, double h, Workspace<T>* ws, VecX
   auto& kq = ws->stage_q;
   auto& kv = ws->stage_v;
   const double c[4] = {0.0, 0.5, 0.5, 1.0};
-  for (int s = 0; s < 4; ++s) {
+  const bool spatial = !model.spatial_bodies.empty();
+  for (int s = 0; s < 4; ++s) {  // theta_s = c_s h K_{s-1}: q (+) theta_s is Integrate(q, K_{s-1}, c_s h)
     if (s == 0) {
-      ws->theta.setZero();
+      ws->trial_q = *q;
       ws->trial_v = *v;
+      if (spatial) ws->theta.setZero();
     } else {
-      ws->theta = (c[s] * h) * kq[s - 1];
+      Integrate(model, *q, kq[s - 1], c[s] * h, &ws->trial_q);
       ws->trial_v = *v + (c[s] * h) * kv[s - 1];
+      if (spatial) ws->theta = (c[s] * h) * kq[s - 1];
     }
-    if (!Stage(model, t + c[s] * h, *q, ws, &kq[s], &kv[s])) return StepStatus::kSolveFailed;
+    if (!StageAt(model, t + c[s] * h, ws, &kq[s], &kv[s])) return StepStatus::kSolveFailed;
   }
   ws->theta = (h / 6.0) * (kq[0] + 2.0 * kq[1] + 2.0 * kq[2] + kq[3]);
   Integrate(model, *q, ws->theta, 1.0, &ws->next_q);

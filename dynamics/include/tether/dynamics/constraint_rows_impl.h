@@ -192,9 +192,9 @@ std::vector<RowInfo> DescribeRows(const Model<T>& model, const ConstraintSet<T>&
 }
 
 template <typename T>
-void EvaluateConstraintRows(const Model<T>& model, const ConstraintSet<T>& set, const BodyFrames<T>& frames,
-                            const VecX<T>& q, const VecX<T>& v, bool velocity_terms,
-                            std::vector<ConstraintRow<T>>* rows) {
+TETHER_FLATTEN void EvaluateConstraintRows(const Model<T>& model, const ConstraintSet<T>& set,
+                                           const BodyFrames<T>& frames, const VecX<T>& q, const VecX<T>& v,
+                                           bool velocity_terms, std::vector<ConstraintRow<T>>* rows) {
   ConstraintRow<T>* row = rows->data();
   const bool vt = velocity_terms;
   for (const DistancePrimitive<T>& c : set.distances) {
@@ -224,7 +224,7 @@ void EvaluateConstraintRows(const Model<T>& model, const ConstraintSet<T>& set, 
   for (const LinePrimitive<T>& c : set.lines) {
     const PointMotion<T> pa = MovePoint(model, frames, c.a, q, v, vt), pb = MovePoint(model, frames, c.b, q, v, vt);
     const BodyFrame<T>* frame_a = internal::FrameOf(model, frames, c.a.body);
-    const Vec3<T> w_A = frame_a && velocity_terms ? frame_a->w_W : Vec3<T>(Vec3<T>::Zero());
+    const Vec3<T> w_A = frame_a && velocity_terms ? frame_a->w_W : Zero3<T>();
     const Vec3<T> d = pb.position - pa.position;
     for (int k = 0; k < model.dimension - 1; ++k, ++row) {
       const Vec3<T> n = frame_a ? Vec3<T>(frame_a->R_WB * c.normals[k]) : c.normals[k];
@@ -242,7 +242,7 @@ void EvaluateConstraintRows(const Model<T>& model, const ConstraintSet<T>& set, 
   for (const AnglePrimitive<T>& c : set.angles) {
     const BodyFrame<T>* frame_a = internal::FrameOf(model, frames, c.body_a);
     const BodyFrame<T>* frame_b = internal::FrameOf(model, frames, c.body_b);
-    const Vec3<T> zero = Vec3<T>::Zero();
+    const Vec3<T> zero = Zero3<T>();
     const Vec3<T>& w_A = frame_a && velocity_terms ? frame_a->w_W : zero;
     const Vec3<T>& w_B = frame_b && velocity_terms ? frame_b->w_W : zero;
     for (int k = 0; k < c.rows; ++k, ++row) {

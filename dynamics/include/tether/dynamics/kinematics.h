@@ -43,7 +43,7 @@ template <typename T>
 struct BodyFrame {
   Mat3<T> R_WB = Mat3<T>::Identity();  // body axes -> world (planar: about z)
   Mat3<T> R_WP = Mat3<T>::Identity();  // principal axes -> world (3D bodies; R_WB for planar ones)
-  Vec3<T> w_W = Vec3<T>::Zero();       // angular velocity, world frame
+  Vec3<T> w_W = Zero3<T>();            // angular velocity, world frame
 };
 
 // One frame per body (particles' entries unused).
@@ -85,16 +85,16 @@ TETHER_HOT_INLINE Vec3<T> Translation(int dimension, const T* x) {
 template <typename T>
 struct BodyVector {
   int body = kWorld;
-  Vec3<T> translation = Vec3<T>::Zero();
-  Vec3<T> rotation = Vec3<T>::Zero();
+  Vec3<T> translation = Zero3<T>();
+  Vec3<T> rotation = Zero3<T>();
 };
 
 template <typename T>
 struct PointMotion {
-  Vec3<T> position = Vec3<T>::Zero();     // p
-  Vec3<T> velocity = Vec3<T>::Zero();     // p'
-  Vec3<T> arm = Vec3<T>::Zero();          // a = R_WB r (zero for particles and the world)
-  Vec3<T> centripetal = Vec3<T>::Zero();  // w x (w x a)
+  Vec3<T> position = Zero3<T>();     // p
+  Vec3<T> velocity = Zero3<T>();     // p'
+  Vec3<T> arm = Zero3<T>();          // a = R_WB r (zero for particles and the world)
+  Vec3<T> centripetal = Zero3<T>();  // w x (w x a)
 };
 
 template <typename T>
@@ -152,12 +152,15 @@ TETHER_HOT_INLINE Segment<T> Between(const PointMotion<T>& a, const PointMotion<
 // The rotational block of a world-frame angular gradient g_W (d(...)/d w_W), in the body's velocity frame.
 template <typename T>
 TETHER_HOT_INLINE Vec3<T> RotationalPart(const Model<T>& model, const BodyFrames<T>& frames, int body, const Vec3<T>& g_W) {
-  if (body == kWorld) return Vec3<T>::Zero();
+  if (body == kWorld) return Zero3<T>();
   switch (model.bodies[body].kind) {
     case BodyKind::kParticle:
-      return Vec3<T>::Zero();
-    case BodyKind::kPlanar:
-      return Vec3<T>(T(0.0), T(0.0), g_W.z());
+      return Zero3<T>();
+    case BodyKind::kPlanar: {
+      Vec3<T> z = Zero3<T>();
+      z[2] = g_W.z();
+      return z;
+    }
     case BodyKind::kRigid3d:
       break;
   }

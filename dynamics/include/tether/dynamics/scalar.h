@@ -41,11 +41,30 @@ using VecX = Eigen::Matrix<T, Eigen::Dynamic, 1>;
 
 // Small functions on the hot path of a step (a point's motion, a Jacobian block's dot product) that the compiler
 // must inline although their switch over body kinds makes it hesitate (Eigen's EIGEN_STRONG_INLINE does the same).
+// TETHER_FLATTEN asks for everything a hot function calls to be inlined into it: with Jets the compiler otherwise
+// leaves Eigen's small 3-vector copies out of line, a call each.
 #if defined(__GNUC__)
 #define TETHER_HOT_INLINE __attribute__((always_inline)) inline
+#define TETHER_FLATTEN __attribute__((flatten))
 #else
 #define TETHER_HOT_INLINE inline
+#define TETHER_FLATTEN
 #endif
+
+namespace tether {
+
+// A zero 3-vector for the hot path, element by element: Eigen's Zero() goes through its expression evaluator,
+// which for a Jet scalar the compiler leaves out of line, a call per vector.
+template <typename T>
+TETHER_HOT_INLINE Eigen::Matrix<T, 3, 1> Zero3() {
+  Eigen::Matrix<T, 3, 1> v;
+  v[0] = T(0.0);
+  v[1] = T(0.0);
+  v[2] = T(0.0);
+  return v;
+}
+
+}  // namespace tether
 
 // Expands MACRO(T) once for every scalar the library is compiled for (explicit instantiation, see DESIGN.md).
 #define TETHER_FOR_EACH_SCALAR(MACRO) \
