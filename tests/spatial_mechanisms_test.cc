@@ -24,6 +24,14 @@ namespace {
 
 using testing::SceneFromJson;
 
+// The numbers of one CSV row.
+std::vector<double> Cells(const std::string& line) {
+  std::vector<double> cells;
+  std::stringstream in(line);
+  for (std::string cell; std::getline(in, cell, ',');) cells.push_back(std::stod(cell));
+  return cells;
+}
+
 // The orthogonal Bricard linkage on the edges of a unit cube, (0,0,0) -> (1,0,0) -> (1,1,0) -> (1,1,1) ->
 // (0,1,1) -> (0,0,1) -> (0,0,0): six unit links, consecutive hinge axes perpendicular, each link the common
 // normal of its two axes (lengths equal, twists 90 degrees, offsets zero). The last link is the world.
@@ -141,9 +149,7 @@ TEST(Gradients, JetsMatchCentralDifferencesForEveryThreeDimensionalParameter) {
     out << "t,lower.qx,elbow.angle,hand.x,hand.z,upper.wz,energy\n";
     const std::vector<TrajectoryColumn> columns = TrajectoryColumns(scene.model);
     while (std::getline(in, line)) {
-      std::vector<double> cells;
-      std::stringstream cells_in(line);
-      for (std::string cell; std::getline(cells_in, cell, ',');) cells.push_back(std::stod(cell));
+      const std::vector<double> cells = Cells(line);
       auto at = [&](const std::string& name) {
         for (size_t i = 0; i < columns.size(); ++i) {
           if (columns[i].name == name) return cells[i];
@@ -188,9 +194,7 @@ TEST(Observations, ARecordedQuaternionOfEitherSignFitsTheSame) {
     std::getline(in, line);
     out << "t,b.qw,b.qx,b.qy,b.qz\n";
     for (int row = 0; std::getline(in, line); ++row) {
-      std::vector<double> cells;
-      std::stringstream cells_in(line);
-      for (std::string cell; std::getline(cells_in, cell, ',');) cells.push_back(std::stod(cell));
+      const std::vector<double> cells = Cells(line);
       const double sign = row % 2 == 0 ? -1.0 : 1.0;
       out.precision(17);
       out << cells[0];
