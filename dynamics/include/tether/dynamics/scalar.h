@@ -42,12 +42,16 @@ using VecX = Eigen::Matrix<T, Eigen::Dynamic, 1>;
 // Small functions on the hot path of a step (a point's motion, a Jacobian block's dot product) that the compiler
 // must inline although their switch over body kinds makes it hesitate (Eigen's EIGEN_STRONG_INLINE does the same).
 // TETHER_FLATTEN asks for everything a hot function calls to be inlined into it: with Jets the compiler otherwise
-// leaves Eigen's small 3-vector copies out of line, a call each.
+// leaves Eigen's small 3-vector copies out of line, a call each. Not under AddressSanitizer, where g++ takes
+// minutes to compile the flattened, instrumented function (and speed does not matter).
 #if defined(__GNUC__)
 #define TETHER_HOT_INLINE __attribute__((always_inline)) inline
-#define TETHER_FLATTEN __attribute__((flatten))
 #else
 #define TETHER_HOT_INLINE inline
+#endif
+#if defined(__GNUC__) && !defined(__SANITIZE_ADDRESS__)
+#define TETHER_FLATTEN __attribute__((flatten))
+#else
 #define TETHER_FLATTEN
 #endif
 
