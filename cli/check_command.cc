@@ -36,8 +36,10 @@ class CheckCommand final : public Command {
                             {"condition_number", c.condition_number},
                             {"solver", c.solver}};
       if (c.worst_constraint >= 0) out["worst_constraint"] = c.worst_constraint;
+      out["assembles"] = c.assembly_error.empty();
+      if (!c.assembly_error.empty()) out["assembly_error"] = c.assembly_error;
       std::cout << out.dump(2) << std::endl;
-      return 0;
+      return c.assembly_error.empty() ? 0 : 1;
     }
     std::printf("%s: %d coordinates, %d constraint rows of rank %d: %d degrees of freedom\n", scene_path_.c_str(),
                 c.coordinates, c.constraint_rows, c.rank, c.degrees_of_freedom);
@@ -54,6 +56,10 @@ class CheckCommand final : public Command {
     }
     std::printf("conditioning of J M^-1/2: %.3g (the Schur complement's is its square); KKT path: %s\n",
                 c.condition_number, c.solver.c_str());
+    if (!c.assembly_error.empty()) {
+      std::printf("cannot be assembled: %s\n", c.assembly_error.c_str());
+      return 1;  // simulate refuses this scene
+    }
     return 0;
   }
 

@@ -39,6 +39,7 @@ void SceneOverrides::Apply(Model<double>* model) const {
   if (integrator) sim.integrator = ParseIntegrator(*integrator, "--integrator");
   if (solver) sim.solver = ParseKktSolver(*solver, "--solver");
   if (stabilization) st.method = ParseStabilization(*stabilization, "--stabilization");
+  if (duration || step) CheckStepCount(sim, duration && step ? "--duration/--step" : duration ? "--duration" : "--step");
   if (alpha || beta) {
     if (stabilization && st.method != Stabilization::kBaumgarte) {
       throw InputError("--alpha/--beta: gains apply to the baumgarte method only, not --stabilization " + *stabilization);

@@ -114,6 +114,7 @@ Observations ReadObservations(const std::string& path, const Model<double>& mode
     }
     if (!(t >= 0.0 && t <= duration * (1 + 1e-12))) {
       std::ostringstream message;
+      message.precision(17);
       message << "t = " << t << " lies outside the simulated interval [0, " << duration << "]";
       fail(line, message.str());
     }

@@ -89,12 +89,10 @@ constexpr double kA[7][6] = {
 constexpr double kE[7] = {71.0 / 57600,      0, -71.0 / 16695, 71.0 / 1920, -17253.0 / 339200,
                           22.0 / 525, -1.0 / 40};
 
-// One Dormand-Prince trial step of size h from (q, v); the result is left in ws->next_q/next_v and the
-// scaled error norm is returned (infinity when a stage or the error's projection failed).
 // The size of each velocity component's configuration for rk45's error scale: |q_i| for translations and planar
 // angles (their q_i), 1 for a 3D body's rotation (a unit quaternion).
 template <typename T>
-double ConfigurationScale(const Model<T>& model, const VecX<T>& q, const Body<T>& body, int k) {
+double ConfigurationScale(const VecX<T>& q, const Body<T>& body, int k) {
   if (body.kind == BodyKind::kRigid3d && k >= 3) return 1.0;
   return std::abs(Value(q[body.q_offset + k]));
 }
@@ -144,7 +142,7 @@ double DormandPrinceTrial(const Model<T>& model, double t, double h, double tole
       const int i = body.v_offset + k;
       const double eq = Value(error_q[i]), ev = Value(error_v[i]);
       const double scale_q =
-          tolerance * (1.0 + std::max(ConfigurationScale(model, q, body, k), ConfigurationScale(model, ws->next_q, body, k)));
+          tolerance * (1.0 + std::max(ConfigurationScale(q, body, k), ConfigurationScale(ws->next_q, body, k)));
       const double scale_v = tolerance * (1.0 + std::max(std::abs(Value(v[i])), std::abs(Value(ws->next_v[i]))));
       sum += (h * eq / scale_q) * (h * eq / scale_q) + (h * ev / scale_v) * (h * ev / scale_v);
     }

@@ -1,6 +1,11 @@
 #include "tether/dynamics/model.h"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "tether/dynamics/errors.h"
 
 namespace tether {
 namespace {
@@ -68,6 +73,20 @@ int AppendBody(Model<T>* model, Body<T> body, int q_size, int v_size) {
 }
 
 }  // namespace
+
+std::int64_t StepCount(const SimulationSettings& simulation) {
+  const double steps = std::ceil(simulation.duration / simulation.step - 1e-9);
+  if (!(steps <= static_cast<double>(kMaxSteps))) return kMaxSteps + 1;  // NaN too
+  return std::max<std::int64_t>(1, static_cast<std::int64_t>(steps));
+}
+
+void CheckStepCount(const SimulationSettings& simulation, const std::string& where) {
+  if (StepCount(simulation) <= kMaxSteps) return;
+  std::ostringstream out;
+  out << where << ": a duration of " << simulation.duration << " s at a step of " << simulation.step << " s is "
+      << simulation.duration / simulation.step << " steps, more than a run may take (" << kMaxSteps << ")";
+  throw InputError(out.str());
+}
 
 template <typename U>
 Model<U> CastModel(const Model<double>& m) {

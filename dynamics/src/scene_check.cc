@@ -7,7 +7,9 @@
 
 #include "tether/dynamics/constraint_rows.h"
 #include "tether/dynamics/effects.h"
+#include "tether/dynamics/errors.h"
 #include "tether/dynamics/schur_solver.h"
+#include "tether/dynamics/simulator.h"
 
 namespace tether {
 
@@ -21,6 +23,12 @@ SceneCheck CheckScene(const Model<double>& model) {
   check.constraint_rows = static_cast<int>(rows.size());
   check.solver = ResolveSolver(model.simulation.solver) == KktSolver::kDense ? "dense" : "sparse";
   check.degrees_of_freedom = check.coordinates;
+  try {
+    RunReport report;
+    AssembledInitialState(model, &report);
+  } catch (const InputError& e) {
+    check.assembly_error = e.what();
+  }
   if (rows.empty()) return check;
   BodyFrames<double> frames;
   UpdateFrames(model, start.q, start.v, false, &frames);

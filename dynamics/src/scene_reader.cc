@@ -573,6 +573,7 @@ class SceneBuilder {
     if (const json* k = check_.Optional(s, "solver")) {
       sim.solver = ParseKktSolver(check_.String(*k, "/simulation/solver"), check_.Where("/simulation/solver"));
     }
+    CheckStepCount(sim, check_.Where("/simulation/duration"));
   }
 
   void ReadStabilization(const json& s) {

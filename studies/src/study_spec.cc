@@ -135,6 +135,8 @@ class SpecReader {
     if (!sweep.is_object() || sweep.empty()) {
       Fail("/sweep", "expected an object {POINTER: [values]} with at least one pointer");
     }
+    double rows = 1.0;  // the scene column, when there is one, came first
+    for (const std::vector<nlohmann::json>& column : spec_.values) rows *= static_cast<double>(column.size());
     for (auto it = sweep.begin(); it != sweep.end(); ++it) {
       const std::string where = SweepEntry(it.key());
       if (!it.value().is_array() || it.value().empty()) Fail(where, "expected a non-empty array of values");
@@ -142,6 +144,13 @@ class SpecReader {
         (void)nlohmann::json::json_pointer(it.key());
       } catch (const nlohmann::json::exception&) {
         Fail(where, "'" + it.key() + "' is not a JSON Pointer");
+      }
+      rows *= static_cast<double>(it.value().size());
+      if (rows > kMaxStudyRows) {
+        std::ostringstream message;
+        message << "the sweep would have " << rows << " rows (the product of its value counts), more than a study "
+                << "may run (" << kMaxStudyRows << ")";
+        Fail(where, message.str());
       }
       spec_.pointers.push_back(it.key());
       std::vector<nlohmann::json> values;

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
+#include <stdexcept>
 #include <nlopt.hpp>
 
 #include "tether/dynamics/errors.h"
@@ -109,7 +110,17 @@ OptimizerResult MinimizeWithCeres(const ResidualFunction& residuals, const std::
   return result;
 }
 
-bool IsMultiLevelSingleLinkage(const std::string& algorithm) { return algorithm.find("MLSL") != std::string::npos; }
+// MLSL and AUGLAG run a local optimizer that NLopt leaves to the caller (AUGLAG without one crashes NLopt 2.7):
+// a gradient-based one (LD_LBFGS) for the GD_/LD_ variants and the generic AUGLAG, a derivative-free one
+// (LN_BOBYQA) for the GN_/LN_ variants, and for G_MLSL, whose own search is derivative-free.
+bool NeedsLocalOptimizer(const std::string& algorithm) {
+  return algorithm.find("MLSL") != std::string::npos || algorithm.find("AUGLAG") != std::string::npos;
+}
+nlopt::algorithm LocalOptimizerFor(const std::string& algorithm) {
+  const bool gradient_based = algorithm.compare(0, 3, "GD_") == 0 || algorithm.compare(0, 3, "LD_") == 0 ||
+                              algorithm.compare(0, 6, "AUGLAG") == 0;
+  return gradient_based ? nlopt::LD_LBFGS : nlopt::LN_BOBYQA;
+}
 
 OptimizerResult MinimizeWithNlopt(const ResidualFunction& residuals, const std::string& algorithm_name,
                                   const std::vector<double>& start, const std::vector<double>& lower,
@@ -167,9 +178,8 @@ OptimizerResult MinimizeWithNlopt(const ResidualFunction& residuals, const std::
   opt.set_xtol_rel(settings.relative_tolerance);
   opt.set_ftol_rel(settings.relative_tolerance);
   opt.set_maxeval(settings.max_evaluations);
-  if (IsMultiLevelSingleLinkage(algorithm_name)) {
-    nlopt::opt local(algorithm_name[0] == 'G' && algorithm_name[1] == '_' ? nlopt::LD_LBFGS : nlopt::LN_BOBYQA,
-                     static_cast<unsigned>(start.size()));
+  if (NeedsLocalOptimizer(algorithm_name)) {
+    nlopt::opt local(LocalOptimizerFor(algorithm_name), static_cast<unsigned>(start.size()));
     local.set_xtol_rel(settings.relative_tolerance);
     local.set_ftol_rel(settings.relative_tolerance);
     opt.set_local_optimizer(local);
@@ -180,6 +190,10 @@ OptimizerResult MinimizeWithNlopt(const ResidualFunction& residuals, const std::
   try {
     const nlopt::result code = opt.optimize(x, value);
     result.message = "nlopt result code " + std::to_string(static_cast<int>(code));
+  } catch (const std::invalid_argument&) {  // NLOPT_INVALID_ARGS: nothing was optimized
+    throw InputError("--optimizer: NLopt cannot run nlopt:" + algorithm_name + " on this problem (" +
+                     std::to_string(start.size()) + " parameters): it is missing from this NLopt build, or needs "
+                     "finite bounds on every parameter or more parameters; choose another, e.g. nlopt:LN_BOBYQA");
   } catch (const nlopt::roundoff_limited&) {
     value = opt.last_optimum_value();
     result.message = "nlopt stopped: roundoff limited";

@@ -16,6 +16,7 @@
 // are stored by kind, so evaluation loops run only over what the scene declares.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -188,6 +189,14 @@ struct SimulationSettings {
   double tolerance = 1e-8;  // rk45's local error tolerance (absolute and relative)
   KktSolver solver = KktSolver::kAuto;
 };
+
+// A run's number of steps, ceil(duration / step) and at least one, saturating above kMaxSteps: the most a run
+// may take (a pendulum needs about an hour for them), beyond which a request is refused up front rather than
+// overflowing a count.
+inline constexpr std::int64_t kMaxSteps = 1'000'000'000;
+std::int64_t StepCount(const SimulationSettings& simulation);
+// Throws InputError, naming `where` (a JSON Pointer or the flags), when the settings ask for more than kMaxSteps.
+void CheckStepCount(const SimulationSettings& simulation, const std::string& where);
 
 template <typename T>
 struct StabilizationSettings {

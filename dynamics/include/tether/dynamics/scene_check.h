@@ -9,7 +9,9 @@
 //               constraints whose rows it leaves out after the first r pivots (one valid choice of rows to drop),
 //   condition   largest / smallest of the r singular values kept (the conditioning of the Schur complement
 //               S = J M^-1 J^T is its square).
-// The initial violation is the largest constraint violation at the initial state, before assembly.
+// The initial violation is the largest constraint violation at the initial state, before assembly; the assembly
+// error is what Simulate would refuse the scene with (AssembledInitialState, simulator.h), empty when it
+// assembles.
 #pragma once
 
 #include <string>
@@ -31,6 +33,7 @@ struct SceneCheck {
   int worst_constraint = -1;               // scene index of the largest initial violation
   double condition_number = 1.0;           // of J M^-1/2 over its rank
   std::string solver;                      // the KKT path `auto` picks: dense or sparse
+  std::string assembly_error;              // empty when the initial state can be assembled
 };
 
 SceneCheck CheckScene(const Model<double>& model);

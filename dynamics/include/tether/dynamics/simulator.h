@@ -5,13 +5,16 @@
 // Divergence: the run stops with SimulationDiverged when the state becomes non-finite, the Schur system
 // cannot be factored, rk45's step collapses, or a constraint is violated by more than the scene's length
 // scale (the largest of its initial coordinates, constraint lengths and point offsets, at least 1 mm): a
-// constraint that is off by the size of the whole scene no longer describes the mechanism.
+// constraint that is off by the size of the whole scene no longer describes the mechanism. The violation is
+// checked after every step and at every sample, the last one included. A run longer than kMaxSteps steps
+// (model.h) is refused with InputError before it starts.
 #pragma once
 
 #include <functional>
 #include <string>
 #include <vector>
 
+#include "tether/dynamics/configuration_space.h"
 #include "tether/dynamics/constraint_rows.h"
 
 namespace tether {
@@ -38,7 +41,8 @@ struct RunOptions {
   double start_time = 0.0;
   // Times (strictly increasing, within the run's interval) at which the run must sample its state exactly: the
   // step that would cross a stop is split there, so observations need no interpolation. A stop within 1e-9 h
-  // of a grid time is served by it.
+  // of a grid time is served by it, and one past the end by no more than 1e-12 of the duration (the rounding
+  // of a time written in a file) by the end state.
   std::vector<double> stops;
   // Test oracle and benchmark only: factor the Schur matrix of Jets itself instead of applying the implicit
   // function theorem to its value part (schur_solver.h).
@@ -46,9 +50,15 @@ struct RunOptions {
 };
 
 struct RunReport {
-  int steps = 0;
+  std::int64_t steps = 0;
   std::vector<std::string> warnings;  // e.g. that the initial state was moved onto the constraints
 };
+
+// The state a run starts from: the model's initial state moved onto its constraints (the mass-weighted nearest
+// state, projection.h) with its velocities projected, and a warning in `report` for each that moved. Throws
+// InputError when it cannot be assembled: Simulate's first step, which `tether check` reports too.
+template <typename T>
+State<T> AssembledInitialState(const Model<T>& model, RunReport* report);
 
 // Throws InputError when the initial state cannot be assembled onto the constraints, and
 // SimulationDiverged when the run diverges.

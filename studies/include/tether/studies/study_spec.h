@@ -42,6 +42,8 @@ struct StudySpec {
 // file and the JSON Pointer (and the row) at fault.
 StudySpec ReadStudySpec(const std::string& path);
 
+// The number of rows, the product of the columns' value counts; ReadStudySpec refuses more than kMaxStudyRows.
+inline constexpr int kMaxStudyRows = 1'000'000;
 int RowCount(const StudySpec& spec);
 
 // A swept value as results.csv writes it: a string as it is, anything else as JSON.
