@@ -7,6 +7,7 @@
 
 #include "matplotlib_script.h"
 #include "tether/dynamics/errors.h"
+#include "tether/dynamics/interrupts.h"
 #include "tether/dynamics/simulator.h"
 #include "tether/dynamics/trajectory_csv.h"
 
@@ -49,12 +50,13 @@ fig.savefig(out, dpi=110)
 void PlotFit(const Model<double>& fitted, const std::vector<Observations>& recordings, const std::string& path) {
   namespace fs = std::filesystem;
   const fs::path csv = fs::temp_directory_path() / ("tether-fitted-" + std::to_string(::getpid()) + ".csv");
+  const std::string partial = path + ".partial" + fs::path(path).extension().string();
+  const TemporaryPath csv_file(csv.string()), partial_file(partial);  // removed if the process is interrupted
   {
     std::ofstream out(csv);
     TrajectoryCsvWriter writer(fitted, &out);
     Simulate<double>(fitted, RunOptions{}, [&writer](const Sample<double>& s) { writer.Write(s); });
   }
-  const std::string partial = path + ".partial" + fs::path(path).extension().string();
   std::vector<std::string> args = {csv.string(), partial};
   for (const Observations& r : recordings) args.push_back(r.path);
   try {

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "fit_plot.h"
+#include "flags.h"
 #include "scene_overrides.h"
 #include "tether/dynamics/errors.h"
 #include "tether/dynamics/scene_reader.h"
@@ -63,10 +64,11 @@ class IdentifyCommand final : public Command {
     settings.optimizer.name = optimizer_;
     CheckOptimizerName(optimizer_);
     if (!loss_.empty()) settings.optimizer.loss = ParseRobustLoss(loss_, "--loss");
-    if (segments_ < 1) throw InputError("--segments: must be a whole number >= 1, got " + std::to_string(segments_));
-    if (max_evaluations_ < 2) {
-      throw InputError("--max-evaluations: must be a whole number >= 2, got " + std::to_string(max_evaluations_));
-    }
+    CheckCount(segments_, 1, kMaxSegments, "--segments");
+    CheckCount(max_evaluations_, 2, kMaxEvaluations, "--max-evaluations");
+    std::vector<std::string> inputs = data_paths_;
+    inputs.push_back(scene_path_);
+    CheckOutputs({{output_path_, "-o"}, {plot_path_, "--plot", true}}, inputs);
     if (!(smooth_ >= 0) || !std::isfinite(smooth_)) throw InputError("--smooth: must be >= 0");
     settings.segments = segments_;
     settings.smooth = smooth_;
@@ -93,12 +95,7 @@ class IdentifyCommand final : public Command {
     } catch (const InputError& e) {
       throw InputError(scene_path_ + ": " + e.what());
     }
-    if (!plot_path_.empty()) {
-      Model<double> fitted = scene.model;
-      parameters.Assign(result.estimate, &fitted);
-      PlotFit(fitted, recordings, plot_path_);
-    }
-    if (out) {
+    if (out && !result.failed) {  // a failed fit writes no scene (its JSON says why)
       nlohmann::json updated = scene.document;
       parameters.WriteInto(result.estimate, &updated);
       out->stream() << updated.dump(2) << "\n";
@@ -106,7 +103,21 @@ class IdentifyCommand final : public Command {
     }
     std::cout << ToJson(parameters, result).dump(2) << std::endl;
     for (const std::string& warning : result.warnings) std::cerr << "tether: warning: " << warning << "\n";
-    return 0;
+    if (result.failed) {
+      std::cerr << "tether: the " << (fit_ ? "fit" : "identification") << " failed (warnings above)"
+                << (out ? "; no scene was written" : "") << "\n";
+    }
+    if (!plot_path_.empty()) {  // last: a plot that fails loses nothing computed
+      Model<double> fitted = scene.model;
+      parameters.Assign(result.estimate, &fitted);
+      try {
+        PlotFit(fitted, recordings, plot_path_);
+      } catch (const InputError& e) {
+        std::cerr << "tether: error: " << e.what() << "\ntether: the results above are complete; only the plot is missing\n";
+        return 1;
+      }
+    }
+    return result.failed ? 1 : 0;
   }
 
  private:
@@ -135,6 +146,7 @@ class IdentifyCommand final : public Command {
     j["optimizer_message"] = r.optimizer.message;
     j["segments"] = segments_;
     j["warnings"] = r.warnings;
+    j["failed"] = r.failed;
     j["residuals"] = nlohmann::json::array();
     for (const ResidualStatistics& s : r.residuals) {
       j["residuals"].push_back({{"file", s.file}, {"column", s.column}, {"count", s.count}, {"rms", s.rms},

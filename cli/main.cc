@@ -1,6 +1,9 @@
-// tether: the command-line front end. Exit status 0 on success, 1 when a run fails (diverges), 2 on bad input
-// or usage, always with a message on stderr.
+// tether: the command-line front end. Exit status 0 on success, 1 when a run fails (diverges, an output cannot
+// be written, the machine refuses memory or threads), 2 on bad input or usage, always with a message on stderr;
+// an interruption (SIGINT, SIGTERM, SIGHUP) leaves no temporary file behind (interrupts.h).
 #include <iostream>
+#include <new>
+#include <system_error>
 #include <memory>
 #include <vector>
 
@@ -11,11 +14,15 @@
 #include "study_command.h"
 #include "tune_command.h"
 #include "tether/dynamics/errors.h"
+#include "tether/dynamics/interrupts.h"
 
 int main(int argc, char** argv) {
   using namespace tether;
   CLI::App app{"tether: constrained multibody dynamics in maximal coordinates, differentiable end to end"};
+  const std::string commit = TETHER_COMMIT;
+  app.set_version_flag("--version", std::string("tether ") + TETHER_VERSION + (commit.empty() ? "" : " (commit " + commit + ")"));
   app.require_subcommand(1);
+  InstallInterruptHandlers();
   std::vector<std::unique_ptr<cli::Command>> commands;
   commands.push_back(cli::MakeSimulateCommand(&app));
   commands.push_back(cli::MakeGradientCommand(&app));
@@ -34,12 +41,24 @@ int main(int argc, char** argv) {
   for (const auto& command : commands) {
     if (!command->app()->parsed()) continue;
     try {
-      return command->Run();
+      const int status = command->Run();
+      std::cout.flush();
+      if (!std::cout) throw OutputError("cannot write to standard output");
+      return status;
     } catch (const InputError& e) {
       std::cerr << "tether: error: " << e.what() << "\n";
       return 2;
     } catch (const SimulationDiverged& e) {
       std::cerr << "tether: " << e.what() << "\n";
+      return 1;
+    } catch (const OutputError& e) {
+      std::cerr << "tether: error: " << e.what() << "\n";
+      return 1;
+    } catch (const std::bad_alloc&) {
+      std::cerr << "tether: failed: out of memory\n";
+      return 1;
+    } catch (const std::system_error& e) {  // e.g. threads that cannot be started
+      std::cerr << "tether: failed: the system refused: " << e.what() << "\n";
       return 1;
     } catch (const std::exception& e) {
       std::cerr << "tether: failed: " << e.what() << "\n";

@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "tether/dynamics/errors.h"
+#include "tether/dynamics/interrupts.h"
 
 namespace tether::cli {
 namespace {
@@ -24,6 +25,8 @@ void RunMatplotlib(const std::string& script, const std::vector<std::string>& ar
   char pattern[] = "/tmp/tether-plot-XXXXXX";
   if (!mkdtemp(pattern)) throw InputError(flag + ": cannot make a temporary folder");
   const fs::path work(pattern);
+  const TemporaryPath folder(work.string()), script_file((work / "script.py").string()),
+      error_file((work / "errors.txt").string());  // removed if the process is interrupted meanwhile
   std::ofstream(work / "script.py") << script;
   const char* python = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
   std::string command = std::string(python) + " " + Quote((work / "script.py").string());

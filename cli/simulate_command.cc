@@ -1,8 +1,10 @@
 #include "simulate_command.h"
 
 #include <iostream>
+#include <limits>
 #include <sstream>
 
+#include "flags.h"
 #include "scene_overrides.h"
 #include "tether/dynamics/errors.h"
 #include "tether/dynamics/scene_reader.h"
@@ -25,7 +27,8 @@ class SimulateCommand final : public Command {
   CLI::App* app() const override { return app_; }
 
   int Run() override {
-    if (every_ < 1) throw InputError("--every: must be a whole number >= 1, got " + std::to_string(every_));
+    CheckCount(every_, 1, std::numeric_limits<int>::max(), "--every");
+    CheckOutputs({{output_path_, "-o"}}, {scene_path_});
     Scene scene = ReadSceneFile(scene_path_);
     overrides_.Apply(&scene.model);
 

@@ -7,9 +7,15 @@
 #include <iostream>
 #include <thread>
 
+#include <unistd.h>
+
+#include "flags.h"
 #include "matplotlib_script.h"
 #include "study_figures_script.h"
 #include "tether/dynamics/errors.h"
+#include "tether/dynamics/interrupts.h"
+#include "tether/dynamics/output_file.h"
+#include "tether/dynamics/scene_reader.h"
 #include "tether/studies/gain_map.h"
 #include "tether/studies/study.h"
 #include "tether/studies/study_mpi.h"
@@ -17,8 +23,20 @@
 namespace tether::cli {
 namespace {
 
+// Whether smaller is better for a metric, and whether ranking rows by it says something: the gains a row ran
+// with are settings, not results, and energy drift measures error only where the scene conserves energy.
+bool Ranked(const StudySpec& spec, const std::string& metric) {
+  if (metric == "alpha" || metric == "beta") return false;
+  if (metric != "energy_drift") return true;
+  for (const nlohmann::json& scene : spec.scenes) {
+    if (!ConservesEnergy(ParseScene(scene, spec.path).model)) return false;
+  }
+  return true;
+}
+
 void WriteSummary(const StudySpec& spec, const std::vector<StudyRow>& rows, const std::string& folder) {
-  std::ofstream out(std::filesystem::path(folder) / "summary.md");
+  AtomicOutputFile file((std::filesystem::path(folder) / "summary.md").string());
+  std::ostream& out = file.stream();
   out << "# Study " << spec.path << "\n\nScene" << (spec.scene_paths.size() > 1 ? "s:" : ":");
   for (size_t k = 0; k < spec.scene_paths.size(); ++k) {
     out << (k ? ", `" : " `") << spec.scene_paths[k] << "`";
@@ -44,15 +62,21 @@ void WriteSummary(const StudySpec& spec, const std::vector<StudyRow>& rows, cons
   }
   out << "\n";
   for (size_t m = 0; m < spec.metrics.size(); ++m) {
+    if (!Ranked(spec, spec.metrics[m])) continue;
+    // a run that reproduces the reference exactly (an RMS error of 0) is the reference itself, not a winner
+    const bool reference_excluded = spec.metrics[m] == "rms_position_error";
     const StudyRow* best = nullptr;
     for (const StudyRow& row : rows) {
-      if (!std::isnan(row.metrics[m]) && (!best || row.metrics[m] < best->metrics[m])) best = &row;
+      const double value = row.metrics[m];
+      if (row.status != "ok" || std::isnan(value) || (reference_excluded && value == 0.0)) continue;
+      if (!best || value < best->metrics[m]) best = &row;
     }
     if (!best) continue;
     out << "- Smallest " << spec.metrics[m] << ": " << best->metrics[m] << " at";
     for (size_t k = 0; k < spec.pointers.size(); ++k) out << " " << spec.pointers[k] << " = " << best->values[k].dump();
-    out << ".\n";
+    out << (reference_excluded ? " (runs identical to the reference left out)" : "") << ".\n";
   }
+  file.Commit();
 }
 
 // Draws the study's figures into `folder` (study_figures.py); gain maps first get their marks, written to
@@ -71,12 +95,24 @@ void DrawFigures(const StudySpec& spec, const std::string& folder) {
   RunMatplotlib(kStudyFiguresScript, args, "study");
 }
 
+// The progress bar on a terminal, redrawn in place; elsewhere (a log file, CI) a plain line at every tenth of
+// the rows, without carriage returns.
 void ShowProgress(int done, int total, double seconds_left) {
-  const int width = 30, filled = total ? width * done / total : width;
-  std::fprintf(stderr, "\r[%s%s] %d/%d runs, about %.0f s left   ", std::string(filled, '#').c_str(),
-               std::string(width - filled, '.').c_str(), done, total, seconds_left);
-  if (done == total) std::fprintf(stderr, "\n");
+  static const bool terminal = ::isatty(STDERR_FILENO) != 0;
+  if (terminal) {
+    const int width = 30, filled = total ? width * done / total : width;
+    std::fprintf(stderr, "\r[%s%s] %d/%d runs, about %.0f s left   ", std::string(filled, '#').c_str(),
+                 std::string(width - filled, '.').c_str(), done, total, seconds_left);
+    if (done == total) std::fprintf(stderr, "\n");
+    return;
+  }
+  const int tenth = std::max(1, total / 10);
+  if (done % tenth == 0 || done == total) {
+    std::fprintf(stderr, "tether: %d/%d runs, about %.0f s left\n", done, total, seconds_left);
+  }
 }
+
+void NoProgress(int, int, double) {}
 
 class StudyCommand final : public Command {
  public:
@@ -86,18 +122,27 @@ class StudyCommand final : public Command {
     app_->add_option("--out", folder_, "output folder (results.csv, figures, summary.md)")->required();
     threads_option_ = app_->add_option("--threads", threads_,
                                        "parallel runs (default: all cores; under mpirun, the cores per rank)");
+    app_->add_flag("--restart", restart_, "discard the partial or finished results of an earlier study in --out");
+    app_->add_flag("--quiet", quiet_, "no progress on stderr");
   }
 
   CLI::App* app() const override { return app_; }
 
   int Run() override {
-    if (threads_option_->count() > 0 && threads_ < 1) {
-      throw InputError("--threads: must be a whole number >= 1, got " + std::to_string(threads_));
-    }
+    if (threads_option_->count() > 0) CheckCount(threads_, 1, kMaxThreads, "--threads");
     if (LaunchedByMpirun()) return RunOverMpi();
     const StudySpec spec = ReadStudySpec(study_path_);
-    Finish(spec, RunStudy(spec, folder_, threads_option_->count() > 0 ? threads_ : AllCores(), ShowProgress));
-    return 0;
+    std::vector<StudyRow> rows;
+    try {
+      const CatchInterrupts catching;  // Ctrl-C stops between rows and keeps what is done
+      rows = RunStudy(spec, folder_, threads_option_->count() > 0 ? threads_ : AllCores(), restart_, Progress());
+    } catch (const StudyInterrupted& e) {
+      std::cerr << "\ntether: study interrupted (signal " << e.signal() << "); the finished rows are in "
+                << (std::filesystem::path(folder_) / "results.partial.csv").string()
+                << ", and the same command resumes the study\n";
+      return 128 + e.signal();
+    }
+    return Finish(spec, rows);
   }
 
  private:
@@ -115,22 +160,33 @@ class StudyCommand final : public Command {
       return 2;
     }
     const int threads = threads_option_->count() > 0 ? threads_ : session.threads_per_rank();
-    const std::vector<StudyRow> rows = RunStudyOverMpi(session, spec, folder_, threads, ShowProgress);
-    if (session.rank() == 0) Finish(spec, rows);
-    return 0;
+    const std::vector<StudyRow> rows = RunStudyOverMpi(session, spec, folder_, threads, restart_, Progress());
+    return session.rank() == 0 ? Finish(spec, rows) : 0;
   }
 
-  void Finish(const StudySpec& spec, const std::vector<StudyRow>& rows) const {
-    DrawFigures(spec, folder_);
+  StudyProgress Progress() const { return quiet_ ? StudyProgress(NoProgress) : StudyProgress(ShowProgress); }
+
+  // results.csv is complete by now: the summary and the figures follow, and a failure to draw (no matplotlib)
+  // is reported (exit status 1) without losing anything computed.
+  int Finish(const StudySpec& spec, const std::vector<StudyRow>& rows) const {
+    const std::string results = (std::filesystem::path(folder_) / "results.csv").string();
     WriteSummary(spec, rows, folder_);
-    std::cerr << "tether: wrote " << (std::filesystem::path(folder_) / "results.csv").string()
-              << ", the figures and summary.md in " << folder_ << "\n";
+    try {
+      DrawFigures(spec, folder_);
+    } catch (const InputError& e) {
+      std::cerr << "tether: error: " << e.what() << "\ntether: " << results << " and summary.md are complete; "
+                << "only the figures are missing (run the same command again to draw them)\n";
+      return 1;
+    }
+    std::cerr << "tether: wrote " << results << ", the figures and summary.md in " << folder_ << "\n";
+    return 0;
   }
 
   CLI::App* app_;
   CLI::Option* threads_option_;
   std::string study_path_, folder_;
   int threads_ = 0;
+  bool restart_ = false, quiet_ = false;
 };
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <iostream>
 
+#include "flags.h"
 #include "scene_overrides.h"
 #include "tether/dynamics/errors.h"
 #include "tether/dynamics/scene_reader.h"
@@ -69,10 +70,9 @@ class TuneCommand final : public Command {
     } else {
       throw InputError("--objective: unknown objective '" + objective_ + "' (expected reference or drift)");
     }
-    if (samples_ < 1) throw InputError("--samples: must be a whole number >= 1, got " + std::to_string(samples_));
-    if (max_evaluations_ < 2) {
-      throw InputError("--max-evaluations: must be a whole number >= 2, got " + std::to_string(max_evaluations_));
-    }
+    CheckCount(samples_, 1, kMaxSamples, "--samples");
+    CheckCount(max_evaluations_, 2, kMaxEvaluations, "--max-evaluations");
+    CheckOutputs({{write_scene_, "--write-scene"}}, {scene_path_});
     settings.objective.samples = samples_;
     settings.optimizer.name = optimizer_;
     settings.optimizer.max_evaluations = max_evaluations_;

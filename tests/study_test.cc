@@ -44,19 +44,11 @@ std::string PendulumScene(double duration) {
   return text.str();
 }
 
-std::vector<std::string> Split(const std::string& text, char separator) {
-  std::vector<std::string> parts;
-  std::stringstream in(text);
-  for (std::string part; std::getline(in, part, separator);) parts.push_back(part);
-  if (!text.empty() && text.back() == separator) parts.push_back("");
-  return parts;
-}
-
-// results.csv as lines of cells (the trailing newline ends the last line, it adds none).
+// results.csv as lines of cells, quoted cells unquoted (the trailing newline ends the last line, it adds none).
 std::vector<std::vector<std::string>> ReadCsv(const std::string& path) {
   std::vector<std::vector<std::string>> rows;
   std::stringstream in(ReadText(path));
-  for (std::string line; std::getline(in, line);) rows.push_back(Split(line, ','));
+  for (std::string line; std::getline(in, line);) rows.push_back(testing::CsvCells(line));
   return rows;
 }
 
@@ -75,7 +67,7 @@ class StudyTest : public ::testing::Test {
 
   // Runs the study into `out` on `threads` threads, ignoring the progress reports.
   static std::vector<StudyRow> Run(const std::string& study, const TempFolder& out, int threads = 1) {
-    return RunStudy(ReadStudySpec(study), out.path(), threads, [](int, int, double) {});
+    return RunStudy(ReadStudySpec(study), out.path(), threads, false, [](int, int, double) {});
   }
 
   // ReadStudySpec(study) must throw InputError whose message contains every one of `parts`.
@@ -105,7 +97,7 @@ TEST_F(StudyTest, RowsAreTheCartesianProductWithTheFirstPointerSlowestInTheFiles
   EXPECT_EQ(spec.metrics, std::vector<std::string>{"max_constraint_error"});
   ASSERT_EQ(RowCount(spec), 12);
 
-  const std::vector<StudyRow> rows = RunStudy(spec, out_.path(), 1, [](int, int, double) {});
+  const std::vector<StudyRow> rows = RunStudy(spec, out_.path(), 1, false, [](int, int, double) {});
   ASSERT_EQ(rows.size(), 12u);
   const std::vector<double> steps = {0.01, 0.005}, masses = {1.0, 2.0, 3.0};
   const std::vector<std::string> integrators = {"rk4", "euler"};
@@ -228,12 +220,14 @@ TEST_F(StudyTest, ThreadCountDoesNotChangeTheRowsInProcess) {
 TEST_F(StudyTest, ResumesFromThePartialFileWithoutRedoingFinishedRows) {
   const std::string study = WriteStudy(R"({"/simulation/step": [0.01, 0.005, 0.002]})",
                                        R"(["rms_position_error", "max_constraint_error"])");
-  // an interrupted run finished row 1; its (fake, recognisable) metrics must survive untouched
-  out_.Write("results.partial.csv",
-             "index,/simulation/step,rms_position_error,max_constraint_error,status\n1,0.005,12345.5,678.25,ok\n");
+  // an interrupted run finished row 1; its (fake, recognisable) metrics must survive untouched; the line of
+  // row 2 was torn (no line end): that row runs again
+  out_.Write("results.partial.csv", "# tether study " + StudyFingerprint(ReadStudySpec(study)) +
+                                        "\nindex,/simulation/step,rms_position_error,max_constraint_error,status\n"
+                                        "1,0.005,12345.5,678.25,ok\n2,0.002,1e-9");
   std::vector<int> done_reports;
   const std::vector<StudyRow> rows =
-      RunStudy(ReadStudySpec(study), out_.path(), 1, [&](int done, int total, double eta) {
+      RunStudy(ReadStudySpec(study), out_.path(), 1, false, [&](int done, int total, double eta) {
         EXPECT_EQ(total, 3);
         EXPECT_GE(eta, 0.0);
         done_reports.push_back(done);
@@ -270,15 +264,55 @@ TEST_F(StudyTest, ResumesFromThePartialFileWithoutRedoingFinishedRows) {
   EXPECT_NE(fresh[1].metrics[0], 12345.5);
 }
 
-TEST_F(StudyTest, PartialFileOfAnotherStudyIsIgnored) {
+TEST_F(StudyTest, PartialResultsOfAnotherStudyAreRefusedUnlessRestarted) {
   const std::string study = WriteStudy(R"({"/simulation/step": [0.01, 0.005]})", R"(["rms_position_error"])");
-  // same pointer, different metrics: a header that is not ours, so its rows are not trusted
-  out_.Write("results.partial.csv", "index,/simulation/step,max_constraint_error,status\n1,0.005,12345.5,ok\n");
-  const std::vector<StudyRow> rows = Run(study, out_);
+  const std::string header = "index,/simulation/step,rms_position_error,status\n";
+  // the same header, but a fingerprint that is not this study's (its scene changed since), and an old file
+  // without a fingerprint: neither is resumed, and neither is thrown away unasked
+  for (const std::string& stale : {"# tether study 0123456789abcdef\n" + header + "1,0.005,12345.5,ok\n",
+                                   header + "1,0.005,12345.5,ok\n"}) {
+    const std::string partial = out_.Write("results.partial.csv", stale);
+    try {
+      RunStudy(ReadStudySpec(study), out_.path(), 1, false, [](int, int, double) {});
+      ADD_FAILURE() << "no InputError";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("--out"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("--restart"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(ReadText(partial), stale);
+  }
+  const std::vector<StudyRow> rows = RunStudy(ReadStudySpec(study), out_.path(), 1, true, [](int, int, double) {});
   ASSERT_EQ(rows.size(), 2u);
   EXPECT_EQ(rows[1].status, "ok");
   EXPECT_LT(rows[1].metrics[0], 0.1);  // computed, not the stale 12345.5
   EXPECT_FALSE(Exists(out_.Path("results.partial.csv")));
+}
+
+TEST_F(StudyTest, AFinishedStudyIsReadBackNotRunAgain) {
+  const std::string study = WriteStudy(R"({"/simulation/step": [0.01, 0.005]})", R"(["seconds"])");
+  const std::vector<StudyRow> first = Run(study, out_);
+  const std::string results = ReadText(out_.Path("results.csv"));
+  int reports = 0;
+  const std::vector<StudyRow> again =
+      RunStudy(ReadStudySpec(study), out_.path(), 1, false, [&](int, int, double) { ++reports; });
+  EXPECT_EQ(reports, 0);  // nothing ran
+  ASSERT_EQ(again.size(), first.size());
+  for (size_t i = 0; i < first.size(); ++i) EXPECT_EQ(again[i].metrics, first[i].metrics);  // wall times too
+  EXPECT_EQ(ReadText(out_.Path("results.csv")), results);
+  // --restart runs it again
+  RunStudy(ReadStudySpec(study), out_.path(), 1, true, [&](int, int, double) { ++reports; });
+  EXPECT_EQ(reports, 2);
+}
+
+TEST_F(StudyTest, ValuesWithCommasAreQuotedCellsOfTheResults) {
+  const std::string study = WriteStudy(R"({"/bodies/0/position": [[0.6, -0.35], [0.35, -0.6]]})", R"(["seconds"])");
+  Run(study, out_);
+  const auto csv = ReadCsv(out_.Path("results.csv"));
+  ASSERT_EQ(csv.size(), 3u);
+  EXPECT_EQ(csv[1][0], "[0.6,-0.35]");
+  EXPECT_EQ(csv[2][0], "[0.35,-0.6]");
+  EXPECT_EQ(csv[1].size(), 3u);
+  EXPECT_EQ(csv[1][2], "ok");
 }
 
 // --- errors: InputError naming the study file and the JSON Pointer (and the row for a bad combination) ---

@@ -9,7 +9,7 @@ namespace tether::testing {
 std::string ReadText(const std::string& path);
 // The lines of a text, without their line ends.
 std::vector<std::string> Lines(const std::string& text);
-// The comma-separated cells of one CSV line (a trailing empty cell is dropped).
+// The comma-separated cells of one CSV line, quoted cells unquoted (a trailing empty cell is dropped).
 std::vector<std::string> CsvCells(const std::string& line);
 
 // A fresh folder under GoogleTest's temporary directory, removed with everything in it at the end.

@@ -643,12 +643,75 @@ void CheckNesting(const std::string& text, const std::string& path) {
   }
 }
 
+// RFC 6901: '~' and '/' in a key are written "~0" and "~1".
+std::string PointerToken(const std::string& key) {
+  std::string token;
+  for (char c : key) token += c == '~' ? std::string("~0") : c == '/' ? std::string("~1") : std::string(1, c);
+  return token;
+}
+
+// Follows the parser's events to know where it is, and throws InputError at a key an object already has:
+// nlohmann::json would keep the last value silently, and a scene whose "mass" is given twice is a mistake.
+class DuplicateKeyCheck {
+ public:
+  explicit DuplicateKeyCheck(const std::string& path) : path_(path) {}
+
+  bool operator()(int, json::parse_event_t event, json& parsed) {
+    switch (event) {
+      case json::parse_event_t::object_start:
+        frames_.push_back({false, 0, {}, ""});
+        break;
+      case json::parse_event_t::array_start:
+        frames_.push_back({true, 0, {}, ""});
+        break;
+      case json::parse_event_t::key: {
+        Frame& frame = frames_.back();
+        frame.key = parsed.get<std::string>();
+        if (!frame.keys.insert(frame.key).second) {
+          throw InputError(path_ + ": " + Pointer() + ": duplicate key '" + frame.key + "' (a key may appear once in an object)");
+        }
+        break;
+      }
+      case json::parse_event_t::object_end:
+      case json::parse_event_t::array_end:
+        frames_.pop_back();
+        NextElement();
+        break;
+      case json::parse_event_t::value:
+        NextElement();
+        break;
+    }
+    return true;
+  }
+
+ private:
+  struct Frame {
+    bool array;
+    int index;
+    std::set<std::string> keys;
+    std::string key;
+  };
+
+  void NextElement() {
+    if (!frames_.empty() && frames_.back().array) ++frames_.back().index;
+  }
+
+  std::string Pointer() const {
+    std::string pointer;
+    for (const Frame& f : frames_) pointer += "/" + (f.array ? std::to_string(f.index) : PointerToken(f.key));
+    return pointer;
+  }
+
+  std::string path_;
+  std::vector<Frame> frames_;
+};
+
 }  // namespace
 
 json ParseJsonText(const std::string& text, const std::string& path) {
   CheckNesting(text, path);
   try {
-    return json::parse(text);
+    return json::parse(text, DuplicateKeyCheck(path));
   } catch (const json::parse_error& e) {
     // the byte offset is 1-based and points just past the offending character
     const size_t end = std::min(text.size(), e.byte == 0 ? size_t{0} : e.byte - 1);

@@ -13,8 +13,10 @@
 #include <sstream>
 #include <thread>
 
+#include "csv_line.h"
 #include "tether/dynamics/default_gains.h"
 #include "tether/dynamics/errors.h"
+#include "tether/dynamics/interrupts.h"
 #include "tether/dynamics/simulator.h"
 #include "tether/tuning/gain_objective.h"
 #include "tether/tuning/gain_tuning.h"
@@ -33,12 +35,9 @@ std::string Number(double x) {
 
 std::string Line(const StudyRow& row) {
   std::string line;
-  for (const nlohmann::json& v : row.values) line += CellText(v) + ",";
+  for (const nlohmann::json& v : row.values) line += CsvCell(CellText(v)) + ",";
   for (double m : row.metrics) line += Number(m) + ",";
-  std::string status = row.status;
-  std::replace(status.begin(), status.end(), ',', ';');
-  std::replace(status.begin(), status.end(), '\n', ' ');
-  return line + status;
+  return line + CsvCell(row.status);
 }
 
 // Reference motions shared by the rows of one run, computed once per reference key by the first row that asks.
@@ -113,6 +112,14 @@ StudyRow MeasureRow(const StudySpec& spec, int index, ReferenceCache* references
 
 }  // namespace
 
+double RowCost(const StudySpec& spec, int index) {
+  const SimulationSettings& simulation = SceneOfRow(spec, Combination(spec, index), "row").model.simulation;
+  const double evaluations = simulation.integrator == Integrator::kRk4    ? 4.0
+                             : simulation.integrator == Integrator::kRk45 ? 7.0
+                                                                           : 1.0;
+  return evaluations * static_cast<double>(StepCount(simulation));
+}
+
 void RunRows(const StudySpec& spec, const std::vector<int>& indices, int threads,
              const std::function<void(const FinishedRow&)>& on_row, const std::function<void()>& idle) {
   ReferenceCache references;
@@ -141,6 +148,7 @@ void RunRows(const StudySpec& spec, const std::vector<int>& indices, int threads
   for (int t = 0; t < workers && !indices.empty(); ++t) pool.emplace_back(work);
   // the calling thread hands rows on as they come, until every row is in (or one failed)
   for (size_t handed = 0; handed < indices.size();) {
+    if (Interrupted()) stop = true;
     std::unique_lock<std::mutex> lock(mutex);
     ready.wait_for(lock, std::chrono::milliseconds(10), [&] { return !finished.empty() || stop; });
     std::deque<FinishedRow> batch;
@@ -152,7 +160,9 @@ void RunRows(const StudySpec& spec, const std::vector<int>& indices, int threads
     if (batch.empty()) idle();
   }
   for (std::thread& t : pool) t.join();
+  for (const FinishedRow& row : finished) on_row(row);  // rows that were under way when the run stopped
   if (failure) std::rethrow_exception(failure);
+  if (Interrupted()) throw StudyInterrupted(Interrupted());
 }
 
 }  // namespace tether

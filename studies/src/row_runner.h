@@ -17,10 +17,15 @@ struct FinishedRow {
   std::string line;
 };
 
+// The expected cost of row `index` relative to the others, for the time a study has left: its number of steps
+// times the derivative evaluations per step (1 for euler and symplectic_euler, 4 for rk4, about 7 for rk45).
+double RowCost(const StudySpec& spec, int index);
+
 // Runs rows `indices` of the study on `threads` threads. `on_row` is called on the calling thread for each
 // finished row, in the order they finish; `idle` is called on the calling thread about every 10 ms while it waits.
 // A row that throws (other than a diverged simulation, which is a row's result) ends the run: the exception is
-// rethrown here once the running rows have finished.
+// rethrown here once the running rows have finished. An interruption (Interrupted(), interrupts.h) ends it too:
+// no row starts after it, the rows under way are finished and handed on, and StudyInterrupted is thrown.
 void RunRows(const StudySpec& spec, const std::vector<int>& indices, int threads,
              const std::function<void(const FinishedRow&)>& on_row, const std::function<void()>& idle);
 

@@ -5,9 +5,10 @@
 
 namespace tether {
 
-std::vector<StudyRow> RunStudy(const StudySpec& spec, const std::string& folder, int threads,
+std::vector<StudyRow> RunStudy(const StudySpec& spec, const std::string& folder, int threads, bool restart,
                                const StudyProgress& progress) {
-  ResultsFolder results(spec, folder, progress);
+  ResultsFolder results(spec, folder, restart, progress);
+  if (results.Done()) return results.Finish();
   RunRows(
       spec, results.Unfinished(), threads, [&](const FinishedRow& row) { results.Record(row); }, [] {});
   return results.Finish();

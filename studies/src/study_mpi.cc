@@ -71,14 +71,14 @@ MpiSession::MpiSession() {
 MpiSession::~MpiSession() { MPI_Finalize(); }
 
 std::vector<StudyRow> RunStudyOverMpi(const MpiSession& session, const StudySpec& spec, const std::string& folder,
-                                      int threads, const StudyProgress& progress) {
+                                      int threads, bool restart, const StudyProgress& progress) {
   try {
     if (session.rank() != 0) {
       const std::vector<int> rows = BroadcastRows({});
       RunRows(spec, ShareOf(rows, session.rank(), session.size()), threads, SendRow, [] {});
       return {};
     }
-    ResultsFolder results(spec, folder, progress);
+    ResultsFolder results(spec, folder, restart, progress);
     const std::vector<int> rows = BroadcastRows(results.Unfinished());
     const std::vector<int> own = ShareOf(rows, 0, session.size());
     size_t remote = rows.size() - own.size();

@@ -12,7 +12,7 @@ MpiSession::MpiSession() {
 
 MpiSession::~MpiSession() = default;
 
-std::vector<StudyRow> RunStudyOverMpi(const MpiSession&, const StudySpec&, const std::string&, int,
+std::vector<StudyRow> RunStudyOverMpi(const MpiSession&, const StudySpec&, const std::string&, int, bool,
                                       const StudyProgress&) {
   return {};
 }

@@ -10,6 +10,7 @@
 #include "tether/dynamics/errors.h"
 #include "tether/dynamics/simulator.h"
 #include "tether/dynamics/trajectory.h"
+#include "fit_judgement.h"
 
 namespace tether {
 namespace {
@@ -452,6 +453,18 @@ IdentifyResult Identify(const Model<double>& model, const ParameterSet& paramete
   }
   if (dof <= 0) {
     result.warnings.push_back("as many unknowns as residuals: the fit is exact and no standard deviation can be estimated");
+  }
+  // continuity residuals follow the data residuals in r (ShootingProblem::Residuals)
+  int data_count = 0;
+  for (const ResidualStatistics& s : result.residuals) data_count += s.count;
+  const std::vector<double> continuity(r.data() + data_count, r.data() + data_count + (n - p));
+  const FitJudgement judgement =
+      JudgeFit(recordings, result.residuals, continuity, LengthScale(model), result.optimizer);
+  result.warnings.insert(result.warnings.end(), judgement.warnings.begin(), judgement.warnings.end());
+  result.failed = judgement.failed;
+  if (judgement.failed) {
+    result.standard_deviation.assign(p, NAN);
+    result.correlation.setConstant(NAN);
   }
   return result;
 }

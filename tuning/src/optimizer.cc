@@ -107,6 +107,7 @@ OptimizerResult MinimizeWithCeres(const ResidualFunction& residuals, const std::
   result.x = x;
   result.value = summary.final_cost;
   result.message = summary.message;
+  result.hit_limit = summary.termination_type == ceres::NO_CONVERGENCE;
   return result;
 }
 
@@ -190,6 +191,7 @@ OptimizerResult MinimizeWithNlopt(const ResidualFunction& residuals, const std::
   try {
     const nlopt::result code = opt.optimize(x, value);
     result.message = "nlopt result code " + std::to_string(static_cast<int>(code));
+    result.hit_limit = code == nlopt::MAXEVAL_REACHED || code == nlopt::MAXTIME_REACHED;
   } catch (const std::invalid_argument&) {  // NLOPT_INVALID_ARGS: nothing was optimized
     throw InputError("--optimizer: NLopt cannot run nlopt:" + algorithm_name + " on this problem (" +
                      std::to_string(start.size()) + " parameters): it is missing from this NLopt build, or needs "

@@ -1,5 +1,6 @@
-// The two ways a run can fail, kept apart as DESIGN.md asks: bad input (the user can fix the scene or the
-// flags; exit status 2) and a simulation that diverges (exit status 1). Internal invariants use assert.
+// The ways a run can fail, kept apart as DESIGN.md asks: bad input (the user can fix the scene or the flags;
+// exit status 2), a simulation that diverges and an output that cannot be written (exit status 1). Internal
+// invariants use assert.
 #pragma once
 
 #include <stdexcept>
@@ -29,6 +30,12 @@ class SimulationDiverged : public std::runtime_error {
  private:
   double time_;
   int constraint_;
+};
+
+// Writing an output failed on the way (a full disk, a closed device): exit status 1, as a failed run.
+class OutputError : public std::runtime_error {
+ public:
+  explicit OutputError(const std::string& message) : std::runtime_error(Printable(message)) {}
 };
 
 }  // namespace tether

@@ -235,6 +235,19 @@ struct Model {
   int NumConstraints() const { return static_cast<int>(joints.size() + user_constraints.size()); }
 };
 
+// Whether the scene's energy is conserved by its effects: no damping (of its own or in a spring), no applied
+// force, torque or motor. Energy drift measures an integrator's error only then.
+template <typename T>
+bool ConservesEnergy(const Model<T>& model) {
+  for (const auto& s : model.springs) {
+    if (s.damping != T(0.0)) return false;
+  }
+  for (const auto& s : model.joint_springs) {
+    if (s.damping != T(0.0)) return false;
+  }
+  return model.damping.empty() && model.forces.empty() && model.torques.empty() && model.joint_torques.empty();
+}
+
 // Model<double> -> Model<U>: every quantity converted, derivatives (if any) zero.
 template <typename U>
 Model<U> CastModel(const Model<double>& model);

@@ -27,7 +27,8 @@ Scene ParseScene(const nlohmann::json& document, const std::string& path);
 
 // Parses JSON text, turning a syntax error into an InputError naming `path`, the line and the column. Arrays and
 // objects nested deeper than kMaxJsonDepth are refused the same way before parsing (a scene needs five levels;
-// tens of thousands would exhaust the stack of the recursive parts of the JSON library).
+// tens of thousands would exhaust the stack of the recursive parts of the JSON library). A key repeated in one
+// object is an InputError naming its JSON Pointer, as an unknown key is.
 inline constexpr int kMaxJsonDepth = 256;
 nlohmann::json ParseJsonText(const std::string& text, const std::string& path);
 

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "tether/dynamics/output_file.h"
 #include "tether/dynamics/trajectory_columns.h"
 
 namespace tether {
@@ -23,24 +24,6 @@ class TrajectoryCsvWriter {
   std::vector<TrajectoryColumn> columns_;
   std::ostream* out_;
   std::string line_;
-};
-
-// A file that appears at `path` only when Commit() is called: it is written to a temporary file beside it and
-// renamed, so a failed run leaves no partial output. Without Commit() the temporary file is removed.
-class AtomicOutputFile {
- public:
-  explicit AtomicOutputFile(const std::string& path);  // throws InputError if the folder is not writable
-  ~AtomicOutputFile();
-  AtomicOutputFile(const AtomicOutputFile&) = delete;
-  AtomicOutputFile& operator=(const AtomicOutputFile&) = delete;
-
-  std::ostream& stream() { return stream_; }
-  void Commit();  // throws InputError if the file cannot be completed
-
- private:
-  std::string path_, temporary_;
-  std::ofstream stream_;
-  bool committed_ = false;
 };
 
 }  // namespace tether

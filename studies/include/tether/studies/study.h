@@ -14,11 +14,12 @@
 //
 // Rows run on `threads` threads and are written in row order, so the result does not depend on the thread
 // count. The run is resumable: every finished row is appended at once to DIR/results.partial.csv, a new run of
-// the same study reads it and skips those rows, and DIR/results.csv (written whole at the end, atomically)
-// replaces it. study_mpi.h spreads the rows over MPI ranks with the same result.
+// the same study (the same study file, scenes and binary: results_folder.h) reads it and skips those rows, and
+// DIR/results.csv (written whole at the end, atomically) replaces it. study_mpi.h spreads the rows over MPI ranks with the same result.
 #pragma once
 
 #include <functional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -37,9 +38,26 @@ struct StudyRow {
 // progress(done, total, seconds_left), called as rows finish.
 using StudyProgress = std::function<void(int, int, double)>;
 
+// A study stopped by a signal (interrupts.h) between rows: what finished is kept in the partial results, and
+// running the study again resumes it.
+class StudyInterrupted : public std::runtime_error {
+ public:
+  explicit StudyInterrupted(int signal)
+      : std::runtime_error("interrupted by signal " + std::to_string(signal)), signal_(signal) {}
+  int signal() const { return signal_; }
+
+ private:
+  int signal_;
+};
+
+// What a study's results are the results of, as 16 hex digits: a hash (FNV-1a) of the study file, its scene
+// files and the running binary. Partial results carry it, and a resume with any of them changed is refused.
+std::string StudyFingerprint(const StudySpec& spec);
+
 // Runs (or resumes) the study into `folder` on `threads` threads. Returns the rows in order and writes
-// folder/results.csv.
-std::vector<StudyRow> RunStudy(const StudySpec& spec, const std::string& folder, int threads,
+// folder/results.csv. The partial results of a different study in `folder` are an InputError unless `restart`
+// discards them; a study already finished there (results.fingerprint, results_folder.h) is read back, not run.
+std::vector<StudyRow> RunStudy(const StudySpec& spec, const std::string& folder, int threads, bool restart,
                                const StudyProgress& progress);
 
 }  // namespace tether

@@ -19,7 +19,8 @@
 // number above kIdentifiabilityCondition; the warning names the parameters of the weakest direction, and
 // those get no standard deviation (NaN; null in JSON) rather than the small one the pseudo-inverse would give.
 // A parameter with no measurable effect at all (kNoEffect; a lone one has condition number 1) is reported and
-// treated the same way.
+// treated the same way. Identify judges its own result (fit_judgement.h: residuals far above the noise the data
+// implies, multiple-shooting joins left open, an optimizer stopped by its budget) and marks a failed fit.
 #pragma once
 
 #include <string>
@@ -59,6 +60,7 @@ struct IdentifyResult {
   OptimizerResult optimizer;
   std::vector<std::string> warnings;
   std::vector<ResidualStatistics> residuals;
+  bool failed = false;  // the estimate does not reproduce the data (fit_judgement.h): no uncertainty for it
 };
 
 // Throws InputError for bad settings (a bound outside which the initial value lies, an unbounded parameter for

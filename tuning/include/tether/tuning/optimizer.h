@@ -50,6 +50,7 @@ struct OptimizerResult {
   int evaluations = 0;   // residual evaluations, with or without Jacobian
   double seconds = 0.0;
   std::string message;   // the back end's own summary of why it stopped
+  bool hit_limit = false;  // stopped by its budget (Ceres' iterations, NLopt's evaluations), not by converging
 };
 
 // Throws InputError ("--optimizer: ...") for an unknown optimizer name.

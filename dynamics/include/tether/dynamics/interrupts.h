@@ -1,0 +1,42 @@
+// Interruptions (SIGINT, SIGTERM, SIGHUP) and the temporary files they must not leave behind.
+//
+// InstallInterruptHandlers(), called once by a program (the tether front end does), makes these signals remove
+// every path that a TemporaryPath holds and then end the process as the signal would have (a shell reports
+// 128 + the signal's number). Removal in the handler uses only unlink and rmdir, which are async-signal-safe:
+// every registered file first, then every registered folder (emptied of the files registered in it).
+//
+// A job that can stop between pieces of work (a study between rows) holds a CatchInterrupts while it runs:
+// the first signal then only sets Interrupted(), which the job polls; a second one ends the process as above.
+#pragma once
+
+#include <string>
+
+namespace tether {
+
+void InstallInterruptHandlers();
+
+class TemporaryPath {
+ public:
+  TemporaryPath() = default;
+  explicit TemporaryPath(const std::string& path);  // registers it (at most kMaxTemporaryPaths at a time)
+  ~TemporaryPath();                                 // unregisters it; the path itself is the owner's to remove
+  TemporaryPath(const TemporaryPath&) = delete;
+  TemporaryPath& operator=(const TemporaryPath&) = delete;
+
+ private:
+  int slot_ = -1;
+};
+inline constexpr int kMaxTemporaryPaths = 64;
+
+class CatchInterrupts {
+ public:
+  CatchInterrupts();
+  ~CatchInterrupts();
+  CatchInterrupts(const CatchInterrupts&) = delete;
+  CatchInterrupts& operator=(const CatchInterrupts&) = delete;
+};
+
+// The signal caught while a CatchInterrupts was held (0: none).
+int Interrupted();
+
+}  // namespace tether
