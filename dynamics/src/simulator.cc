@@ -48,8 +48,15 @@ template <typename T>
 void AssembleInitialState(const Model<T>& model, double scale, Workspace<T>* ws, VecX<T>* q, VecX<T>* v,
                           RunReport* report) {
   const VecX<T> q_given = *q, v_given = *v;
-  const ProjectionResult result = ProjectPositions(model, kProjectionTolerance * scale, ws, q);
-  if (!result.converged && !(result.violation.largest <= kAssemblyAcceptance * scale)) {
+  auto assembled = [&](const ProjectionResult& r) {
+    return r.converged || r.violation.largest <= kAssemblyAcceptance * scale;
+  };
+  ProjectionResult result = ProjectPositions(model, kProjectionTolerance * scale, ws, q);
+  if (!assembled(result)) {  // far off the constraints: reach them first, then take the nearest state from there
+    *q = q_given;
+    result = ProjectPositionsRobustly(model, kProjectionTolerance * scale, ws, q);
+  }
+  if (!assembled(result)) {
     std::ostringstream out;
     out << "the initial state cannot be assembled onto the constraints: "
         << DescribeConstraint(model, result.violation.scene_index) << " is still violated by "
