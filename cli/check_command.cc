@@ -34,6 +34,7 @@ class CheckCommand final : public Command {
                             {"redundant_constraints", c.redundant_constraints},
                             {"initial_violation", c.initial_violation},
                             {"condition_number", c.condition_number},
+                            {"condition_estimated", c.condition_estimated},
                             {"solver", c.solver}};
       if (c.worst_constraint >= 0) out["worst_constraint"] = c.worst_constraint;
       out["assembles"] = c.assembly_error.empty();
@@ -54,8 +55,8 @@ class CheckCommand final : public Command {
       std::printf("initial violation: %.3g m (%s)\n", c.initial_violation,
                   DescribeConstraint(scene.model, c.worst_constraint).c_str());
     }
-    std::printf("conditioning of J M^-1/2: %.3g (the Schur complement's is its square); KKT path: %s\n",
-                c.condition_number, c.solver.c_str());
+    std::printf("conditioning of J M^-1/2: %.3g%s (the Schur complement's is its square); KKT path: %s\n",
+                c.condition_number, c.condition_estimated ? " (estimated by power and inverse iteration)" : "", c.solver.c_str());
     if (!c.assembly_error.empty()) {
       std::printf("cannot be assembled: %s\n", c.assembly_error.c_str());
       return 1;  // simulate refuses this scene

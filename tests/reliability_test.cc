@@ -187,6 +187,22 @@ TEST_F(ReliabilityFiles, OutputThroughASymbolicLinkReplacesItsTargetAndKeepsTheL
   EXPECT_EQ(Tether("simulate '" + scene + "' -o '" + Path("scene_link.json") + "'").status, 2);
 }
 
+TEST_F(ReliabilityFiles, CheckOnATenThousandParticleChainTakesTheSparsePath) {
+  nlohmann::json bodies = nlohmann::json::array(), constraints = nlohmann::json::array();
+  for (int k = 0; k < 10000; ++k) {
+    const std::string name = "p" + std::to_string(k);
+    bodies.push_back({{"name", name}, {"type", "particle"}, {"mass", 1e-4}, {"position", {2e-4 * (k + 1), 0.0}}});
+    constraints.push_back({{"type", "distance"}, {"bodies", {k ? "p" + std::to_string(k - 1) : "world", name}},
+                           {"length", 2e-4}});
+  }
+  const std::string scene = folder_.Write("chain.json", nlohmann::json{{"dimension", 2}, {"bodies", bodies},
+                                                                       {"constraints", constraints}}.dump());
+  const Outcome run = Tether("check '" + scene + "'");  // the dense SVD needed 4.8 GB and 30 s
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_TRUE(Contains(run.out, "10000 constraint rows of rank 10000: 10000 degrees of freedom")) << run.out;
+  EXPECT_TRUE(Contains(run.out, "estimated")) << run.out;
+}
+
 // Sends `signal` to a tether run `seconds` after it starts; returns the run's outcome (status 128 + signal
 // when the signal ended it).
 Outcome Interrupted(const std::string& args, int signal, double seconds, const TempFolder& folder) {

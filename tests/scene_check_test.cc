@@ -57,6 +57,45 @@ TEST(SceneCheck, DuplicatedRodIsRedundant) {
   EXPECT_TRUE(c.redundant_constraints[0] == 0 || c.redundant_constraints[0] == 1);
 }
 
+// A straight chain of n unit particles on 1 m links from the origin along x, its first link doubled when
+// `duplicate` (rows n + 1, rank n).
+std::string StraightChain(int n, bool duplicate) {
+  std::string bodies, constraints;
+  for (int k = 0; k < n; ++k) {
+    const std::string name = "p" + std::to_string(k), previous = k ? "p" + std::to_string(k - 1) : "world";
+    bodies += std::string(k ? ", " : "") + R"({"name": ")" + name + R"(", "type": "particle", "mass": 1.0, "position": [)" +
+              std::to_string(k + 1) + ", 0.0]}";
+    const std::string link = R"({"type": "distance", "bodies": [")" + previous + R"(", ")" + name + R"("], "length": 1.0})";
+    constraints += std::string(k ? ", " : "") + link + (k == 0 && duplicate ? ", " + link : "");
+  }
+  return R"({"bodies": [)" + bodies + R"(], "constraints": [)" + constraints + "]}";
+}
+
+// Above kDenseCheckRows rows the sparse path (SuiteSparseQR, power and inverse iteration) gives the rank and
+// the redundant rows exactly, and the condition number of the path graph's incidence matrix: for a chain of n
+// unit links fixed at one end, S = J J^T is the tridiagonal (2, -1) with a last diagonal entry 1, whose
+// eigenvalues are 2 - 2 cos((2j - 1) pi / (2 n + 1)), j = 1..n.
+TEST(SceneCheck, LargeSystemsTakeTheSparsePathWithTheSameAnswers) {
+  const int n = kDenseCheckRows + 100;
+  const SceneCheck plain = CheckScene(SceneFromJson(StraightChain(n, false)));
+  EXPECT_TRUE(plain.condition_estimated);
+  EXPECT_EQ(plain.rank, n);
+  EXPECT_EQ(plain.degrees_of_freedom, n);
+  EXPECT_TRUE(plain.redundant_constraints.empty());
+  const double pi = std::acos(-1.0);
+  auto eigenvalue = [&](int j) { return 2.0 - 2.0 * std::cos((2.0 * j - 1.0) * pi / (2.0 * n + 1.0)); };
+  const double exact = std::sqrt(eigenvalue(n) / eigenvalue(1));
+  EXPECT_LE(plain.condition_number, exact * (1 + 1e-12));  // a lower bound
+  EXPECT_NEAR(plain.condition_number, exact, 1e-2 * exact);  // 0.4% low here
+
+  const SceneCheck doubled = CheckScene(SceneFromJson(StraightChain(n, true)));
+  EXPECT_EQ(doubled.constraint_rows, n + 1);
+  EXPECT_EQ(doubled.rank, n);
+  EXPECT_EQ(doubled.degrees_of_freedom, n);
+  ASSERT_EQ(doubled.redundant_constraints.size(), 1u);
+  EXPECT_TRUE(doubled.redundant_constraints[0] == 0 || doubled.redundant_constraints[0] == 1);
+}
+
 TEST(SceneCheck, ParallelogramGainsAFreedomWhenCollinear) {
   // generic position: 9 coordinates, 8 independent rows, 1 degree of freedom
   const SceneCheck generic = CheckScene(SceneFromJson(Parallelogram(1.0)));

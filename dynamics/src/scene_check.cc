@@ -3,7 +3,12 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/QR>
 #include <Eigen/SVD>
+#include <Eigen/SparseCore>
+#include <Eigen/SPQRSupport>
+#include <Eigen/SparseCholesky>
+#include <cmath>
 #include <set>
+#include <stdexcept>
 
 #include "tether/dynamics/constraint_rows.h"
 #include "tether/dynamics/effects.h"
@@ -12,6 +17,37 @@
 #include "tether/dynamics/simulator.h"
 
 namespace tether {
+namespace {
+
+// sqrt(lambda_max / lambda_min) of S = A A^T over the kept rows of A: the Rayleigh quotients after
+// kConditionIterations of power iteration (the largest eigenvalue) and of inverse iteration with a sparse LDL^T
+// of S (the smallest), from a fixed start.
+constexpr int kConditionIterations = 100;
+double EstimatedCondition(const Eigen::SparseMatrix<double>& a, const std::vector<bool>& kept) {
+  std::vector<Eigen::Triplet<double>> selection;
+  for (int i = 0, k = 0; i < a.rows(); ++i) {
+    if (kept[i]) selection.emplace_back(k++, i, 1.0);
+  }
+  Eigen::SparseMatrix<double> select(static_cast<int>(selection.size()), a.rows());
+  select.setFromTriplets(selection.begin(), selection.end());
+  const Eigen::SparseMatrix<double> rows = select * a;
+  const Eigen::SparseMatrix<double> schur = rows * rows.transpose();
+  if (schur.rows() == 0) return 1.0;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> factor(schur);
+  if (factor.info() != Eigen::Success) return INFINITY;
+  const Eigen::VectorXd start = Eigen::VectorXd::LinSpaced(schur.rows(), 1.0, 2.0).normalized();
+  Eigen::VectorXd up = start, down = start;
+  double largest = 0.0, smallest_inverse = 0.0;  // of S and of S^-1
+  for (int k = 0; k < kConditionIterations; ++k) {  // Rayleigh quotients of the normalized iterates
+    up = (schur * up).normalized();
+    down = factor.solve(down).normalized();
+  }
+  largest = up.dot(schur * up);
+  smallest_inverse = down.dot(factor.solve(down));
+  return std::sqrt(largest * smallest_inverse);
+}
+
+}  // namespace
 
 SceneCheck CheckScene(const Model<double>& model) {
   SceneCheck check;
@@ -37,36 +73,58 @@ SceneCheck CheckScene(const Model<double>& model) {
   check.initial_violation = violation.largest;
   check.worst_constraint = violation.scene_index;
 
-  // J M^-1/2, row by row from the body blocks
+  // J M^-1/2, from the rows' body blocks
   std::vector<Mat3<double>> rotational(model.bodies.size());  // I_P^-1/2 of 3D bodies
   for (size_t b = 0; b < model.bodies.size(); ++b) {
     if (model.bodies[b].kind != BodyKind::kRigid3d) continue;
     rotational[b] = Eigen::SelfAdjointEigenSolver<Mat3<double>>(PrincipalInertia(model.bodies[b])).operatorInverseSqrt();
   }
-  Eigen::MatrixXd scaled = Eigen::MatrixXd::Zero(check.constraint_rows, check.coordinates);
+  std::vector<Eigen::Triplet<double>> entries;
   for (int i = 0; i < check.constraint_rows; ++i) {
     for (const BodyVector<double>* g : {&rows[i].a, &rows[i].b}) {
       if (g->body == kWorld) continue;
       const Body<double>& body = model.bodies[g->body];
       const int o = body.v_offset;
-      for (int k = 0; k < model.dimension; ++k) scaled(i, o + k) += g->translation[k] / std::sqrt(body.mass);
-      if (body.kind == BodyKind::kPlanar) scaled(i, o + 2) += g->rotation[2] / std::sqrt(body.inertia);
-      if (body.kind == BodyKind::kRigid3d) scaled.block<1, 3>(i, o + 3) += (rotational[g->body] * g->rotation).transpose();
+      for (int k = 0; k < model.dimension; ++k) entries.emplace_back(i, o + k, g->translation[k] / std::sqrt(body.mass));
+      if (body.kind == BodyKind::kPlanar) entries.emplace_back(i, o + 2, g->rotation[2] / std::sqrt(body.inertia));
+      if (body.kind == BodyKind::kRigid3d) {
+        const Vec3<double> r = rotational[g->body] * g->rotation;
+        for (int k = 0; k < 3; ++k) entries.emplace_back(i, o + 3 + k, r[k]);
+      }
     }
   }
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(scaled);
-  const Eigen::VectorXd sigma = svd.singularValues();
-  const double largest = sigma.size() ? sigma[0] : 0.0;
-  while (check.rank < sigma.size() && sigma[check.rank] > kRankTolerance * largest) ++check.rank;
-  check.degrees_of_freedom = check.coordinates - check.rank;
-  check.condition_number = check.rank ? largest / sigma[check.rank - 1] : 1.0;
-
-  // the rows the rank-revealing QR of the transpose leaves out after the first `rank` pivots
-  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(scaled.transpose());
-  std::set<int> redundant;
-  for (int k = check.rank; k < check.constraint_rows; ++k) {
-    redundant.insert(infos[qr.colsPermutation().indices()[k]].scene_index);
+  Eigen::SparseMatrix<double> scaled(check.constraint_rows, check.coordinates);
+  scaled.setFromTriplets(entries.begin(), entries.end());  // sums the two blocks of a row on one body
+  std::vector<int> left_out;                                // rows the rank-revealing QR puts after the rank
+  if (check.constraint_rows <= kDenseCheckRows) {
+    const Eigen::MatrixXd dense(scaled);
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(dense);
+    const Eigen::VectorXd sigma = svd.singularValues();
+    const double largest = sigma.size() ? sigma[0] : 0.0;
+    while (check.rank < sigma.size() && sigma[check.rank] > kRankTolerance * largest) ++check.rank;
+    check.condition_number = check.rank ? largest / sigma[check.rank - 1] : 1.0;
+    const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(dense.transpose());
+    for (int k = check.rank; k < check.constraint_rows; ++k) left_out.push_back(qr.colsPermutation().indices()[k]);
+  } else {
+    const Eigen::SparseMatrix<double> transposed = scaled.transpose();
+    double largest_norm = 0.0;
+    for (int j = 0; j < transposed.outerSize(); ++j) largest_norm = std::max(largest_norm, transposed.col(j).norm());
+    Eigen::SPQR<Eigen::SparseMatrix<double>> qr;
+    qr.setPivotThreshold(kRankTolerance * largest_norm);
+    qr.compute(transposed);
+    if (qr.info() != Eigen::Success) throw std::runtime_error("tether check: SuiteSparseQR failed on the constraint rows");
+    check.rank = static_cast<int>(qr.rank());
+    std::vector<bool> kept(check.constraint_rows, true);
+    for (int k = check.rank; k < check.constraint_rows; ++k) {
+      left_out.push_back(qr.colsPermutation().indices()[k]);
+      kept[left_out.back()] = false;
+    }
+    check.condition_number = EstimatedCondition(scaled, kept);
+    check.condition_estimated = true;
   }
+  check.degrees_of_freedom = check.coordinates - check.rank;
+  std::set<int> redundant;
+  for (int row : left_out) redundant.insert(infos[row].scene_index);
   check.redundant_constraints.assign(redundant.begin(), redundant.end());
   return check;
 }

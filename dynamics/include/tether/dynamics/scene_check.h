@@ -22,6 +22,13 @@
 namespace tether {
 
 inline constexpr double kRankTolerance = 1e-10;
+// Above this many rows the dense SVD (O(rows^2 coordinates) time, a dense matrix in memory) gives way to
+// SuiteSparseQR of (J M^-1/2)^T (a column whose remaining norm is below kRankTolerance times the largest column
+// norm counts as dependent and is moved to the end): its rank and the rows it moves are the rank and the
+// redundant rows, and the condition number is estimated from the Schur complement of the rows it keeps,
+// sqrt(lambda_max / lambda_min) by power and inverse iteration (a lower bound: 0.4% low on a chain of 1100 links,
+// whose largest eigenvalues cluster, after 100 iterations each).
+inline constexpr int kDenseCheckRows = 1000;
 
 struct SceneCheck {
   int coordinates = 0;                     // velocity coordinates (v's size)
@@ -32,6 +39,7 @@ struct SceneCheck {
   double initial_violation = 0.0;          // m
   int worst_constraint = -1;               // scene index of the largest initial violation
   double condition_number = 1.0;           // of J M^-1/2 over its rank
+  bool condition_estimated = false;        // from the sparse QR's R (kDenseCheckRows)
   std::string solver;                      // the KKT path `auto` picks: dense or sparse
   std::string assembly_error;              // empty when the initial state can be assembled
 };
