@@ -2,17 +2,12 @@
 // be written, the machine refuses memory or threads), 2 on bad input or usage, always with a message on stderr;
 // an interruption (SIGINT, SIGTERM, SIGHUP) leaves no temporary file behind (interrupts.h).
 #include <iostream>
+#include <memory>
 #include <new>
 #include <system_error>
-#include <memory>
 #include <vector>
 
-#include "check_command.h"
-#include "gradient_command.h"
-#include "identify_command.h"
-#include "simulate_command.h"
-#include "study_command.h"
-#include "tune_command.h"
+#include "commands.h"
 #include "tether/dynamics/errors.h"
 #include "tether/dynamics/interrupts.h"
 
@@ -20,21 +15,13 @@ int main(int argc, char** argv) {
   using namespace tether;
   CLI::App app{"tether: constrained multibody dynamics in maximal coordinates, differentiable end to end"};
   const std::string commit = TETHER_COMMIT;
-  app.set_version_flag("--version", std::string("tether ") + TETHER_VERSION + (commit.empty() ? "" : " (commit " + commit + ")"));
-  app.require_subcommand(1);
+  const std::vector<std::unique_ptr<cli::Command>> commands = cli::RegisterCommands(
+      &app, std::string("tether ") + TETHER_VERSION + (commit.empty() ? "" : " (commit " + commit + ")"));
   InstallInterruptHandlers();
-  std::vector<std::unique_ptr<cli::Command>> commands;
-  commands.push_back(cli::MakeSimulateCommand(&app));
-  commands.push_back(cli::MakeGradientCommand(&app));
-  commands.push_back(cli::MakeTuneCommand(&app));
-  commands.push_back(cli::MakeIdentifyCommand(&app));
-  commands.push_back(cli::MakeFitCommand(&app));
-  commands.push_back(cli::MakeStudyCommand(&app));
-  commands.push_back(cli::MakeCheckCommand(&app));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    if (e.get_exit_code() == 0) return app.exit(e);  // --help
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
     std::cerr << "tether: " << e.what() << "\n(run 'tether --help' for usage)\n";
     return 2;
   }
