@@ -27,6 +27,35 @@ import matplotlib.colors as colors  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
 
 MARKERS = "os^Dv<>ph*"
+# Colour-blind-safe tab10 colours, then the same colours dashed, dotted and dash-dotted: 40 lines stay apart
+COLOURS = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22",
+           "#17becf"]
+LINE_STYLES = ["-", "--", ":", "-."]
+
+# Axis labels with units, for the metrics and the pointers studies sweep most
+LABELS = {
+    "max_constraint_error": "largest constraint violation (m)",
+    "rms_position_error": "RMS position error against the reference (m)",
+    "energy_drift": "energy drift, max |E - E0| / max(|E0|, 1 J)",
+    "seconds": "wall time (s)",
+    "seconds_per_simulated_second": "wall time per simulated second (s/s)",
+    "alpha": "Baumgarte alpha (1/s)",
+    "beta": "Baumgarte beta (1/s^2)",
+    "/simulation/step": "step h (s)",
+    "/simulation/duration": "duration (s)",
+    "/simulation/tolerance": "rk45 tolerance",
+    "/stabilization/alpha": "alpha (1/s)",
+    "/stabilization/beta": "beta (1/s^2)",
+}
+
+
+def label(name):
+    return LABELS.get(name, name)
+
+
+def line_style(k):
+    """Colour, line style and marker of the k-th line."""
+    return COLOURS[k % len(COLOURS)], LINE_STYLES[(k // len(COLOURS)) % len(LINE_STYLES)], MARKERS[k % len(MARKERS)]
 
 
 def number(text):
@@ -80,17 +109,18 @@ def lines(results, folder):
         groups = {}
         for r in rows:
             groups.setdefault(tuple(r[k] for k in varying), []).append(r)
-        for key, members in groups.items():
+        for index, (key, members) in enumerate(groups.items()):
             pts = [(number(r[0]) if x_numeric else r[0], results.metric(r, metric)) for r in members]
             pts = [(x, y) for x, y in pts if y is not None and (y > 0 or not log)]
-            label = ", ".join("%s=%s" % (short(results.columns[k]), v) for k, v in zip(varying, key)) or metric
-            ax.plot([p[0] for p in pts], [p[1] for p in pts], "o-", ms=4, label=label)
+            name = ", ".join("%s=%s" % (short(results.columns[k]), v) for k, v in zip(varying, key)) or metric
+            colour, style, marker = line_style(index)
+            ax.plot([p[0] for p in pts], [p[1] for p in pts], color=colour, ls=style, marker=marker, ms=4, label=name)
         if log:
             ax.set_yscale("log")
         if x_numeric and all(number(r[0]) > 0 for r in rows):
             ax.set_xscale("log")
-        ax.set_xlabel(results.columns[0])
-        ax.set_ylabel(metric)
+        ax.set_xlabel(label(results.columns[0]))
+        ax.set_ylabel(label(metric))
         ax.grid(alpha=0.3, which="both")
         if len(groups) > 1:
             ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5))
@@ -120,7 +150,7 @@ def pareto(results, folder, x_name, y_name):
     fig, axes = plt.subplots(1, len(panels), figsize=(4.6 * len(panels) + 1.8, 4.4), squeeze=False)
     colour_values = list(dict.fromkeys(r[colour_col] for r in results.rows)) if colour_col is not None else [None]
     marker_values = list(dict.fromkeys(r[marker_col] for r in results.rows)) if marker_col is not None else [None]
-    palette = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    palette = COLOURS
     front_rows = []
     for ax, panel in zip(axes[0], panels):
         points = []
@@ -140,8 +170,8 @@ def pareto(results, folder, x_name, y_name):
         front_rows += [p[2] for p in front]
         ax.set_xscale("log")
         ax.set_yscale("log")
-        ax.set_xlabel(x_name)
-        ax.set_ylabel(y_name)
+        ax.set_xlabel(label(x_name))
+        ax.set_ylabel(label(y_name))
         ax.set_title(panel if panel is not None else "", fontsize=10)
         ax.grid(alpha=0.3, which="both")
     handles = [plt.Line2D([], [], color=palette[i % len(palette)], marker="o", ls="", label=str(v))
@@ -220,7 +250,7 @@ def gain_map(results, folder, metric, marks):
     for index in range(len(panels), nrows * ncols):
         axes[index // ncols][index % ncols].axis("off")
     if mesh is not None:
-        fig.colorbar(mesh, ax=axes.ravel().tolist(), label=metric, shrink=0.9)
+        fig.colorbar(mesh, ax=axes.ravel().tolist(), label=label(metric), shrink=0.9)
     for ext in ("png", "svg"):
         fig.savefig(os.path.join(folder, "gain_map_%s.%s" % (metric, ext)), dpi=110)
     plt.close(fig)

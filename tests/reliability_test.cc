@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -156,6 +157,16 @@ TEST_F(ReliabilityFiles, AGradientRowWithinRoundingOfTheEndIsServedByTheEnd) {
   const double loss = nlohmann::json::parse(late.out)["loss"].get<double>();
   EXPECT_TRUE(std::isfinite(loss));
   EXPECT_EQ(loss, nlohmann::json::parse(on_time.out)["loss"].get<double>());
+}
+
+TEST_F(ReliabilityFiles, ADataFileOverOneGibibyteIsRefusedBeforeReading) {
+  const std::string scene = folder_.Write("pendulum.json", kPendulum);
+  const std::string data = Path("huge.csv");
+  ASSERT_EQ(::truncate(folder_.Write("huge.csv", "t,bob.x\n").c_str(), (1ll << 30) + 1), 0);  // sparse: no disk
+  const Outcome run = Tether("gradient '" + scene + "' --data '" + data + "' --param /bodies/0/mass");
+  EXPECT_EQ(run.status, 2) << run.err;
+  EXPECT_TRUE(Contains(run.err, "huge.csv")) << run.err;
+  EXPECT_TRUE(Contains(run.err, "more than tether reads")) << run.err;
 }
 
 TEST_F(ReliabilityFiles, EveryNloptAlgorithmRunsOrIsRefusedNamingTheFlag) {

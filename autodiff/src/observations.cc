@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <numeric>
@@ -50,6 +51,12 @@ int Observations::CellCount() const {
 }
 
 Observations ReadObservations(const std::string& path, const Model<double>& model) {
+  std::error_code error;
+  const std::uintmax_t bytes = std::filesystem::file_size(path, error);
+  if (!error && bytes > kMaxDataBytes) {
+    throw InputError(path + ": the data file has " + std::to_string(bytes) + " bytes, more than tether reads (" +
+                     std::to_string(kMaxDataBytes) + ")");
+  }
   std::ifstream in(path);
   if (!in) throw InputError(path + ": cannot open the data file");
   auto fail = [&path](int line, const std::string& message) {

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -26,7 +27,9 @@ struct Observations {
   int CellCount() const;
 };
 
-// Reads and validates OBS.csv against a model (its bodies, its duration). Throws InputError.
+// Reads and validates OBS.csv against a model (its bodies, its duration). Throws InputError, also for a file
+// larger than kMaxDataBytes, refused before reading (tether holds every cell in memory).
+inline constexpr std::uintmax_t kMaxDataBytes = std::uintmax_t{1} << 30;  // 1 GiB
 Observations ReadObservations(const std::string& path, const Model<double>& model);
 
 // Calls add(c, simulated - observed) for every observed cell c of row `row`, in column order, the simulated
