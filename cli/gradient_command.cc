@@ -1,6 +1,7 @@
 #include "gradient_command.h"
 
 #include <chrono>
+#include <cmath>
 #include <iostream>
 
 #include "scene_overrides.h"
@@ -43,6 +44,14 @@ class GradientCommand final : public Command {
       throw SimulationDiverged(scene_path_ + ": " + e.what(), e.time(), e.constraint());
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    // a loss or gradient that is not finite would print as null: a failure, never a result
+    bool finite = std::isfinite(result.loss);
+    for (int i = 0; i < parameters.size(); ++i) finite = finite && std::isfinite(result.gradient[i]);
+    if (!finite) {
+      std::cerr << "tether: " << scene_path_ << ": the loss or its gradient is not finite (an overflow in the "
+                << "simulation or its derivatives)\n";
+      return 1;
+    }
 
     nlohmann::json out;
     out["loss"] = result.loss;

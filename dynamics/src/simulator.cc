@@ -52,7 +52,7 @@ void AssembleInitialState(const Model<T>& model, double scale, Workspace<T>* ws,
     return r.converged || r.violation.largest <= kAssemblyAcceptance * scale;
   };
   ProjectionResult result = ProjectPositions(model, kProjectionTolerance * scale, ws, q);
-  if (!assembled(result)) {  // far off the constraints: reach them first, then take the nearest state from there
+  if (!assembled(result)) {  // far off the constraints: reach them by the robust iteration (a consistent state)
     *q = q_given;
     result = ProjectPositionsRobustly(model, kProjectionTolerance * scale, ws, q);
   }

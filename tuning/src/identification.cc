@@ -6,6 +6,7 @@
 #include <limits>
 #include <sstream>
 
+#include "tether/autodiff/residuals.h"
 #include "tether/dynamics/configuration_space.h"
 #include "tether/dynamics/errors.h"
 #include "tether/dynamics/simulator.h"
@@ -461,6 +462,34 @@ IdentifyResult Identify(const Model<double>& model, const ParameterSet& paramete
   const FitJudgement judgement =
       JudgeFit(recordings, result.residuals, continuity, LengthScale(model), result.optimizer);
   result.warnings.insert(result.warnings.end(), judgement.warnings.begin(), judgement.warnings.end());
+  // what a written scene does: one run of the estimate from the scene's initial state, against the data
+  if (problem.Segments() > 1 && !judgement.failed) {
+    Model<double> estimated = model;
+    parameters.Assign(result.estimate, &estimated);
+    size_t group = 0;
+    for (const Observations& recording : recordings) {
+      double fit_squares = 0.0;
+      int fit_count = 0;
+      for (size_t c = 0; c < recording.columns.size(); ++c, ++group) {
+        fit_squares += result.residuals[group].rms * result.residuals[group].rms * result.residuals[group].count;
+        fit_count += result.residuals[group].count;
+      }
+      const double fit_rms = std::sqrt(fit_squares / std::max(fit_count, 1));
+      std::ostringstream message;
+      message << recording.path << ": the estimate, run once from the scene's initial state (as a scene written with "
+              << "it runs), ";
+      try {
+        const Eigen::VectorXd once = ObservationResiduals<double>(estimated, recording, RunOptions{});
+        const double once_rms = once.size() ? std::sqrt(once.squaredNorm() / once.size()) : 0.0;
+        if (!(once_rms > kNoiseFactor * fit_rms)) continue;
+        message << "misses the data by RMS " << once_rms << " against the fit's " << fit_rms << ": multiple shooting "
+                << "matched the data piece by piece, and one run parts from it (on a chaotic motion any error grows)";
+      } catch (const SimulationDiverged& e) {
+        message << "diverges: " << e.what();
+      }
+      result.warnings.push_back(message.str());
+    }
+  }
   result.failed = judgement.failed;
   if (judgement.failed) {
     result.standard_deviation.assign(p, NAN);
