@@ -235,21 +235,31 @@ TEST_F(ReliabilityFiles, AnInterruptedRunLeavesNoTemporaryFileAndNoOutput) {
 TEST_F(ReliabilityFiles, CtrlCDuringAStudyIsReportedAndTheStudyResumes) {
   folder_.Write("pendulum.json", kPendulum);
   const std::string study = folder_.Write("study.json", R"({"scene": "pendulum.json",
-    "sweep": {"/simulation/duration": [300, 301, 302, 303, 304, 305, 306, 307, 308, 309, 310, 311, 312, 313, 314, 315]},
+    "sweep": {"/simulation/duration": [300, 301, 302, 303, 304, 305, 306, 307, 308, 309, 310, 311, 312, 313, 314, 315,
+                                        316, 317, 318, 319, 320, 321, 322, 323]},
     "metrics": ["max_constraint_error"]})");
   const std::string out = Path("out");
-  const Outcome stopped = Interrupted("study '" + study + "' --out '" + out + "' --threads 1", 2, 1.0, folder_);
+  // a row takes 0.15 s or more (300 s of a pendulum at 1 ms): at 1.5 s some rows are done, most are not
+  const Outcome stopped = Interrupted("study '" + study + "' --out '" + out + "' --threads 1", 2, 1.5, folder_);
   ASSERT_EQ(stopped.status, 130) << stopped.err;
   EXPECT_TRUE(Contains(stopped.err, "interrupted")) << stopped.err;
   EXPECT_TRUE(Contains(stopped.err, "resumes")) << stopped.err;
   ASSERT_TRUE(std::filesystem::exists(out + "/results.partial.csv"));
   const size_t finished = testing::Lines(ReadText(out + "/results.partial.csv")).size() - 2;
   EXPECT_GT(finished, 0u);
-  EXPECT_LT(finished, 16u);
-  // run again, it resumes and completes
+  EXPECT_LT(finished, 24u);
+  // with its scene changed since, the partial results are another study's: refused, naming --out and --restart
+  const std::string original = ReadText(Path("pendulum.json"));
+  folder_.Write("pendulum.json", std::string(original).replace(original.find("\"mass\": 1.0"), 11, "\"mass\": 2.0"));
+  const Outcome changed = Tether("study '" + study + "' --out '" + out + "' --threads 1 --quiet");
+  EXPECT_EQ(changed.status, 2) << changed.err;
+  EXPECT_TRUE(Contains(changed.err, "--restart")) << changed.err;
+  EXPECT_EQ(testing::Lines(ReadText(out + "/results.partial.csv")).size() - 2, finished);  // kept as it was
+  folder_.Write("pendulum.json", original);
+  // as it was, it resumes and completes
   const Outcome resumed = Tether("study '" + study + "' --out '" + out + "' --threads 1 --quiet");
   ASSERT_EQ(resumed.status, 0) << resumed.err;
-  EXPECT_EQ(testing::Lines(ReadText(out + "/results.csv")).size(), 17u);
+  EXPECT_EQ(testing::Lines(ReadText(out + "/results.csv")).size(), 25u);
   EXPECT_FALSE(std::filesystem::exists(out + "/results.partial.csv"));
   EXPECT_EQ(resumed.err.find("runs, about"), std::string::npos) << resumed.err;  // --quiet
 }
@@ -264,6 +274,18 @@ TEST_F(ReliabilityFiles, TwoStudiesIntoOneFolderDoNotInterleave) {
   EXPECT_TRUE(Contains(run.err, "another tether study is writing")) << run.err;
   EXPECT_TRUE(Contains(run.err, "second=2")) << run.err;
   EXPECT_EQ(testing::Lines(ReadText(out + "/results.csv")).size(), 5u);
+}
+
+TEST_F(ReliabilityFiles, ASweptArrayIsOneQuotedCellOfTheResults) {
+  folder_.Write("pendulum.json", kPendulum);
+  const std::string study = folder_.Write("study.json", R"({"scene": "pendulum.json",
+    "sweep": {"/bodies/0/position": [[0.6, -0.35], [0.35, -0.6]]}, "metrics": ["max_constraint_error"]})");
+  const Outcome run = Tether("study '" + study + "' --out '" + Path("out") + "' --quiet");
+  ASSERT_EQ(run.status, 0) << run.err;
+  const std::vector<std::string> lines = testing::Lines(ReadText(Path("out/results.csv")));
+  ASSERT_EQ(lines.size(), 3u);
+  EXPECT_EQ(lines[1].rfind("\"[0.6,-0.35]\",", 0), 0u) << lines[1];
+  EXPECT_EQ(testing::CsvCells(lines[1]).size(), 3u) << lines[1];
 }
 
 // Valid scenes far off their constraints assemble: a cart on a slider and a bob on a rod from it, started
