@@ -214,19 +214,24 @@ TEST_F(ReliabilityFiles, CheckOnATenThousandParticleChainTakesTheSparsePath) {
   EXPECT_TRUE(Contains(run.out, "estimated")) << run.out;
 }
 
-// Sends `signal` to a tether run `seconds` after it starts; returns the run's outcome (status 128 + signal
-// when the signal ended it).
-Outcome Interrupted(const std::string& args, int signal, double seconds, const TempFolder& folder) {
+// Sends `signal` to a tether run once `file` has at least `lines` lines (at most 60 s after it starts), and
+// returns the run's outcome (status 128 + signal when the signal ended it). Waiting for the file, not for a
+// time, keeps the test independent of the machine's speed (the sanitizer build runs several times slower).
+Outcome Interrupted(const std::string& args, int signal, const std::string& file, int lines, const TempFolder& folder) {
   std::ostringstream launcher;
-  launcher << "sh -c '\"$0\" \"$@\" & pid=$!; sleep " << seconds << "; kill -" << signal << " $pid; wait $pid' ";
+  // `file` unquoted, so that a pattern (a temporary file's NAME.partial.*) matches; the test folders have no spaces
+  launcher << "sh -c '\"$0\" \"$@\" & pid=$!; n=0; while [ $n -lt 1200 ] && [ \"$(cat " << file
+           << " 2>/dev/null | wc -l)\" -lt " << lines << " ]; do sleep 0.05; n=$((n + 1)); done; kill -" << signal
+           << " $pid; wait $pid' ";
   return testing::RunTether(args, folder, launcher.str());
 }
 
 TEST_F(ReliabilityFiles, AnInterruptedRunLeavesNoTemporaryFileAndNoOutput) {
   const std::string scene = folder_.Write("pendulum.json", kPendulum);
   for (int signal : {2, 15}) {  // SIGINT, SIGTERM
-    const Outcome run =
-        Interrupted("simulate '" + scene + "' --duration 20000 -o '" + Path("out.csv") + "'", signal, 1.0, folder_);
+    // once the temporary file holds 1000 lines of CSV the run is well under way
+    const Outcome run = Interrupted("simulate '" + scene + "' --duration 20000 -o '" + Path("out.csv") + "'", signal,
+                                    Path("out.csv") + ".partial.*", 1000, folder_);
     EXPECT_EQ(run.status, 128 + signal) << run.err;
     for (const std::string& name : folder_.Entries()) EXPECT_FALSE(Contains(name, "out.csv")) << name;
   }
@@ -239,8 +244,10 @@ TEST_F(ReliabilityFiles, CtrlCDuringAStudyIsReportedAndTheStudyResumes) {
                                         316, 317, 318, 319, 320, 321, 322, 323]},
     "metrics": ["max_constraint_error"]})");
   const std::string out = Path("out");
-  // a row takes 0.15 s or more (300 s of a pendulum at 1 ms): at 1.5 s some rows are done, most are not
-  const Outcome stopped = Interrupted("study '" + study + "' --out '" + out + "' --threads 1", 2, 1.5, folder_);
+  // interrupted once the first row is in the partial results (a row takes 0.15 s or more: 300 s of a pendulum
+  // at 1 ms), so that some rows are done and most are not
+  const Outcome stopped =
+      Interrupted("study '" + study + "' --out '" + out + "' --threads 1", 2, out + "/results.partial.csv", 3, folder_);
   ASSERT_EQ(stopped.status, 130) << stopped.err;
   EXPECT_TRUE(Contains(stopped.err, "interrupted")) << stopped.err;
   EXPECT_TRUE(Contains(stopped.err, "resumes")) << stopped.err;
@@ -269,7 +276,10 @@ TEST_F(ReliabilityFiles, TwoStudiesIntoOneFolderDoNotInterleave) {
   const std::string study = folder_.Write("study.json", R"({"scene": "pendulum.json",
     "sweep": {"/simulation/duration": [400, 401, 402, 403]}, "metrics": ["seconds"]})");
   const std::string out = Path("out");
-  const std::string both = "sh -c '\"$0\" \"$@\" & sleep 0.5; \"$0\" \"$@\"; echo second=$? >&2; wait' ";
+  // the second starts once the first holds the folder (its partial results exist)
+  const std::string both = "sh -c '\"$0\" \"$@\" & n=0; while [ $n -lt 1200 ] && [ ! -f \"" + out +
+                           "/results.partial.csv\" ]; do sleep 0.05; n=$((n + 1)); done; \"$0\" \"$@\"; "
+                           "echo second=$? >&2; wait' ";
   const Outcome run = testing::RunTether("study '" + study + "' --out '" + out + "' --threads 1 --quiet", folder_, both);
   EXPECT_TRUE(Contains(run.err, "another tether study is writing")) << run.err;
   EXPECT_TRUE(Contains(run.err, "second=2")) << run.err;
