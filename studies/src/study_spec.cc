@@ -70,7 +70,11 @@ void WriteAt(nlohmann::json* document, const std::string& pointer, const nlohman
     walked += "/" + token;
     start = slash + 1;
   }
-  (*document)[at] = value;
+  try {
+    (*document)[at] = value;
+  } catch (const nlohmann::json::exception& e) {  // e.g. an empty token where the path has to be made
+    fail(std::string("the JSON library refused it (") + e.what() + ")");
+  }
 }
 
 class SpecReader {
