@@ -167,9 +167,8 @@ RunReport Simulate(const Model<T>& model, const RunOptions& options,
     return SimulationDiverged(message, t, worst.scene_index);
   };
   // A violation above the scene's length scale: the run has left its constraints.
-  auto check_violation = [&](double t) {
-    const Violation worst = LargestViolation(ws.infos, ws.rows);
-    if (worst.largest <= scale) return;
+  auto check_violation = [&](double t, double largest) {
+    if (largest <= scale) return;
     std::ostringstream out;
     out << "a constraint ran away (violation above the scene's length scale " << scale << " m)";
     throw diverged(t, out.str());
@@ -179,8 +178,8 @@ RunReport Simulate(const Model<T>& model, const RunOptions& options,
   auto emit = [&](double t, bool output, int stop) {
     UpdateFrames(model, q, v, true, &ws.frames);
     EvaluateConstraintRows(model, ws.constraints, ws.frames, q, v, false, &ws.rows);
-    check_violation(t);
     const double error = ws.rows.empty() ? 0.0 : LargestViolation(ws.infos, ws.rows).largest;
+    check_violation(t, error);
     for (int k = 0; k < num_coordinates; ++k) {
       const CoordinateRow<T> row = EvaluateCoordinate(model, ws.coordinates, k, ws.frames, q, v, true);
       coordinates[k] = row.value;
@@ -225,7 +224,7 @@ RunReport Simulate(const Model<T>& model, const RunOptions& options,
     if (status == StepStatus::kSolveFailed) throw diverged(t_next, "the constraint system became singular or non-finite");
     if (status == StepStatus::kStepSizeUnderflow) throw diverged(t_next, "rk45's step size collapsed");
     if (!AllFinite(q) || !AllFinite(v)) throw diverged(t_next, "the state became non-finite (NaN or infinity)");
-    check_violation(t_next);
+    check_violation(t_next, LargestViolation(ws.infos, ws.rows).largest);
     if (num_coordinates > 0) {  // the branch of every hinge angle follows the motion step by step
       UpdateFrames(model, q, v, false, &ws.frames);
       TrackCoordinates(model, ws.frames, q, v, &ws.coordinates);
