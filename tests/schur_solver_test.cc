@@ -16,6 +16,7 @@
 #include <utility>
 #include <vector>
 
+#include "test_scenes.h"
 #include "tether/dynamics/configuration_space.h"
 #include "tether/dynamics/constrained_dynamics.h"
 #include "tether/dynamics/effects.h"
@@ -26,6 +27,8 @@ namespace {
 constexpr double kSolverAgreement = 1e-12;   // dense vs sparse factorization, relative to the largest entry
 constexpr double kKktAgreement = 1e-9;       // vs the unregularized KKT solve (regularization moves lambda ~1e-12)
 constexpr double kJetAgreement = 1e-12;      // Jet path vs factoring the Jet matrix, relative
+// the derivative parts, solved with the regularized S and not refined (schur_solver.h): a bias of eps cond(S)
+constexpr double kJetDerivativeAgreement = 1e-10;
 constexpr double kAlpha = 3.0, kBeta = 5.0;  // Baumgarte gains, so that every term of the right-hand side counts
 
 int AddBar(Model<double>* model, double x, double y, double angle) {
@@ -270,14 +273,38 @@ TEST(SchurSolver, FlagsRowsNearDependenceButNotRedundantOrWellConditionedOnes) {
   }
 }
 
+// A straight chain of 50 thin rods on hinges is far from any singular configuration, but the minimum-degree
+// order of its rows ends in the chain's middle, where the last pivot ratio is 1e-6 (1.6e-8 at 200 rods): the
+// breadth-first order from its base (sparse_ldlt.h) is what keeps the flag quiet, on both paths.
+TEST(SchurSolver, DoesNotFlagALongStraightChainOfRods) {
+  std::string bodies, constraints;
+  for (int k = 0; k < 50; ++k) {
+    const std::string name = "\"l" + std::to_string(k) + "\"";
+    bodies += std::string(k ? ", " : "") + "{\"name\": " + name + ", \"type\": \"rigid\", \"mass\": 1, " +
+              "\"inertia\": [2e-4, 0.0834, 0.0834], \"position\": [" + std::to_string(k + 0.5) + ", 0, 0]}";
+    constraints += std::string(k ? ", " : "") + "{\"type\": \"hinge\", \"bodies\": [" +
+                   (k ? "\"l" + std::to_string(k - 1) + "\"" : std::string("\"world\"")) + ", " + name +
+                   "], \"points\": [[" + (k ? "0.5" : "0") + ", 0, 0], [-0.5, 0, 0]], \"axis\": [0, 1, 0]}";
+  }
+  for (KktSolver kind : {KktSolver::kDense, KktSolver::kSparse}) {
+    Model<double> model = testing::SceneFromJson("{\"dimension\": 3, \"bodies\": [" + bodies + "], \"constraints\": [" +
+                                                 constraints + "], \"effects\": [{\"type\": \"gravity\", " +
+                                                 "\"acceleration\": [0, 0, -9.81]}]}");
+    model.simulation.solver = kind;
+    const State<double> initial = InitialState(model);
+    Workspace<double> ws(model, initial.q);
+    Eigen::VectorXd acceleration(model.NumVelocities());
+    ASSERT_TRUE(ComputeAcceleration(model, 0.0, initial.q, initial.v, &ws, &acceleration));
+    EXPECT_FALSE(ws.solver.saw_near_singular()) << (kind == KktSolver::kDense ? "dense" : "sparse");
+  }
+}
+
 void JetOracle(const Model<Jet>& model, const VecX<Jet>& q, const VecX<Jet>& v, VecX<Jet>* a, VecX<Jet>* lambda) {
   const KktPieces<Jet> p = Pieces(model, q, v);
-  const int m = static_cast<int>(p.gamma.size());
   using JetMatrix = Eigen::Matrix<Jet, Eigen::Dynamic, Eigen::Dynamic>;
-  JetMatrix schur = p.jacobian * p.inverse_mass.asDiagonal() * p.jacobian.transpose();
-  double largest = 0.0;
-  for (int i = 0; i < m; ++i) largest = std::max(largest, schur(i, i).a);
-  for (int i = 0; i < m; ++i) schur(i, i) += kSchurRegularization * (schur(i, i) + Jet(kSchurDiagonalFloor * largest));
+  // the scenes are full rank, where the library's refinement removes the regularization's bias: the oracle
+  // solves S itself
+  const JetMatrix schur = p.jacobian * p.inverse_mass.asDiagonal() * p.jacobian.transpose();
   const VecX<Jet> b = p.jacobian * p.inverse_mass.cwiseProduct(p.force) - p.gamma;
   *lambda = schur.ldlt().solve(b);
   *a = p.inverse_mass.cwiseProduct(p.force - p.jacobian.transpose() * *lambda);
@@ -293,7 +320,7 @@ void ExpectJetsNear(const VecX<Jet>& actual, const VecX<Jet>& expected, const ch
   for (int i = 0; i < expected.size(); ++i) {
     EXPECT_NEAR(actual[i].a, expected[i].a, kJetAgreement * value_scale) << what << " [" << i << "]";
     for (int k = 0; k < kJetStride; ++k) {
-      EXPECT_NEAR(actual[i].v[k], expected[i].v[k], kJetAgreement * derivative_scale)
+      EXPECT_NEAR(actual[i].v[k], expected[i].v[k], kJetDerivativeAgreement * derivative_scale)
           << what << " [" << i << "] direction " << k;
     }
   }

@@ -2,6 +2,7 @@
 
 #include <Eigen/SparseCholesky>
 #include <cmath>
+#include <functional>
 
 namespace tether {
 
@@ -39,10 +40,12 @@ bool SchurSolver::Factor(const std::vector<double>& values) {
 void SchurSolver::NoteConditioning(const std::vector<double>& values, const Eigen::VectorXd& pivots,
                                    const Eigen::VectorXi* order) {
   const std::vector<int>& diagonal = pattern_->diagonal();
-  for (int i = 0; i < pivots.size() && !saw_near_singular_; ++i) {
+  well_conditioned_ = true;
+  for (int i = 0; i < pivots.size(); ++i) {
     const int row = order ? (*order)[i] : i;
     const double ratio = pivots[i] / values[diagonal[row]];
-    saw_near_singular_ = ratio < kNearSingularPivotRatio && ratio > kRedundantPivotRatio;
+    if (ratio < kNearSingularPivotRatio) well_conditioned_ = false;
+    if (ratio < kNearSingularPivotRatio && ratio > kRedundantPivotRatio) saw_near_singular_ = true;
   }
 }
 
@@ -54,11 +57,21 @@ void SchurSolver::SolveInPlace(Eigen::VectorXd* x) {
   }
 }
 
+void SchurSolver::SolveRefined(const std::vector<double>& values, Eigen::VectorXd* x) {
+  SolveInPlace(x);
+  if (!well_conditioned_) return;
+  const std::vector<int>& diagonal = pattern_->diagonal();
+  correction_.resize(x->size());
+  for (int i = 0; i < x->size(); ++i) correction_[i] = RegularizationOf(values[diagonal[i]]) * (*x)[i];
+  SolveInPlace(&correction_);
+  *x += correction_;
+}
+
 template <>
 bool SchurSolver::Solve<double>(const std::vector<double>& values, const VecX<double>& b, VecX<double>* x) {
   if (!Factor(values)) return false;
   *x = b;
-  SolveInPlace(x);
+  SolveRefined(values, x);
   return true;
 }
 
@@ -71,7 +84,7 @@ bool SchurSolver::Solve<Jet>(const std::vector<Jet>& values, const VecX<Jet>& b,
   const int n = pattern_->size();
   x0_.resize(n);
   for (int i = 0; i < n; ++i) x0_[i] = b[i].a;
-  SolveInPlace(&x0_);
+  SolveRefined(value_part_, &x0_);
   // residual b - S x0: its value part is ~0, its derivative parts are db_k - dS_k x0
   MultiplySymmetric(*pattern_, values, x0_, &product_);
   x->resize(n);
@@ -87,50 +100,72 @@ bool SchurSolver::Solve<Jet>(const std::vector<Jet>& values, const VecX<Jet>& b,
 
 // The oracle's substitutions are written out: Eigen's triangular solves skip right-hand-side entries that
 // compare equal to zero, and a Jet compares by its value only, so a zero value with non-zero derivatives would
-// lose them.
+// lose them. It refines where the double path does (the conditioning of the value part decides).
 bool SchurSolver::SolveByFactoringJets(const std::vector<Jet>& values, const VecX<Jet>& b, VecX<Jet>* x) {
+  value_part_.resize(values.size());
+  for (size_t k = 0; k < values.size(); ++k) value_part_[k] = values[k].a;
+  if (!Factor(value_part_)) return false;
   const int n = pattern_->size();
   const std::vector<int>& row = pattern_->row_index();
   const std::vector<int>& column = pattern_->column_index();
+  std::function<void(VecX<Jet>*)> solve_in_place;
+  Eigen::Matrix<Jet, Eigen::Dynamic, Eigen::Dynamic> lower_dense;
+  Eigen::SparseMatrix<Jet> lower_sparse;
+  VecX<Jet> d;
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> permutation;
   if (kind_ == KktSolver::kDense) {
     jet_dense_.setZero(n, n);
     for (size_t k = 0; k < values.size(); ++k) jet_dense_(row[k], column[k]) = values[k];
     const Eigen::LLT<Eigen::Matrix<Jet, Eigen::Dynamic, Eigen::Dynamic>> factor(jet_dense_);
     if (factor.info() != Eigen::Success) return false;
-    const Eigen::Matrix<Jet, Eigen::Dynamic, Eigen::Dynamic> lower = factor.matrixL();
-    *x = b;
-    for (int i = 0; i < n; ++i) {  // L y = b
-      for (int k = 0; k < i; ++k) (*x)[i] -= lower(i, k) * (*x)[k];
-      (*x)[i] /= lower(i, i);
-    }
-    for (int i = n - 1; i >= 0; --i) {  // L^T x = y
-      for (int k = i + 1; k < n; ++k) (*x)[i] -= lower(k, i) * (*x)[k];
-      (*x)[i] /= lower(i, i);
-    }
-    return true;
+    lower_dense = factor.matrixL();
+    solve_in_place = [&](VecX<Jet>* y) {
+      for (int i = 0; i < n; ++i) {  // L z = y
+        for (int k = 0; k < i; ++k) (*y)[i] -= lower_dense(i, k) * (*y)[k];
+        (*y)[i] /= lower_dense(i, i);
+      }
+      for (int i = n - 1; i >= 0; --i) {  // L^T w = z
+        for (int k = i + 1; k < n; ++k) (*y)[i] -= lower_dense(k, i) * (*y)[k];
+        (*y)[i] /= lower_dense(i, i);
+      }
+    };
+  } else {
+    std::vector<Eigen::Triplet<Jet>> entries;
+    for (size_t k = 0; k < values.size(); ++k) entries.emplace_back(row[k], column[k], values[k]);
+    jet_sparse_.resize(n, n);
+    jet_sparse_.setFromTriplets(entries.begin(), entries.end());
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<Jet>, Eigen::Lower, Eigen::AMDOrdering<int>> factor(jet_sparse_);
+    if (factor.info() != Eigen::Success) return false;
+    // S = P^T L D L^T P with L unit lower triangular (its strictly lower part stored by columns)
+    lower_sparse = factor.matrixL().nestedExpression();
+    d = factor.vectorD();
+    permutation = factor.permutationP();
+    solve_in_place = [&](VecX<Jet>* x_in_out) {
+      VecX<Jet> y = permutation * (*x_in_out);
+      for (int j = 0; j < n; ++j) {  // L z = P b
+        for (Eigen::SparseMatrix<Jet>::InnerIterator it(lower_sparse, j); it; ++it) {
+          if (it.row() > j) y[it.row()] -= it.value() * y[j];
+        }
+      }
+      for (int j = 0; j < n; ++j) y[j] /= d[j];
+      for (int j = n - 1; j >= 0; --j) {  // L^T w = D^-1 z
+        for (Eigen::SparseMatrix<Jet>::InnerIterator it(lower_sparse, j); it; ++it) {
+          if (it.row() > j) y[j] -= it.value() * y[it.row()];
+        }
+      }
+      *x_in_out = permutation.inverse() * y;
+    };
   }
-  std::vector<Eigen::Triplet<Jet>> entries;
-  for (size_t k = 0; k < values.size(); ++k) entries.emplace_back(row[k], column[k], values[k]);
-  jet_sparse_.resize(n, n);
-  jet_sparse_.setFromTriplets(entries.begin(), entries.end());
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<Jet>, Eigen::Lower, Eigen::AMDOrdering<int>> factor(jet_sparse_);
-  if (factor.info() != Eigen::Success) return false;
-  // S = P^T L D L^T P with L unit lower triangular (its strictly lower part stored by columns)
-  const Eigen::SparseMatrix<Jet>& lower = factor.matrixL().nestedExpression();
-  const VecX<Jet> d = factor.vectorD();
-  VecX<Jet> y = factor.permutationP() * b;
-  for (int j = 0; j < n; ++j) {  // L z = P b
-    for (Eigen::SparseMatrix<Jet>::InnerIterator it(lower, j); it; ++it) {
-      if (it.row() > j) y[it.row()] -= it.value() * y[j];
-    }
+  *x = b;
+  solve_in_place(x);
+  if (!well_conditioned_) return true;
+  const std::vector<int>& diagonal = pattern_->diagonal();
+  VecX<Jet> correction(n);
+  for (int i = 0; i < n; ++i) {
+    correction[i] = RegularizationOf(values[diagonal[i]]) * (*x)[i];
   }
-  for (int j = 0; j < n; ++j) y[j] /= d[j];
-  for (int j = n - 1; j >= 0; --j) {  // L^T w = D^-1 z
-    for (Eigen::SparseMatrix<Jet>::InnerIterator it(lower, j); it; ++it) {
-      if (it.row() > j) y[j] -= it.value() * y[it.row()];
-    }
-  }
-  *x = factor.permutationPinv() * y;
+  solve_in_place(&correction);
+  *x += correction;
   return true;
 }
 

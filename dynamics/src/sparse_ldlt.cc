@@ -4,9 +4,13 @@
 #include <Eigen/SparseCore>
 #include <algorithm>
 #include <cmath>
+#include <queue>
 
 namespace tether {
 namespace {
+
+// The breadth-first order is kept while it fills L at most this much more than the minimum-degree order.
+constexpr double kBreadthFirstFillAllowance = 1.25;
 
 // The approximate-minimum-degree ordering of S's pattern, as new index -> S's row.
 Eigen::VectorXi MinimumDegreeOrder(const SchurPattern& pattern) {
@@ -20,6 +24,44 @@ Eigen::VectorXi MinimumDegreeOrder(const SchurPattern& pattern) {
   Eigen::AMDOrdering<int>::PermutationType new_to_old;  // Eigen's orderings compute the inverse permutation
   Eigen::AMDOrdering<int>()(lower, new_to_old);         // of the symmetric pattern lower + lower^T
   return new_to_old.indices();
+}
+
+// Cuthill-McKee: breadth first through the rows' graph (rows adjacent where S couples them) from its first row
+// (a scene's first joint, typically the one at its base), each row's unvisited neighbours taken by increasing
+// degree; every component in turn.
+Eigen::VectorXi BreadthFirstOrder(const SchurPattern& pattern) {
+  const int n = pattern.size();
+  std::vector<std::vector<int>> neighbours(n);
+  for (int k = 0; k < pattern.nonzeros(); ++k) {
+    const int a = pattern.row_index()[k], b = pattern.column_index()[k];
+    if (a == b) continue;
+    neighbours[a].push_back(b);
+    neighbours[b].push_back(a);
+  }
+  for (std::vector<int>& list : neighbours) {
+    std::stable_sort(list.begin(), list.end(),
+                     [&](int x, int y) { return neighbours[x].size() < neighbours[y].size(); });
+  }
+  Eigen::VectorXi order(n);
+  std::vector<bool> visited(n, false);
+  int next = 0;
+  for (int start = 0; start < n; ++start) {
+    if (visited[start]) continue;
+    std::queue<int> queue;
+    queue.push(start);
+    visited[start] = true;
+    while (!queue.empty()) {
+      const int row = queue.front();
+      queue.pop();
+      order[next++] = row;
+      for (int neighbour : neighbours[row]) {
+        if (visited[neighbour]) continue;
+        visited[neighbour] = true;
+        queue.push(neighbour);
+      }
+    }
+  }
+  return order;
 }
 
 // The elimination tree of the permuted matrix (parent of each new row; -1 at a root), from its lower rows.
@@ -43,8 +85,17 @@ std::vector<int> EliminationTree(const std::vector<int>& row_start, const std::v
 }  // namespace
 
 SparseLdlt::SparseLdlt(const SchurPattern& pattern) {
+  Analyze(pattern, MinimumDegreeOrder(pattern));
+  const int minimum_degree_fill = nonzeros();
+  Analyze(pattern, BreadthFirstOrder(pattern));
+  if (nonzeros() > kBreadthFirstFillAllowance * minimum_degree_fill) Analyze(pattern, MinimumDegreeOrder(pattern));
+}
+
+void SparseLdlt::Analyze(const SchurPattern& pattern, const Eigen::VectorXi& order) {
   const int n = pattern.size();
-  order_ = MinimumDegreeOrder(pattern);
+  order_ = order;
+  row_entries_.clear();
+  pattern_.clear();
   std::vector<int> new_index(n);
   for (int k = 0; k < n; ++k) new_index[order_[k]] = k;
 

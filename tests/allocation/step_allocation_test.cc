@@ -11,7 +11,9 @@
 
 #include <atomic>
 #include <cstddef>
+#include <iterator>
 #include <string>
+#include <vector>
 
 #include "test_scenes.h"
 #include "tether/dynamics/scene_reader.h"
@@ -57,13 +59,17 @@ long AllocationsOfARun(const Model<T>& model, int steps) {
   return allocations.load() - before;
 }
 
-// For the integrators from `first_integrator` on, both KKT paths and every stabilization.
+constexpr Stabilization kEveryStabilization[] = {Stabilization::kNone, Stabilization::kBaumgarte,
+                                                 Stabilization::kProjection};
+
+// For the integrators from `first_integrator` on, both KKT paths and the given stabilizations.
 template <typename T>
-void ExpectStepsAllocateNothing(const Model<T>& model, int steps, int first_integrator = 0) {
+void ExpectStepsAllocateNothing(const Model<T>& model, int steps, int first_integrator = 0,
+                                const std::vector<Stabilization>& stabilizations = {std::begin(kEveryStabilization),
+                                                                                    std::end(kEveryStabilization)}) {
   for (int i = first_integrator; i < 4; ++i) {
     for (KktSolver solver : {KktSolver::kSparse, KktSolver::kDense}) {
-      for (Stabilization stabilization :
-           {Stabilization::kNone, Stabilization::kBaumgarte, Stabilization::kProjection}) {
+      for (Stabilization stabilization : stabilizations) {
         Model<T> m = model;
         m.simulation.integrator = kIntegrators[i];
         m.simulation.solver = solver;
@@ -94,10 +100,12 @@ Model<double> Chain(int n) {
 TEST(StepAllocation, NoneOnAChain) { ExpectStepsAllocateNothing(Chain(20), 200); }
 
 // scenes/four_bar.json for 1.6 and 3.2 s, rk4 and rk45: near the parallelogram's collinear configurations a
-// Baumgarte run projects onto the constraints (schur_solver.h's conditioning flag), 7 and 15 times
+// Baumgarte run projects onto the constraints (schur_solver.h's conditioning flag), 7 and 15 times. Without
+// stabilization the pass is a matter of luck (rk4 at steps within 0.3% of 1e-3 ends 0.005 to 18 J off its energy,
+// or runs away), so that run is left to the chains.
 TEST(StepAllocation, NoneOnAFourBarThroughASingularPass) {
   const Model<double> four_bar = ReadSceneFile(TETHER_SOURCE_DIR "/scenes/four_bar.json").model;
-  ExpectStepsAllocateNothing(four_bar, 1600, 2);
+  ExpectStepsAllocateNothing(four_bar, 1600, 2, {Stabilization::kBaumgarte, Stabilization::kProjection});
 }
 
 TEST(StepAllocation, NoneWithJets) { ExpectStepsAllocateNothing(CastModel<Jet>(Chain(10)), 100); }

@@ -1,6 +1,13 @@
 // A sparse LDL^T factorization of the Schur matrix S (schur_system.h) whose structure is worked out once.
 //
-//   P S P^T = L D L^T,   L unit lower triangular, D diagonal, P an approximate-minimum-degree ordering.
+//   P S P^T = L D L^T,   L unit lower triangular, D diagonal, P an ordering of the rows.
+//
+// P is a breadth-first (Cuthill-McKee) order of the rows from the scene's first constraint where that fills L by
+// at most 25% more than an approximate-minimum-degree order does, and the latter otherwise. A chain listed from
+// its base fills nothing breadth first, and its pivots then measure each joint against the joints nearer the
+// base, as the near-singularity flag of schur_solver.h wants; the minimum-degree order of a chain, equally free
+// of fill, ends in its middle, and the last pivot ratio there falls with the fourth power of the length without
+// any singularity (1.6e-8 on a 200-rod hinge chain, against 0.067 breadth first).
 //
 // Symbolic phase (the constructor, once per run): the ordering; the positions of S's stored values in the
 // permuted lower triangle; the elimination tree; for every row k the pattern of L(k, :) in topological order
@@ -42,6 +49,9 @@ class SparseLdlt {
   const Eigen::VectorXi& order() const { return order_; }               // order[k]: S's row eliminated k-th
 
  private:
+  // The symbolic phase for one ordering (new index -> S's row).
+  void Analyze(const SchurPattern& pattern, const Eigen::VectorXi& order);
+
   // An off-diagonal entry A(k, column) of the permuted lower triangle of row k, and where S stores its value.
   struct RowEntry {
     int column;
