@@ -301,10 +301,14 @@ TEST(SchurSolver, DoesNotFlagALongStraightChainOfRods) {
 
 void JetOracle(const Model<Jet>& model, const VecX<Jet>& q, const VecX<Jet>& v, VecX<Jet>* a, VecX<Jet>* lambda) {
   const KktPieces<Jet> p = Pieces(model, q, v);
+  const int m = static_cast<int>(p.gamma.size());
   using JetMatrix = Eigen::Matrix<Jet, Eigen::Dynamic, Eigen::Dynamic>;
-  // the scenes are full rank, where the library's refinement removes the regularization's bias: the oracle
-  // solves S itself
-  const JetMatrix schur = p.jacobian * p.inverse_mass.asDiagonal() * p.jacobian.transpose();
+  // the scenes' diagonals span less than kRefinedDiagonalSpread, so the library solves the regularized S
+  // unrefined (schur_solver.h), and so does the oracle
+  JetMatrix schur = p.jacobian * p.inverse_mass.asDiagonal() * p.jacobian.transpose();
+  double largest = 0.0;
+  for (int i = 0; i < m; ++i) largest = std::max(largest, schur(i, i).a);
+  for (int i = 0; i < m; ++i) schur(i, i) += kSchurRegularization * (schur(i, i) + Jet(kSchurDiagonalFloor * largest));
   const VecX<Jet> b = p.jacobian * p.inverse_mass.cwiseProduct(p.force) - p.gamma;
   *lambda = schur.ldlt().solve(b);
   *a = p.inverse_mass.cwiseProduct(p.force - p.jacobian.transpose() * *lambda);

@@ -1,6 +1,7 @@
 #include "tether/dynamics/schur_solver.h"
 
 #include <Eigen/SparseCholesky>
+#include <algorithm>
 #include <cmath>
 #include <functional>
 
@@ -40,13 +41,17 @@ bool SchurSolver::Factor(const std::vector<double>& values) {
 void SchurSolver::NoteConditioning(const std::vector<double>& values, const Eigen::VectorXd& pivots,
                                    const Eigen::VectorXi* order) {
   const std::vector<int>& diagonal = pattern_->diagonal();
-  well_conditioned_ = true;
+  bool all_above = true;
+  double smallest_diagonal = values[diagonal[0]], largest_diagonal = smallest_diagonal;
   for (int i = 0; i < pivots.size(); ++i) {
     const int row = order ? (*order)[i] : i;
     const double ratio = pivots[i] / values[diagonal[row]];
-    if (ratio < kNearSingularPivotRatio) well_conditioned_ = false;
+    if (ratio < kNearSingularPivotRatio) all_above = false;
     if (ratio < kNearSingularPivotRatio && ratio > kRedundantPivotRatio) saw_near_singular_ = true;
+    smallest_diagonal = std::min(smallest_diagonal, values[diagonal[row]]);
+    largest_diagonal = std::max(largest_diagonal, values[diagonal[row]]);
   }
+  refine_ = all_above && largest_diagonal >= kRefinedDiagonalSpread * smallest_diagonal;
 }
 
 void SchurSolver::SolveInPlace(Eigen::VectorXd* x) {
@@ -59,7 +64,7 @@ void SchurSolver::SolveInPlace(Eigen::VectorXd* x) {
 
 void SchurSolver::SolveRefined(const std::vector<double>& values, Eigen::VectorXd* x) {
   SolveInPlace(x);
-  if (!well_conditioned_) return;
+  if (!refine_) return;
   const std::vector<int>& diagonal = pattern_->diagonal();
   correction_.resize(x->size());
   for (int i = 0; i < x->size(); ++i) correction_[i] = RegularizationOf(values[diagonal[i]]) * (*x)[i];
@@ -158,7 +163,7 @@ bool SchurSolver::SolveByFactoringJets(const std::vector<Jet>& values, const Vec
   }
   *x = b;
   solve_in_place(x);
-  if (!well_conditioned_) return true;
+  if (!refine_) return true;
   const std::vector<int>& diagonal = pattern_->diagonal();
   VecX<Jet> correction(n);
   for (int i = 0; i < n; ++i) {

@@ -25,8 +25,10 @@
 // it, and the simulator then projects the state back onto the constraints (simulator.cc). Ratios at the
 // regularization's floor belong to exactly redundant rows, which the regularization already handles.
 //
-// Refinement. Where every pivot ratio is above kNearSingularPivotRatio, every solve removes the
-// regularization's bias by one refinement step (schur_system.h): x = (S + eps D)^-1 b, then
+// Refinement. Where every pivot ratio is above kNearSingularPivotRatio and the diagonal of S spans at least
+// kRefinedDiagonalSpread (the bias eps S_ii lambda_i matters only where some S_ii dwarfs the others: a thin
+// rod's spin; on a chain of particles it is a relative 1e-12 and the extra solves would cost 15% of a step),
+// every solve removes the regularization's bias by one refinement step (schur_system.h): x = (S + eps D)^-1 b, then
 // x += (S + eps D)^-1 (eps D x), one more pair of triangular solves on the same factors. Where rows are redundant
 // the regularized solution is the wanted one, and near a singular configuration the refinement would undo the
 // damping of the nearly dependent direction that carries a mechanism through it (a four-bar's singular pass
@@ -46,6 +48,7 @@ namespace tether {
 
 inline constexpr double kNearSingularPivotRatio = 1e-4;
 inline constexpr double kRedundantPivotRatio = 1e-9;
+inline constexpr double kRefinedDiagonalSpread = 1e3;
 
 // The path a request takes: kAuto becomes kSparse.
 KktSolver ResolveSolver(KktSolver requested);
@@ -71,7 +74,7 @@ class SchurSolver {
   void NoteConditioning(const std::vector<double>& values, const Eigen::VectorXd& pivots,
                         const Eigen::VectorXi* order);
   void SolveInPlace(Eigen::VectorXd* x);
-  // x = S^-1 b with the last factorization, refined when it was well conditioned
+  // x = S^-1 b with the last factorization, refined where refine_ says
   void SolveRefined(const std::vector<double>& values, Eigen::VectorXd* x);
   bool SolveByFactoringJets(const std::vector<Jet>& values, const VecX<Jet>& b, VecX<Jet>* x);
 
@@ -82,7 +85,7 @@ class SchurSolver {
   SparseLdlt sparse_factor_;
   Eigen::VectorXd pivots_;
   bool saw_near_singular_ = false;
-  bool well_conditioned_ = false;  // of the last factorization: no pivot ratio below kNearSingularPivotRatio
+  bool refine_ = false;  // the last factorization's rows are well conditioned and their diagonal spread
   Eigen::VectorXd correction_;
   // scratch for the Jet path
   std::vector<double> value_part_;
