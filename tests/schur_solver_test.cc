@@ -4,7 +4,7 @@
 //   - a duplicated row (a redundant constraint) gives finite multipliers split equally between the copies (the
 //     least-norm choice) and the acceleration of the model without the copy;
 //   - the Jet path (implicit function theorem, one factorization of the value part) matches an oracle that
-//     builds the regularized Schur matrix as a dense matrix of Jets and factors it with Eigen.
+//     builds the Schur matrix as a dense matrix of Jets and factors it with Eigen.
 #include "tether/dynamics/schur_solver.h"
 
 #include <gtest/gtest.h>
@@ -27,8 +27,6 @@ namespace {
 constexpr double kSolverAgreement = 1e-12;   // dense vs sparse factorization, relative to the largest entry
 constexpr double kKktAgreement = 1e-9;       // vs the unregularized KKT solve (regularization moves lambda ~1e-12)
 constexpr double kJetAgreement = 1e-12;      // Jet path vs factoring the Jet matrix, relative
-// the derivative parts, solved with the regularized S and not refined (schur_solver.h): a bias of eps cond(S)
-constexpr double kJetDerivativeAgreement = 1e-10;
 constexpr double kAlpha = 3.0, kBeta = 5.0;  // Baumgarte gains, so that every term of the right-hand side counts
 
 int AddBar(Model<double>* model, double x, double y, double angle) {
@@ -240,8 +238,6 @@ TEST(SchurSolver, DuplicatedRowGivesEqualSplitAndTheRightAcceleration) {
   }
 }
 
-// The Jet oracle: lambda from the regularized Schur matrix (schur_system.h) held as a dense matrix of Jets and
-// factored with Eigen's LDLT over Jets, then q'' = M^-1 (f - J^T lambda).
 // The conditioning the factorization reveals (schur_solver.h): a particle held by two rods from anchors on
 // either side, their lines at `angle` radians: the rows' pivot ratio is sin^2(angle); at 0 the particle could
 // move across both rods (a singular configuration).
@@ -299,16 +295,13 @@ TEST(SchurSolver, DoesNotFlagALongStraightChainOfRods) {
   }
 }
 
+// The Jet oracle: lambda from the Schur matrix (schur_system.h) held as a dense matrix of Jets and
+// factored with Eigen's LDLT over Jets, then q'' = M^-1 (f - J^T lambda).
 void JetOracle(const Model<Jet>& model, const VecX<Jet>& q, const VecX<Jet>& v, VecX<Jet>* a, VecX<Jet>* lambda) {
   const KktPieces<Jet> p = Pieces(model, q, v);
-  const int m = static_cast<int>(p.gamma.size());
   using JetMatrix = Eigen::Matrix<Jet, Eigen::Dynamic, Eigen::Dynamic>;
-  // the scenes' diagonals span less than kRefinedDiagonalSpread, so the library solves the regularized S
-  // unrefined (schur_solver.h), and so does the oracle
-  JetMatrix schur = p.jacobian * p.inverse_mass.asDiagonal() * p.jacobian.transpose();
-  double largest = 0.0;
-  for (int i = 0; i < m; ++i) largest = std::max(largest, schur(i, i).a);
-  for (int i = 0; i < m; ++i) schur(i, i) += kSchurRegularization * (schur(i, i) + Jet(kSchurDiagonalFloor * largest));
+  // the scenes' rows are well conditioned, so the library solves S itself (schur_solver.h), and so does the oracle
+  const JetMatrix schur = p.jacobian * p.inverse_mass.asDiagonal() * p.jacobian.transpose();
   const VecX<Jet> b = p.jacobian * p.inverse_mass.cwiseProduct(p.force) - p.gamma;
   *lambda = schur.ldlt().solve(b);
   *a = p.inverse_mass.cwiseProduct(p.force - p.jacobian.transpose() * *lambda);
@@ -324,7 +317,7 @@ void ExpectJetsNear(const VecX<Jet>& actual, const VecX<Jet>& expected, const ch
   for (int i = 0; i < expected.size(); ++i) {
     EXPECT_NEAR(actual[i].a, expected[i].a, kJetAgreement * value_scale) << what << " [" << i << "]";
     for (int k = 0; k < kJetStride; ++k) {
-      EXPECT_NEAR(actual[i].v[k], expected[i].v[k], kJetDerivativeAgreement * derivative_scale)
+      EXPECT_NEAR(actual[i].v[k], expected[i].v[k], kJetAgreement * derivative_scale)
           << what << " [" << i << "] direction " << k;
     }
   }

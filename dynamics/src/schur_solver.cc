@@ -16,42 +16,53 @@ SchurSolver::SchurSolver(const SchurPattern& pattern, KktSolver kind, bool facto
   } else {
     sparse_factor_ = SparseLdlt(pattern);
   }
+  regularized_values_.reserve(pattern.nonzeros());  // a step allocates nothing, regularized or not
+  regularized_jets_.reserve(pattern.nonzeros());
 }
 
 bool SchurSolver::Factor(const std::vector<double>& values) {
   for (double v : values) {
     if (!std::isfinite(v)) return false;
   }
-  if (kind_ == KktSolver::kDense) {
-    const std::vector<int>& row = pattern_->row_index();
-    const std::vector<int>& column = pattern_->column_index();
-    for (size_t k = 0; k < values.size(); ++k) dense_(row[k], column[k]) = values[k];
-    dense_factor_.compute(dense_);
-    if (dense_factor_.info() != Eigen::Success) return false;
-    pivots_ = dense_factor_.matrixLLT().diagonal().cwiseAbs2();
-    NoteConditioning(values, pivots_, nullptr);
-    return true;
+  if (!regularized_ && FactorAsGiven(values) && WellConditioned(values, false)) return true;
+  regularized_values_ = values;
+  Regularize(*pattern_, &regularized_values_);
+  if (!FactorAsGiven(regularized_values_)) return false;
+  regularized_ = !WellConditioned(regularized_values_, true);
+  // out of a near-singular stretch: S itself again, when it factors (it should, being well conditioned)
+  if (!regularized_ && !FactorAsGiven(values)) {
+    regularized_ = true;
+    return FactorAsGiven(regularized_values_);
   }
-  if (!sparse_factor_.Factor(values)) return false;
-  NoteConditioning(values, sparse_factor_.pivots(), &sparse_factor_.order());
   return true;
 }
 
-// pivot i belongs to row order[i] of S (the identity without an ordering)
-void SchurSolver::NoteConditioning(const std::vector<double>& values, const Eigen::VectorXd& pivots,
-                                   const Eigen::VectorXi* order) {
+bool SchurSolver::FactorAsGiven(const std::vector<double>& values) {
+  if (kind_ == KktSolver::kSparse) return sparse_factor_.Factor(values);
+  const std::vector<int>& row = pattern_->row_index();
+  const std::vector<int>& column = pattern_->column_index();
+  for (size_t k = 0; k < values.size(); ++k) dense_(row[k], column[k]) = values[k];
+  dense_factor_.compute(dense_);
+  if (dense_factor_.info() != Eigen::Success) return false;
+  pivots_ = dense_factor_.matrixLLT().diagonal().cwiseAbs2();
+  return true;
+}
+
+// pivot i belongs to row order[i] of S (the identity for the dense Cholesky)
+bool SchurSolver::WellConditioned(const std::vector<double>& values, bool note_near_singular) {
+  const bool sparse = kind_ == KktSolver::kSparse;
+  const Eigen::VectorXd& pivots = sparse ? sparse_factor_.pivots() : pivots_;
   const std::vector<int>& diagonal = pattern_->diagonal();
   bool all_above = true;
-  double smallest_diagonal = values[diagonal[0]], largest_diagonal = smallest_diagonal;
   for (int i = 0; i < pivots.size(); ++i) {
-    const int row = order ? (*order)[i] : i;
-    const double ratio = pivots[i] / values[diagonal[row]];
-    if (ratio < kNearSingularPivotRatio) all_above = false;
-    if (ratio < kNearSingularPivotRatio && ratio > kRedundantPivotRatio) saw_near_singular_ = true;
-    smallest_diagonal = std::min(smallest_diagonal, values[diagonal[row]]);
-    largest_diagonal = std::max(largest_diagonal, values[diagonal[row]]);
+    const double ratio = pivots[i] / values[diagonal[sparse ? sparse_factor_.order()[i] : i]];
+    if (!(ratio >= kNearSingularPivotRatio)) {
+      all_above = false;
+      if (!note_near_singular) return false;
+      if (ratio > kRedundantPivotRatio) saw_near_singular_ = true;
+    }
   }
-  refine_ = all_above && largest_diagonal >= kRefinedDiagonalSpread * smallest_diagonal;
+  return all_above;
 }
 
 void SchurSolver::SolveInPlace(Eigen::VectorXd* x) {
@@ -62,21 +73,18 @@ void SchurSolver::SolveInPlace(Eigen::VectorXd* x) {
   }
 }
 
-void SchurSolver::SolveRefined(const std::vector<double>& values, Eigen::VectorXd* x) {
-  SolveInPlace(x);
-  if (!refine_) return;
-  const std::vector<int>& diagonal = pattern_->diagonal();
-  correction_.resize(x->size());
-  for (int i = 0; i < x->size(); ++i) correction_[i] = RegularizationOf(values[diagonal[i]]) * (*x)[i];
-  SolveInPlace(&correction_);
-  *x += correction_;
+const std::vector<Jet>& SchurSolver::FactoredJets(const std::vector<Jet>& values) {
+  if (!regularized_) return values;
+  regularized_jets_ = values;
+  Regularize(*pattern_, &regularized_jets_);
+  return regularized_jets_;
 }
 
 template <>
 bool SchurSolver::Solve<double>(const std::vector<double>& values, const VecX<double>& b, VecX<double>* x) {
   if (!Factor(values)) return false;
   *x = b;
-  SolveRefined(values, x);
+  SolveInPlace(x);
   return true;
 }
 
@@ -89,9 +97,9 @@ bool SchurSolver::Solve<Jet>(const std::vector<Jet>& values, const VecX<Jet>& b,
   const int n = pattern_->size();
   x0_.resize(n);
   for (int i = 0; i < n; ++i) x0_[i] = b[i].a;
-  SolveRefined(value_part_, &x0_);
+  SolveInPlace(&x0_);
   // residual b - S x0: its value part is ~0, its derivative parts are db_k - dS_k x0
-  MultiplySymmetric(*pattern_, values, x0_, &product_);
+  MultiplySymmetric(*pattern_, FactoredJets(values), x0_, &product_);
   x->resize(n);
   for (int i = 0; i < n; ++i) (*x)[i] = Jet(x0_[i]);
   column_.resize(n);
@@ -105,11 +113,12 @@ bool SchurSolver::Solve<Jet>(const std::vector<Jet>& values, const VecX<Jet>& b,
 
 // The oracle's substitutions are written out: Eigen's triangular solves skip right-hand-side entries that
 // compare equal to zero, and a Jet compares by its value only, so a zero value with non-zero derivatives would
-// lose them. It refines where the double path does (the conditioning of the value part decides).
-bool SchurSolver::SolveByFactoringJets(const std::vector<Jet>& values, const VecX<Jet>& b, VecX<Jet>* x) {
-  value_part_.resize(values.size());
-  for (size_t k = 0; k < values.size(); ++k) value_part_[k] = values[k].a;
+// lose them. It regularizes where the double path does (the conditioning of the value part decides).
+bool SchurSolver::SolveByFactoringJets(const std::vector<Jet>& given, const VecX<Jet>& b, VecX<Jet>* x) {
+  value_part_.resize(given.size());
+  for (size_t k = 0; k < given.size(); ++k) value_part_[k] = given[k].a;
   if (!Factor(value_part_)) return false;
+  const std::vector<Jet>& values = FactoredJets(given);
   const int n = pattern_->size();
   const std::vector<int>& row = pattern_->row_index();
   const std::vector<int>& column = pattern_->column_index();
@@ -163,14 +172,6 @@ bool SchurSolver::SolveByFactoringJets(const std::vector<Jet>& values, const Vec
   }
   *x = b;
   solve_in_place(x);
-  if (!refine_) return true;
-  const std::vector<int>& diagonal = pattern_->diagonal();
-  VecX<Jet> correction(n);
-  for (int i = 0; i < n; ++i) {
-    correction[i] = RegularizationOf(values[diagonal[i]]) * (*x)[i];
-  }
-  solve_in_place(&correction);
-  *x += correction;
   return true;
 }
 

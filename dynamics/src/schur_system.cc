@@ -79,8 +79,10 @@ void AssembleSchur(const std::vector<BodyLayout>& layout, const SchurPattern& pa
   std::fill(values->begin(), values->end(), T(0.0));
   // 3D rigid bodies: G (k x 6) gathered, W = G M_b^-1, the lower triangle of G W^T scattered
   scratch->resize(12 * static_cast<size_t>(pattern.largest_dense_count()));
-  T* G = scratch->data();
-  T* W = G + 6 * pattern.largest_dense_count();
+  // G, W and the values never overlap: said, so that a store into values does not reload the blocks
+  T* __restrict G = scratch->data();
+  T* __restrict W = G + 6 * pattern.largest_dense_count();
+  T* __restrict value = values->data();
   for (const SchurPattern::DenseBody& dense : pattern.dense_bodies()) {
     const T inverse_mass = inverse_diagonal[layout[dense.body].v_offset];
     const Mat3<T>& inverse_inertia = inverse_rotational[dense.body];
@@ -97,11 +99,11 @@ void AssembleSchur(const std::vector<BodyLayout>& layout, const SchurPattern& pa
     }
     const int* entry = pattern.entries().data() + dense.first_entry;
     for (int p = 0; p < dense.count; ++p) {
-      const T* gp = G + 6 * p;
+      const T g0 = G[6 * p], g1 = G[6 * p + 1], g2 = G[6 * p + 2], g3 = G[6 * p + 3], g4 = G[6 * p + 4],
+              g5 = G[6 * p + 5];
       for (int q = 0; q <= p; ++q) {
         const T* wq = W + 6 * q;
-        (*values)[*entry++] += gp[0] * wq[0] + gp[1] * wq[1] + gp[2] * wq[2] + gp[3] * wq[3] + gp[4] * wq[4] +
-                               gp[5] * wq[5];
+        value[*entry++] += (g0 * wq[0] + g1 * wq[1]) + (g2 * wq[2] + g3 * wq[3]) + (g4 * wq[4] + g5 * wq[5]);
       }
     }
   }
@@ -115,6 +117,10 @@ void AssembleSchur(const std::vector<BodyLayout>& layout, const SchurPattern& pa
     if (body.kind == BodyKind::kPlanar) entry += gi.rotation[2] * gj.rotation[2] * inverse_diagonal[body.v_offset + 2];
     (*values)[term.value] += entry;
   }
+}
+
+template <typename T>
+void Regularize(const SchurPattern& pattern, std::vector<T>* values) {
   double largest = 0.0;
   for (int d : pattern.diagonal()) largest = std::max(largest, Value((*values)[d]));
   for (int d : pattern.diagonal()) {
@@ -139,6 +145,7 @@ void MultiplySymmetric(const SchurPattern& pattern, const std::vector<S>& values
   template void AssembleSchur<T>(const std::vector<BodyLayout>&, const SchurPattern&,                           \
                                  const std::vector<ConstraintRow<T>>&, const VecX<T>&,                          \
                                  const std::vector<Mat3<T>>&, std::vector<T>*, std::vector<T>*);               \
+  template void Regularize<T>(const SchurPattern&, std::vector<T>*);                                            \
   template void MultiplySymmetric<T, T>(const SchurPattern&, const std::vector<T>&, const VecX<T>&, VecX<T>*);
 TETHER_FOR_EACH_SCALAR(TETHER_INSTANTIATE_SCHUR_SYSTEM)
 template void MultiplySymmetric<Jet, double>(const SchurPattern&, const std::vector<Jet>&, const VecX<double>&,

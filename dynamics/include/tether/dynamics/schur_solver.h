@@ -1,7 +1,8 @@
-// Solving the (regularized) Schur system S x = b of schur_system.h, for double and for Jet scalars.
+// Solving the Schur system S x = b of schur_system.h (regularized only near dependent rows), for double and Jet
+// scalars.
 //
 // Two factorizations of the double matrix, chosen by KktSolver:
-//   kSparse  LDL^T with an approximate-minimum-degree ordering (sparse_ldlt.h), whose symbolic analysis is
+//   kSparse  LDL^T in a breadth-first or minimum-degree order (sparse_ldlt.h), whose symbolic analysis is
 //            done once per solver (per run) and only the numeric factorization per solve. For a chain the
 //            ordering keeps S banded and the cost is linear in its length;
 //   kDense   Cholesky (LLT) of S held as a dense matrix: a reference path, and a fallback for a user who wants
@@ -19,22 +20,24 @@
 //
 // Conditioning. Every factorization S = P^T L D L^T P (D = diag(L)^2 for the dense Cholesky) also reveals how
 // close the rows are to dependence: the pivot ratio d_i / S_ii (ordered as the factorization orders the rows) is
-// sin^2 of the angle, in the M^-1 metric, between row i's Jacobian and the span of the rows before it. A ratio
-// below kNearSingularPivotRatio but above kRedundantPivotRatio marks a configuration near a singular one (a
-// mechanism at a dead centre or a bifurcation, a light body between nearly collinear rods): the solver records
-// it, and the simulator then projects the state back onto the constraints (simulator.cc). Ratios at the
-// regularization's floor belong to exactly redundant rows, which the regularization already handles.
+// sin^2 of the angle, in the M^-1 metric, between row i's Jacobian and the span of the rows before it.
 //
-// Refinement. Where every pivot ratio is above kNearSingularPivotRatio and the diagonal of S spans at least
-// kRefinedDiagonalSpread (the bias eps S_ii lambda_i matters only where some S_ii dwarfs the others: a thin
-// rod's spin; on a chain of particles it is a relative 1e-12 and the extra solves would cost 15% of a step),
-// every solve removes the regularization's bias by one refinement step (schur_system.h): x = (S + eps D)^-1 b, then
-// x += (S + eps D)^-1 (eps D x), one more pair of triangular solves on the same factors. Where rows are redundant
-// the regularized solution is the wanted one, and near a singular configuration the refinement would undo the
-// damping of the nearly dependent direction that carries a mechanism through it (a four-bar's singular pass
-// diverges with it). For Jets the value part is refined; the derivative parts are solved with S + eps D as they
-// are, a relative bias of eps cond(S) (1e-11 on the test chain) that no gradient use resolves, where refining
-// them too would double the Jet path's solves.
+// Regularization only where it is needed. S itself is factored first; where every pivot ratio is at least
+// kNearSingularPivotRatio that factorization is the one solved with, exactly. Otherwise (a ratio below it, a
+// zero or negative pivot, a failed Cholesky) the regularized S + eps D of schur_system.h is factored instead, and
+// its ratios are read: one below kNearSingularPivotRatio but above kRedundantPivotRatio marks a configuration
+// near a singular one (a mechanism at a dead centre or a bifurcation, a light body between nearly collinear
+// rods), which the solver records and after which the simulator projects the state back onto the constraints
+// (simulator.cc); ratios at the regularization's floor belong to exactly redundant rows, whose least-norm
+// multipliers the regularization gives. Near a singular configuration the regularized solution is also the
+// wanted one: it damps the nearly dependent direction that carries a mechanism through it (a four-bar's
+// unstabilized singular pass diverges without).
+// Why not always regularize: the regularized solution meets S x = b - eps D x, and where one S_ii dwarfs the
+// others (a thin rod's spin, S_ii ~ 1 / I_axial) eps S_ii lambda_i is a constraint acceleration error that no
+// step size removes (a four-rod hinge chain drifted off its hinges by 2.5e-8 m in 1 s without stabilization).
+// What it costs: a scene whose rows stay redundant would factor twice per solve, so after a regularized solve the
+// next one factors S + eps D first, and S again only where that one turns out well conditioned.
+// For Jets the value part decides, and the derivative parts are solved with the same matrix.
 #pragma once
 
 #include <Eigen/Cholesky>
@@ -48,7 +51,6 @@ namespace tether {
 
 inline constexpr double kNearSingularPivotRatio = 1e-4;
 inline constexpr double kRedundantPivotRatio = 1e-9;
-inline constexpr double kRefinedDiagonalSpread = 1e3;
 
 // The path a request takes: kAuto becomes kSparse.
 KktSolver ResolveSolver(KktSolver requested);
@@ -70,12 +72,16 @@ class SchurSolver {
   bool Solve(const std::vector<T>& values, const VecX<T>& b, VecX<T>* x);
 
  private:
+  // Factors S, or S + eps D where S's rows are close to dependence (above); regularized_ says which.
   bool Factor(const std::vector<double>& values);
-  void NoteConditioning(const std::vector<double>& values, const Eigen::VectorXd& pivots,
-                        const Eigen::VectorXi* order);
+  // Factors `values` as given; false on a failed factorization.
+  bool FactorAsGiven(const std::vector<double>& values);
+  // Over the last factorization of `values`: whether every pivot ratio is at least kNearSingularPivotRatio, and
+  // (with note_near_singular) records a ratio between the redundant and the near-singular marks.
+  bool WellConditioned(const std::vector<double>& values, bool note_near_singular);
   void SolveInPlace(Eigen::VectorXd* x);
-  // x = S^-1 b with the last factorization, refined where refine_ says
-  void SolveRefined(const std::vector<double>& values, Eigen::VectorXd* x);
+  // The values of the matrix factored last: `values` itself, or regularized_jets_ after a regularized factorization.
+  const std::vector<Jet>& FactoredJets(const std::vector<Jet>& values);
   bool SolveByFactoringJets(const std::vector<Jet>& values, const VecX<Jet>& b, VecX<Jet>* x);
 
   const SchurPattern* pattern_;
@@ -85,8 +91,9 @@ class SchurSolver {
   SparseLdlt sparse_factor_;
   Eigen::VectorXd pivots_;
   bool saw_near_singular_ = false;
-  bool refine_ = false;  // the last factorization's rows are well conditioned and their diagonal spread
-  Eigen::VectorXd correction_;
+  bool regularized_ = false;  // the last factorization was of S + eps D (it starts the next attempt)
+  std::vector<double> regularized_values_;
+  std::vector<Jet> regularized_jets_;
   // scratch for the Jet path
   std::vector<double> value_part_;
   Eigen::VectorXd x0_, column_;

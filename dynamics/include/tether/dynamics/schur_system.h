@@ -6,15 +6,10 @@
 // over the bodies b that rows i and j share (g_ib: row i's Jacobian block on body b). S therefore has the
 // sparsity of the constraint graph: banded for a chain, tree-shaped for a tree, a few extra entries per loop.
 //
-// Regularization: what is assembled is S + eps (diag(S) + delta max diag(S)), eps = kSchurRegularization. For
-// full-rank S this moves lambda by a relative eps; for redundant rows (a duplicated rod, a parallelogram's
-// extra bar) it selects the multipliers of least norm, as Tikhonov regularization does when eps -> 0, instead of
-// dividing by a round-off pivot.
-// The price on full-rank S is a bias: the solution meets S x = b - eps D x, and in a constraint row whose
-// diagonal is large (a thin rod's spin about its axis: S_ii ~ 1 / I_axial) eps S_ii lambda_i is a constraint
-// acceleration error of ~1e-8 m/s^2 that no step size removes (a four-rod chain drifts off its hinges by 2.5e-8 m
-// in 1 s without stabilization). SchurSolver therefore takes one step of iterative refinement where no row is
-// redundant: x += (S + eps D)^-1 (eps D x), which leaves a bias of eps^2.
+// Regularization (applied by SchurSolver only where the rows are close to dependence, schur_solver.h):
+//   S + eps (diag(S) + delta max diag(S)),   eps = kSchurRegularization, delta = kSchurDiagonalFloor.
+// For redundant rows (a duplicated rod, a parallelogram's extra bar) it selects the multipliers of least norm, as
+// Tikhonov regularization does when eps -> 0, instead of dividing by a round-off pivot.
 //
 // The pattern (lower triangle, compressed columns, rows sorted) and the scatter list are built once per model;
 // assembly is then a loop over the scatter list with no allocation. A 3D rigid body, whose blocks have six
@@ -31,13 +26,6 @@ namespace tether {
 
 inline constexpr double kSchurRegularization = 1e-12;
 inline constexpr double kSchurDiagonalFloor = 1e-12;  // delta above, for rows whose Jacobian vanishes
-
-// eps D_ii from an assembled diagonal entry (1 + eps) S_ii + eps delta max diag(S), without its delta part, which
-// is below the entry's round-off unless the row's Jacobian vanishes (a redundant row, never refined).
-template <typename T>
-T RegularizationOf(const T& assembled_diagonal) {
-  return assembled_diagonal * (kSchurRegularization / (1.0 + kSchurRegularization));
-}
 
 // What the assembly needs of a body, compact: its kind and where its velocities start.
 struct BodyLayout {
@@ -91,7 +79,7 @@ class SchurPattern {
   int largest_dense_count_ = 0;
 };
 
-// values (sized pattern.nonzeros()) = the regularized S at the given rows, for M^-1 given by its diagonal over the
+// values (sized pattern.nonzeros()) = S at the given rows, for M^-1 given by its diagonal over the
 // velocities (translations, planar angles) and the rotational blocks of 3D bodies (workspace.h's InverseMass);
 // `scratch` holds the dense products' G and W (12 numbers per block of the largest 3D body).
 template <typename T>
@@ -99,6 +87,10 @@ void AssembleSchur(const std::vector<BodyLayout>& layout, const SchurPattern& pa
                    const std::vector<ConstraintRow<T>>& rows, const VecX<T>& inverse_diagonal,
                    const std::vector<Mat3<T>>& inverse_rotational, std::vector<T>* scratch,
                    std::vector<T>* values);
+
+// values (a stored S, pattern order) += the regularization above, on the diagonal.
+template <typename T>
+void Regularize(const SchurPattern& pattern, std::vector<T>* values);
 
 // y = S x for the symmetric S stored as its lower triangle.
 template <typename S, typename X>
