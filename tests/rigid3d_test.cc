@@ -5,7 +5,8 @@
 //     axes differ from the body axes;
 //   - a hinge pendulum on a tilted axis against its one-degree-of-freedom equation, a damped oscillator on a
 //     prismatic joint, a constant motor torque on a wheel;
-//   - energy and angular momentum of a hinged chain in free fall (no gravity: momentum about every axis).
+//   - energy and angular momentum of a hinged chain in free fall (no gravity: momentum about every axis);
+//   - the exponential map and dexp^-1 on their Taylor branch against their closed forms, values and derivatives.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -87,6 +88,37 @@ struct OrderCase {
 };
 
 class IntegratorOrderOnSo3 : public ::testing::TestWithParam<OrderCase> {};
+
+// Exp and DexpInv switch to series below |theta|^2 = 1e-2 (rotation.h); just below the switch, where the
+// series' first omitted term is largest, they agree with the closed forms to rounding, derivatives included.
+TEST(Rotation, SeriesBranchesMatchTheClosedForms) {
+  for (double squared : {0.0099, 1e-4, 1e-7}) {
+    SCOPED_TRACE(squared);
+    const Vec3<double> direction = Vec3<double>(0.3, -0.5, 0.8).normalized();
+    Vec3<Jet> theta = (std::sqrt(squared) * direction).cast<Jet>();
+    for (int k = 0; k < 3; ++k) theta[k].v[k] = 1.0;
+    const Vec3<Jet> w = Vec3<double>(0.7, 0.2, -1.1).cast<Jet>();
+    const Jet angle = sqrt(theta.squaredNorm());
+    const Vec4<Jet> exp = Exp(theta);
+    const Jet c = cos(0.5 * angle), s = sin(0.5 * angle) / angle;
+    const Vec4<Jet> expected_exp(c, s * theta[0], s * theta[1], s * theta[2]);
+    const Vec3<Jet> cross = theta.cross(w);
+    const Jet coefficient = (1.0 - 0.5 * angle / tan(0.5 * angle)) / theta.squaredNorm();
+    const Vec3<Jet> expected_dexp_inv = w + 0.5 * cross + coefficient * theta.cross(cross);
+    const Vec3<Jet> dexp_inv = DexpInv(theta, w);
+    for (int i = 0; i < 4; ++i) {
+      EXPECT_NEAR(exp[i].a, expected_exp[i].a, 2e-16);
+      for (int k = 0; k < 3; ++k) EXPECT_NEAR(exp[i].v[k], expected_exp[i].v[k], 1e-14);
+    }
+    // the closed form of dexp^-1 cancels as |theta|^2 falls (1 - (s/2) cot(s/2) ~ s^2 / 12): compare there only
+    // to what it still resolves
+    const double resolved = 1e-16 / squared;
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_NEAR(dexp_inv[i].a, expected_dexp_inv[i].a, 4 * resolved);
+      for (int k = 0; k < 3; ++k) EXPECT_NEAR(dexp_inv[i].v[k], expected_dexp_inv[i].v[k], 40 * resolved);
+    }
+  }
+}
 
 TEST_P(IntegratorOrderOnSo3, ErrorFallsWithTheMethodsOrder) {
   const OrderCase c = GetParam();

@@ -13,7 +13,7 @@ Vec4<T> PrincipalAxes(const Body<T>& body) {
 }  // namespace
 
 template <typename T>
-void Integrate(const Model<T>& model, const VecX<T>& q, const VecX<T>& v, double h, VecX<T>* out) {
+TETHER_FLATTEN void Integrate(const Model<T>& model, const VecX<T>& q, const VecX<T>& v, double h, VecX<T>* out) {
   if (model.spatial_bodies.empty()) {  // q and v share one layout
     if (h == 1.0) {
       out->noalias() = q + v;
@@ -32,9 +32,9 @@ void Integrate(const Model<T>& model, const VecX<T>& q, const VecX<T>& v, double
     }
     for (int k = 0; k < 3; ++k) ob[k] = qb[k] + h * vb[k];
     const Vec3<T> turn_P(T(h) * vb[3], T(h) * vb[4], T(h) * vb[5]);
+    const Vec3<T> turn_B = body.principal_axes == Vec4<double>(1, 0, 0, 0) ? turn_P : Rotate(PrincipalAxes(body), turn_P);
     // the product of unit quaternions is one; normalising removes the rounding that would otherwise accumulate
-    const Vec4<T> turned = Normalized(
-        QuaternionProduct(Vec4<T>(qb[3], qb[4], qb[5], qb[6]), Exp(Vec3<T>(Rotate(PrincipalAxes(body), turn_P)))));
+    const Vec4<T> turned = Normalized(QuaternionProduct(Vec4<T>(qb[3], qb[4], qb[5], qb[6]), Exp(turn_B)));
     for (int k = 0; k < 4; ++k) ob[3 + k] = turned[k];
   }
 }
@@ -61,7 +61,7 @@ void Difference(const Model<T>& model, const VecX<T>& q0, const VecX<T>& q1, Vec
 }
 
 template <typename T>
-void DexpInv(const Model<T>& model, const VecX<T>& theta, const VecX<T>& v, VecX<T>* k) {
+TETHER_FLATTEN void DexpInv(const Model<T>& model, const VecX<T>& theta, const VecX<T>& v, VecX<T>* k) {
   if (k != &v) *k = v;
   if (model.spatial_bodies.empty()) return;
   for (const Body<T>& body : model.bodies) {

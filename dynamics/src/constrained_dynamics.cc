@@ -16,10 +16,12 @@ bool ComputeAcceleration(const Model<T>& model, double t, const VecX<T>& q, cons
   if (ws->rows.empty()) return true;
 
   EvaluateConstraintRows(model, ws->constraints, ws->frames, q, v, true, &ws->rows);
+  // J u + Jdot v + alpha J v + beta C, with the two products by J taken as one, J (u + alpha v)
+  ws->u_plus_alpha_v = *a + ws->alpha * v;
   for (size_t i = 0; i < ws->rows.size(); ++i) {
     const ConstraintRow<T>& row = ws->rows[i];
-    const T velocity = Dot(model, row.a, v) + Dot(model, row.b, v);  // C_i' = J_i v
-    ws->rhs[i] = Dot(model, row.a, *a) + Dot(model, row.b, *a) + row.bias + ws->alpha * velocity + ws->beta * row.value;
+    ws->rhs[i] = Dot(model, row.a, ws->u_plus_alpha_v) + Dot(model, row.b, ws->u_plus_alpha_v) + row.bias +
+                 ws->beta * row.value;
   }
   AssembleSchur(ws);
   if (!ws->solver.Solve(ws->schur, ws->rhs, &ws->lambda)) {

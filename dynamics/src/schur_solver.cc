@@ -21,9 +21,6 @@ SchurSolver::SchurSolver(const SchurPattern& pattern, KktSolver kind, bool facto
 }
 
 bool SchurSolver::Factor(const std::vector<double>& values) {
-  for (double v : values) {
-    if (!std::isfinite(v)) return false;
-  }
   if (!regularized_ && FactorAsGiven(values) && WellConditioned(values, false)) return true;
   regularized_values_ = values;
   Regularize(*pattern_, &regularized_values_);
@@ -37,8 +34,13 @@ bool SchurSolver::Factor(const std::vector<double>& values) {
   return true;
 }
 
+// A non-finite entry of S reaches a pivot of the sparse LDL^T (every L(r, j) adds L(r, j)^2 d_j to d_r), which
+// Factor checks; Eigen's Cholesky can pass a NaN through, so the dense path checks the entries.
 bool SchurSolver::FactorAsGiven(const std::vector<double>& values) {
   if (kind_ == KktSolver::kSparse) return sparse_factor_.Factor(values);
+  for (double v : values) {
+    if (!std::isfinite(v)) return false;
+  }
   const std::vector<int>& row = pattern_->row_index();
   const std::vector<int>& column = pattern_->column_index();
   for (size_t k = 0; k < values.size(); ++k) dense_(row[k], column[k]) = values[k];
@@ -55,12 +57,11 @@ bool SchurSolver::WellConditioned(const std::vector<double>& values, bool note_n
   const std::vector<int>& diagonal = pattern_->diagonal();
   bool all_above = true;
   for (int i = 0; i < pivots.size(); ++i) {
-    const double ratio = pivots[i] / values[diagonal[sparse ? sparse_factor_.order()[i] : i]];
-    if (!(ratio >= kNearSingularPivotRatio)) {
-      all_above = false;
-      if (!note_near_singular) return false;
-      if (ratio > kRedundantPivotRatio) saw_near_singular_ = true;
-    }
+    const double s_ii = values[diagonal[sparse ? sparse_factor_.order()[i] : i]];  // > 0 once factored
+    if (pivots[i] >= kNearSingularPivotRatio * s_ii) continue;
+    all_above = false;
+    if (!note_near_singular) return false;
+    if (pivots[i] > kRedundantPivotRatio * s_ii) saw_near_singular_ = true;
   }
   return all_above;
 }

@@ -94,32 +94,21 @@ SparseLdlt::SparseLdlt(const SchurPattern& pattern) {
 void SparseLdlt::Analyze(const SchurPattern& pattern, const Eigen::VectorXi& order) {
   const int n = pattern.size();
   order_ = order;
-  row_entries_.clear();
-  pattern_.clear();
   std::vector<int> new_index(n);
   for (int k = 0; k < n; ++k) new_index[order_[k]] = k;
 
-  // S's stored values in the permuted lower triangle, by rows
-  diagonal_value_.assign(n, -1);
-  std::vector<std::vector<RowEntry>> rows(n);
+  // the columns of S's off-diagonal entries in each row of the permuted lower triangle
+  std::vector<std::vector<int>> rows(n);
   for (int v = 0; v < pattern.nonzeros(); ++v) {
     const int a = new_index[pattern.row_index()[v]], b = new_index[pattern.column_index()[v]];
-    if (a == b) {
-      diagonal_value_[a] = v;
-    } else {
-      rows[std::max(a, b)].push_back({std::min(a, b), v});
-    }
+    if (a != b) rows[std::max(a, b)].push_back(std::min(a, b));
   }
-  row_entry_start_.assign(1, 0);
-  std::vector<int> row_columns;
-  for (const std::vector<RowEntry>& row : rows) {
-    for (const RowEntry& entry : row) {
-      row_entries_.push_back(entry);
-      row_columns.push_back(entry.column);
-    }
-    row_entry_start_.push_back(static_cast<int>(row_entries_.size()));
+  std::vector<int> row_start(1, 0), row_columns;
+  for (const std::vector<int>& row : rows) {
+    row_columns.insert(row_columns.end(), row.begin(), row.end());
+    row_start.push_back(static_cast<int>(row_columns.size()));
   }
-  const std::vector<int> parent = EliminationTree(row_entry_start_, row_columns);
+  const std::vector<int> parent = EliminationTree(row_start, row_columns);
 
   // row k's pattern: the paths up the tree from its entries towards k, each stopping where an earlier one
   // passed; read back as the later paths first, each from the bottom up, a column comes after every column
@@ -130,7 +119,7 @@ void SparseLdlt::Analyze(const SchurPattern& pattern, const Eigen::VectorXi& ord
   for (int k = 0; k < n; ++k) {
     flag[k] = k;
     stack.clear();
-    for (int e = row_entry_start_[k]; e < row_entry_start_[k + 1]; ++e) {
+    for (int e = row_start[k]; e < row_start[k + 1]; ++e) {
       path.clear();
       for (int i = row_columns[e]; flag[i] != k; i = parent[i]) {
         path.push_back(i);
@@ -142,62 +131,94 @@ void SparseLdlt::Analyze(const SchurPattern& pattern, const Eigen::VectorXi& ord
     for (int i : patterns[k]) ++column_count[i];
   }
 
-  // L by columns; rows are appended to a column in increasing order, so each position is known now
+  // L by columns; rows are appended to a column in increasing order
   column_start_.assign(n + 1, 0);
   for (int i = 0; i < n; ++i) column_start_[i + 1] = column_start_[i] + column_count[i];
-  lower_row_.resize(column_start_[n]);
-  lower_value_.assign(column_start_[n], 0.0);
+  const int nnz = column_start_[n];
+  lower_row_.resize(nnz);
   std::vector<int> filled(column_start_.begin(), column_start_.end() - 1);
-  pattern_start_.assign(1, 0);
   for (int k = 0; k < n; ++k) {
-    for (int i : patterns[k]) {
-      const int position = filled[i]++;
-      lower_row_[position] = k;
-      pattern_.push_back({i, position});
-    }
-    pattern_start_.push_back(static_cast<int>(pattern_.size()));
+    for (int i : patterns[k]) lower_row_[filled[i]++] = k;
   }
+  // where L(row, column) is stored, or the diagonal slot nnz + row
+  auto slot = [&](int row, int column) {
+    if (row == column) return nnz + row;
+    const auto first = lower_row_.begin() + column_start_[column], last = lower_row_.begin() + column_start_[column + 1];
+    return static_cast<int>(std::lower_bound(first, last, row) - lower_row_.begin());
+  };
+  value_slot_.resize(pattern.nonzeros());
+  std::vector<bool> from_s(nnz + n, false);
+  for (int v = 0; v < pattern.nonzeros(); ++v) {
+    const int a = new_index[pattern.row_index()[v]], b = new_index[pattern.column_index()[v]];
+    value_slot_[v] = slot(std::max(a, b), std::min(a, b));
+    from_s[value_slot_[v]] = true;
+  }
+  fill_slot_.clear();
+  for (int position = 0; position < nnz; ++position) {
+    if (!from_s[position]) fill_slot_.push_back(position);
+  }
+  // the updates column j makes: for its rows r_p >= r_q, the entry (r_p, r_q)
+  update_target_.clear();
+  for (int j = 0; j < n; ++j) {
+    for (int p = column_start_[j]; p < column_start_[j + 1]; ++p) {
+      for (int q = column_start_[j]; q <= p; ++q) update_target_.push_back(slot(lower_row_[p], lower_row_[q]));
+    }
+  }
+  lower_value_.assign(nnz + n, 0.0);
   d_.setZero(n);
   inverse_d_.setZero(n);
   work_.setZero(n);
 }
 
+// Raw pointers marked __restrict: the arrays never overlap, and without the promise every store would force the
+// next load to wait for it.
 bool SparseLdlt::Factor(const std::vector<double>& values) {
   const int n = size();
-  double* y = work_.data();
-  for (int k = 0; k < n; ++k) {
-    for (int e = row_entry_start_[k]; e < row_entry_start_[k + 1]; ++e)
-      y[row_entries_[e].column] = values[row_entries_[e].value];
-    double d = values[diagonal_value_[k]];
-    for (int e = pattern_start_[k]; e < pattern_start_[k + 1]; ++e) {
-      const int i = pattern_[e].column;
-      const double yi = y[i];
-      y[i] = 0.0;
-      for (int p = column_start_[i]; p < pattern_[e].position; ++p) y[lower_row_[p]] -= lower_value_[p] * yi;
-      const double l = yi * inverse_d_[i];
-      d -= l * yi;
-      lower_value_[pattern_[e].position] = l;
+  double* __restrict f = lower_value_.data();
+  const double* __restrict value = values.data();
+  const int* __restrict slot = value_slot_.data();
+  const int* __restrict target = update_target_.data();
+  for (size_t v = 0; v < values.size(); ++v) f[slot[v]] = value[v];
+  for (int position : fill_slot_) f[position] = 0.0;
+  double* __restrict diagonal = f + nonzeros();
+  for (int j = 0; j < n; ++j) {
+    const double d = diagonal[j];
+    if (d == 0.0 || !std::isfinite(d)) return false;
+    const double inverse = 1.0 / d;
+    d_[j] = d;
+    inverse_d_[j] = inverse;
+    const int begin = column_start_[j], end = column_start_[j + 1];
+    // A(r_p, r_q) -= L(r_p, j) d_j L(r_q, j), with f still holding d_j L(., j) (the updates land right of j)
+    for (int p = begin; p < end; ++p) {
+      const double l = f[p] * inverse;
+      for (int q = begin; q <= p; ++q) f[*target++] -= l * f[q];
     }
-    if (d == 0.0 || !std::isfinite(d)) return false;  // y is clean again: every entry of row k was visited
-    d_[k] = d;
-    inverse_d_[k] = 1.0 / d;
+    for (int p = begin; p < end; ++p) f[p] *= inverse;
   }
   return true;
 }
 
 void SparseLdlt::SolveInPlace(Eigen::VectorXd* x) {
   const int n = size();
-  double* t = work_.data();
-  for (int k = 0; k < n; ++k) t[k] = (*x)[order_[k]];
+  double* __restrict t = work_.data();
+  double* __restrict b = x->data();
+  const double* __restrict lower = lower_value_.data();
+  const int* __restrict lower_row = lower_row_.data();
+  const int* __restrict start = column_start_.data();
+  const int* __restrict order = order_.data();
+  const double* __restrict inverse_d = inverse_d_.data();
+  for (int k = 0; k < n; ++k) t[k] = b[order[k]];
   for (int j = 0; j < n; ++j) {  // L z = P b
-    for (int p = column_start_[j]; p < column_start_[j + 1]; ++p) t[lower_row_[p]] -= lower_value_[p] * t[j];
+    const double tj = t[j];
+    for (int p = start[j]; p < start[j + 1]; ++p) t[lower_row[p]] -= lower[p] * tj;
   }
-  for (int j = 0; j < n; ++j) t[j] *= inverse_d_[j];
   for (int j = n - 1; j >= 0; --j) {  // L^T w = D^-1 z
-    for (int p = column_start_[j]; p < column_start_[j + 1]; ++p) t[j] -= lower_value_[p] * t[lower_row_[p]];
+    double tj = t[j] * inverse_d[j];
+    for (int p = start[j]; p < start[j + 1]; ++p) tj -= lower[p] * t[lower_row[p]];
+    t[j] = tj;
   }
   for (int k = 0; k < n; ++k) {
-    (*x)[order_[k]] = t[k];
+    b[order[k]] = t[k];
     t[k] = 0.0;  // Factor expects a zero work row
   }
 }

@@ -54,6 +54,7 @@ Workspace<T>::Workspace(const Model<T>& model, const VecX<T>& q_start, bool fact
   frames.resize(model.bodies.size());
   force.setZero(nv);
   reaction.setZero(nv);
+  u_plus_alpha_v.setZero(nv);
   rhs.setZero(m);
   lambda.setZero(m);
   for (int s = 0; s < 7; ++s) {

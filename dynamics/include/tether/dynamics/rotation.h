@@ -71,9 +71,11 @@ Vec4<T> Exp(const Vec3<T>& theta) {
   using std::sqrt;
   const T squared = theta.squaredNorm();
   T c, s;  // cos(|theta| / 2) and sin(|theta| / 2) / |theta|
-  if (Value(squared) < 1e-8) {
-    c = T(1.0) - squared / T(8.0) + squared * squared / T(384.0);
-    s = T(0.5) - squared / T(48.0) + squared * squared / T(3840.0);
+  if (Value(squared) < 1e-2) {  // the series to |theta|^8: the first term left out is below 3e-20
+    c = T(1.0) + squared * (T(-1.0 / 8) + squared * (T(1.0 / 384) + squared * (T(-1.0 / 46080) +
+                                                                               squared * T(1.0 / 10321920))));
+    s = T(0.5) + squared * (T(-1.0 / 48) + squared * (T(1.0 / 3840) + squared * (T(-1.0 / 645120) +
+                                                                                squared * T(1.0 / 185794560))));
   } else {
     const T angle = sqrt(squared);
     c = cos(T(0.5) * angle);

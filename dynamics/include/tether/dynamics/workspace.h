@@ -51,6 +51,7 @@ struct Workspace {
   VecX<T> force;                        // generalized force f (size nv)
   VecX<T> rhs, lambda;                  // Schur right-hand side and multipliers (size m)
   VecX<T> reaction;                     // M^-1 J^T lambda (size nv)
+  VecX<T> u_plus_alpha_v;               // M^-1 f + alpha v: J of it serves the Schur right-hand side (size nv)
 
   // integrator scratch: stage increments (v-shaped: Munthe-Kaas stage derivatives K and accelerations),
   // trial and next states
