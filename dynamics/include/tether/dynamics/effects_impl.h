@@ -20,7 +20,7 @@ Mat3<T> PrincipalInertia(const Body<T>& body) {
 }
 
 template <typename T>
-void AccumulateForces(const Model<T>& model, const JointCoordinates<T>& coordinates, const BodyFrames<T>& frames,
+TETHER_FLATTEN void AccumulateForces(const Model<T>& model, const JointCoordinates<T>& coordinates, const BodyFrames<T>& frames,
                       double t, const VecX<T>& q, const VecX<T>& v, VecX<T>* f) {
   const int d = model.dimension;
   for (const GravityEffect<T>& g : model.gravity) {

@@ -149,6 +149,14 @@ TETHER_HOT_INLINE Segment<T> Between(const PointMotion<T>& a, const PointMotion<
   return s;
 }
 
+// R^T x, written out: Eigen's transposed product assembles its result in memory two halves at a time and reads it
+// back whole, a stalled store forward on every Jacobian block.
+template <typename T>
+TETHER_HOT_INLINE Vec3<T> TransposeTimes(const Mat3<T>& R, const Vec3<T>& x) {
+  return Vec3<T>(R(0, 0) * x[0] + R(1, 0) * x[1] + R(2, 0) * x[2], R(0, 1) * x[0] + R(1, 1) * x[1] + R(2, 1) * x[2],
+                 R(0, 2) * x[0] + R(1, 2) * x[1] + R(2, 2) * x[2]);
+}
+
 // The rotational block of a world-frame angular gradient g_W (d(...)/d w_W), in the body's velocity frame.
 template <typename T>
 TETHER_HOT_INLINE Vec3<T> RotationalPart(const Model<T>& model, const BodyFrames<T>& frames, int body, const Vec3<T>& g_W) {
@@ -164,7 +172,7 @@ TETHER_HOT_INLINE Vec3<T> RotationalPart(const Model<T>& model, const BodyFrames
     case BodyKind::kRigid3d:
       break;
   }
-  return frames[body].R_WP.transpose() * g_W;
+  return TransposeTimes(frames[body].R_WP, g_W);
 }
 
 // The generalized vector of "direction . p" for a point: d(g . p)/d(body velocities).
@@ -179,7 +187,7 @@ TETHER_HOT_INLINE BodyVector<T> PointGradient(const Model<T>& model, const BodyF
   if (kind == BodyKind::kPlanar) {
     g.rotation.z() = point.arm.x() * direction.y() - point.arm.y() * direction.x();
   } else if (kind == BodyKind::kRigid3d) {
-    g.rotation = frames[body].R_WP.transpose() * point.arm.cross(direction);
+    g.rotation = TransposeTimes(frames[body].R_WP, Vec3<T>(point.arm.cross(direction)));
   }
   return g;
 }
