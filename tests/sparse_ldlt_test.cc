@@ -2,13 +2,18 @@
 //   - the solution of S x = b, for random symmetric positive definite S with the pattern, to 1e-12 relative;
 //   - the pivots D equal those of the dense factorization of P S P^T (the same matrix, the same order);
 //   - a chain's factor has no fill (one entry of L per row), a closed loop some;
-//   - a zero pivot is refused, and the next factorization is unaffected.
+//   - a zero pivot is refused, and so is a non-finite entry anywhere (it reaches a pivot: SchurSolver relies on
+//     that), and the next factorization is unaffected;
+//   - a binary tree of 5000 rows, whose breadth-first order from the root would fill L almost densely, is analysed
+//     in its minimum-degree order with little fill, and the numeric phase's update lists are built for that order
+//     only (for the breadth-first one they would have needed gigabytes).
 #include "tether/dynamics/sparse_ldlt.h"
 
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <utility>
 #include <vector>
@@ -125,6 +130,39 @@ TEST(SparseLdlt, RefusesZeroAndNonFinitePivotsAndRecovers) {
   Eigen::VectorXd x = ones;
   ldlt.SolveInPlace(&x);
   EXPECT_LE((Dense(pattern, values) * x - ones).cwiseAbs().maxCoeff(), kAgreement);
+}
+
+TEST(SparseLdlt, RefusesANonFiniteEntryBelowTheDiagonal) {
+  const SchurPattern pattern = PatternOf(Wheel(10), 11);
+  SparseLdlt ldlt(pattern);
+  const double infinity = std::numeric_limits<double>::infinity();
+  for (double bad : {std::nan(""), infinity, -infinity}) {
+    for (int k = 0; k < pattern.nonzeros(); ++k) {
+      if (pattern.row_index()[k] == pattern.column_index()[k]) continue;
+      std::vector<double> values = RandomValues(pattern, 7);
+      values[k] = bad;
+      EXPECT_FALSE(ldlt.Factor(values)) << "entry " << k << " = " << bad;
+    }
+  }
+}
+
+TEST(SparseLdlt, ABigBinaryTreeKeepsAnOrderWithLittleFill) {
+  const SchurPattern pattern = PatternOf(Tree(5000), 5000);
+  SparseLdlt ldlt(pattern);
+  // little fill (29% over S's 7498 entries below the diagonal; the breadth-first order would have millions)
+  EXPECT_LT(ldlt.nonzeros(), 1.5 * (pattern.nonzeros() - pattern.size()));
+  const std::vector<double> values = RandomValues(pattern, 8);
+  ASSERT_TRUE(ldlt.Factor(values));
+  const Eigen::VectorXd ones = Eigen::VectorXd::Ones(pattern.size());
+  Eigen::VectorXd x = ones;
+  ldlt.SolveInPlace(&x);
+  Eigen::VectorXd residual = -ones;  // S x - 1, S from its lower triangle
+  for (int k = 0; k < pattern.nonzeros(); ++k) {
+    const int i = pattern.row_index()[k], j = pattern.column_index()[k];
+    residual[i] += values[k] * x[j];
+    if (i != j) residual[j] += values[k] * x[i];
+  }
+  EXPECT_LE(residual.cwiseAbs().maxCoeff(), kAgreement);
 }
 
 }  // namespace

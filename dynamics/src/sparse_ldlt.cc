@@ -89,6 +89,7 @@ SparseLdlt::SparseLdlt(const SchurPattern& pattern) {
   const int minimum_degree_fill = nonzeros();
   Analyze(pattern, BreadthFirstOrder(pattern));
   if (nonzeros() > kBreadthFirstFillAllowance * minimum_degree_fill) Analyze(pattern, MinimumDegreeOrder(pattern));
+  PlanNumericPhase(pattern);
 }
 
 void SparseLdlt::Analyze(const SchurPattern& pattern, const Eigen::VectorXi& order) {
@@ -140,6 +141,13 @@ void SparseLdlt::Analyze(const SchurPattern& pattern, const Eigen::VectorXi& ord
   for (int k = 0; k < n; ++k) {
     for (int i : patterns[k]) lower_row_[filled[i]++] = k;
   }
+}
+
+void SparseLdlt::PlanNumericPhase(const SchurPattern& pattern) {
+  const int n = pattern.size();
+  const int nnz = nonzeros();
+  std::vector<int> new_index(n);
+  for (int k = 0; k < n; ++k) new_index[order_[k]] = k;
   // where L(row, column) is stored, or the diagonal slot nnz + row
   auto slot = [&](int row, int column) {
     if (row == column) return nnz + row;

@@ -50,8 +50,11 @@ class SparseLdlt {
   const Eigen::VectorXi& order() const { return order_; }               // order[k]: S's row eliminated k-th
 
  private:
-  // The symbolic phase for one ordering (new index -> S's row).
+  // The structure of L for one ordering (new index -> S's row): order_, column_start_, lower_row_.
   void Analyze(const SchurPattern& pattern, const Eigen::VectorXi& order);
+  // For the ordering chosen: where S's values land, the fill-in, every column's updates (their number is the
+  // factorization's work, so they are listed only for the order kept), and the numeric storage.
+  void PlanNumericPhase(const SchurPattern& pattern);
 
   Eigen::VectorXi order_;           // elimination order: new index -> S's row
   std::vector<int> column_start_;   // L by columns: rows lower_row_ and values lower_value_
