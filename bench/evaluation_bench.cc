@@ -63,7 +63,9 @@ void Part(benchmark::State& state, Mechanism mechanism, const std::string& part)
         AccumulateForces(e.model, ws.coordinates, ws.frames, 0.0, e.q, e.v, &ws.force);
       };
     }
-    if (part == "rows") return [&] { EvaluateConstraintRows(e.model, ws.constraints, ws.frames, e.q, e.v, true, &ws.rows); };
+    if (part == "rows") {
+      return [&] { EvaluateConstraintRows(e.model, ws.constraints, ws.frames, e.q, e.v, true, &ws.rows); };
+    }
     if (part == "assembly") return [&] { AssembleSchur(&ws); };
     if (part == "factor") return [&] { benchmark::DoNotOptimize(factor.Factor(ws.schur)); };
     if (part == "solve") return [&] { factor.SolveInPlace(&x); };

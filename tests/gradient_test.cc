@@ -470,9 +470,7 @@ GradientScene Chain(int links) {
 }
 
 // The implicit function theorem applied to the factorization of the value part equals factoring the Jet matrix
-// itself: the loss to round-off, the gradient to 1e-9 relative to max(|g|, 1e-3 of the largest component). The
-// oracle refines whole Jets, the library the value parts only (schur_solver.h), which leaves its derivative
-// parts a bias of eps cond(S) (1.7e-10 on the 9-link chain). The scenes start on their
+// itself, to round-off: 1e-10 relative to max(|g|, 1e-3 of the largest component). The scenes start on their
 // constraints, so the assembly's projections solve with right-hand sides whose values are exactly zero but whose
 // derivatives are not (a Jet compares by its value only, so a solve that skips "zero" entries loses them).
 void ExpectOracleAgreement(const GradientScene& scene, Stabilization stabilization, KktSolver path) {
@@ -488,7 +486,7 @@ void ExpectOracleAgreement(const GradientScene& scene, Stabilization stabilizati
   const double scale = Largest(oracle.gradient);
   ASSERT_GT(scale, 0.0);
   for (size_t i = 0; i < pointers.size(); ++i) {
-    EXPECT_NEAR(ift.gradient[i], oracle.gradient[i], 1e-9 * std::max(1e-3 * scale, std::abs(oracle.gradient[i])))
+    EXPECT_NEAR(ift.gradient[i], oracle.gradient[i], 1e-10 * std::max(1e-3 * scale, std::abs(oracle.gradient[i])))
         << pointers[i];
   }
 }

@@ -32,7 +32,8 @@ TETHER_FLATTEN void Integrate(const Model<T>& model, const VecX<T>& q, const Vec
     }
     for (int k = 0; k < 3; ++k) ob[k] = qb[k] + h * vb[k];
     const Vec3<T> turn_P(T(h) * vb[3], T(h) * vb[4], T(h) * vb[5]);
-    const Vec3<T> turn_B = body.principal_axes == Vec4<double>(1, 0, 0, 0) ? turn_P : Rotate(PrincipalAxes(body), turn_P);
+    const bool principal = body.principal_axes == Vec4<double>(1, 0, 0, 0);
+    const Vec3<T> turn_B = principal ? turn_P : Rotate(PrincipalAxes(body), turn_P);
     // the product of unit quaternions is one; normalising removes the rounding that would otherwise accumulate
     const Vec4<T> turned = Normalized(QuaternionProduct(Vec4<T>(qb[3], qb[4], qb[5], qb[6]), Exp(turn_B)));
     for (int k = 0; k < 4; ++k) ob[3 + k] = turned[k];

@@ -151,8 +151,9 @@ void SparseLdlt::PlanNumericPhase(const SchurPattern& pattern) {
   // where L(row, column) is stored, or the diagonal slot nnz + row
   auto slot = [&](int row, int column) {
     if (row == column) return nnz + row;
-    const auto first = lower_row_.begin() + column_start_[column], last = lower_row_.begin() + column_start_[column + 1];
-    return static_cast<int>(std::lower_bound(first, last, row) - lower_row_.begin());
+    const auto column_rows = lower_row_.begin() + column_start_[column];
+    const auto end = lower_row_.begin() + column_start_[column + 1];
+    return static_cast<int>(std::lower_bound(column_rows, end, row) - lower_row_.begin());
   };
   value_slot_.resize(pattern.nonzeros());
   std::vector<bool> from_s(nnz + n, false);
@@ -188,9 +189,9 @@ bool SparseLdlt::Factor(const std::vector<double>& values) {
   const int* __restrict target = update_target_.data();
   for (size_t v = 0; v < values.size(); ++v) f[slot[v]] = value[v];
   for (int position : fill_slot_) f[position] = 0.0;
-  double* __restrict diagonal = f + nonzeros();
+  const int diagonal = nonzeros();  // f[diagonal + j]: A(j, j) as the updates reach it
   for (int j = 0; j < n; ++j) {
-    const double d = diagonal[j];
+    const double d = f[diagonal + j];
     if (d == 0.0 || !std::isfinite(d)) return false;
     const double inverse = 1.0 / d;
     d_[j] = d;

@@ -20,8 +20,9 @@ Mat3<T> PrincipalInertia(const Body<T>& body) {
 }
 
 template <typename T>
-TETHER_FLATTEN void AccumulateForces(const Model<T>& model, const JointCoordinates<T>& coordinates, const BodyFrames<T>& frames,
-                      double t, const VecX<T>& q, const VecX<T>& v, VecX<T>* f) {
+TETHER_FLATTEN void AccumulateForces(const Model<T>& model, const JointCoordinates<T>& coordinates,
+                                     const BodyFrames<T>& frames, double t, const VecX<T>& q, const VecX<T>& v,
+                                     VecX<T>* f) {
   const int d = model.dimension;
   for (const GravityEffect<T>& g : model.gravity) {
     for (const Body<T>& body : model.bodies) {
