@@ -226,10 +226,7 @@ void SparseLdlt::SolveInPlace(Eigen::VectorXd* x) {
     for (int p = start[j]; p < start[j + 1]; ++p) tj -= lower[p] * t[lower_row[p]];
     t[j] = tj;
   }
-  for (int k = 0; k < n; ++k) {
-    b[order[k]] = t[k];
-    t[k] = 0.0;  // Factor expects a zero work row
-  }
+  for (int k = 0; k < n; ++k) b[order[k]] = t[k];
 }
 
 }  // namespace tether

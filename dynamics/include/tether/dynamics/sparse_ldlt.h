@@ -65,7 +65,7 @@ class SparseLdlt {
   std::vector<int> update_target_;   // column by column, for its (p, q), q <= p in that order: the index in
                                      // lower_value_ of the entry that pair updates
   Eigen::VectorXd d_, inverse_d_;    // D and its inverse (so that the solves multiply)
-  Eigen::VectorXd work_;             // zero between calls: the permuted x of a solve
+  Eigen::VectorXd work_;             // the permuted x of a solve
 };
 
 }  // namespace tether
