@@ -3,6 +3,7 @@
 #include "check_command.h"
 #include "gradient_command.h"
 #include "identify_command.h"
+#include "import_command.h"
 #include "simulate_command.h"
 #include "study_command.h"
 #include "tune_command.h"
@@ -20,6 +21,7 @@ std::vector<std::unique_ptr<Command>> RegisterCommands(CLI::App* app, const std:
   commands.push_back(MakeFitCommand(app));
   commands.push_back(MakeStudyCommand(app));
   commands.push_back(MakeCheckCommand(app));
+  commands.push_back(MakeImportCommand(app));
   return commands;
 }
 

@@ -1,6 +1,6 @@
 // Constraint rows of every joint type between 3D rigid bodies (and the world, and particles where the joint allows
 // them), at random states away from the state the joint's fixed quantities were taken at:
-//   (a) J v against the central difference of C(q (+) s v) at s = 0 (configuration_space.h);
+//   (a) J v against the (fourth-order) central difference of C(q (+) s v) at s = 0 (configuration_space.h);
 //   (b) the velocity product Jdot v against the second central difference of C(q (+) s v): with v constant
 //       (body-frame angular velocity included) q (+) s v is the motion itself, so C'' = Jdot v there;
 //   (c) the joint coordinates' rates and gradients against differences of their values (for angles at states on
@@ -10,6 +10,8 @@
 #include <cmath>
 #include <random>
 #include <vector>
+
+#include <Eigen/SVD>
 
 #include "tether/dynamics/configuration_space.h"
 #include "tether/dynamics/constraint_rows.h"
@@ -65,7 +67,8 @@ State<double> RandomState(const Model<double>& model, std::mt19937* random) {
   for (const Body<double>& body : model.bodies) {
     s.q.segment<3>(body.q_offset) = RandomVector(random, 1.0);
     if (body.kind == BodyKind::kRigid3d) s.q.segment<4>(body.q_offset + 3) = RandomQuaternion(random);
-    s.v.segment(body.v_offset, body.v_size) = VecX<double>::Random(body.v_size) * 2.0;
+    std::uniform_real_distribution<double> uniform(-2.0, 2.0);  // not Eigen's Random: std::rand's state is shared
+    for (int k = 0; k < body.v_size; ++k) s.v[body.v_offset + k] = uniform(*random);
   }
   return s;
 }
@@ -107,13 +110,18 @@ TEST_P(JointRowsTest, JacobianAndVelocityProductMatchDifferences) {
     const std::vector<ConstraintRow<double>> rows = Rows(model, set, s.q, s.v);
     const auto plus = Rows(model, set, Along(model, s.q, s.v, kStep), s.v);
     const auto minus = Rows(model, set, Along(model, s.q, s.v, -kStep), s.v);
+    const auto plus_twice = Rows(model, set, Along(model, s.q, s.v, 2 * kStep), s.v);
+    const auto minus_twice = Rows(model, set, Along(model, s.q, s.v, -2 * kStep), s.v);
     const auto plus2 = Rows(model, set, Along(model, s.q, s.v, 1e-3), s.v);
     const auto minus2 = Rows(model, set, Along(model, s.q, s.v, -1e-3), s.v);
     ASSERT_FALSE(rows.empty());
     for (size_t i = 0; i < rows.size(); ++i) {
       const std::string what = std::string(JointTypeName(c.type)) + " row " + std::to_string(i);
       const double rate = Dot(model, rows[i].a, s.v) + Dot(model, rows[i].b, s.v);
-      ExpectNear(rate, (plus[i].value - minus[i].value) / (2 * kStep), kFirstTolerance, what + " J v");
+      // fourth-order first difference: (8 (f(h) - f(-h)) - (f(2h) - f(-2h))) / (12 h)
+      const double first =
+          (8 * (plus[i].value - minus[i].value) - (plus_twice[i].value - minus_twice[i].value)) / (12 * kStep);
+      ExpectNear(rate, first, kFirstTolerance, what + " J v");
       // fourth-order second difference: (-f(2h) + 16 f(h) - 30 f(0) + 16 f(-h) - f(-2h)) / (12 h^2), h = 5e-4
       const auto far_plus = Rows(model, set, Along(model, s.q, s.v, 2e-3), s.v);
       const auto far_minus = Rows(model, set, Along(model, s.q, s.v, -2e-3), s.v);
@@ -162,6 +170,50 @@ TEST_P(JointRowsTest, CoordinateRatesMatchDifferences) {
   }
 }
 
+// A double hinge's rows vanish on the whole two-parameter family of its massless link (B turned about a_2
+// through o_2, then with the link about a_1 through o_1) and are independent (rank 4) there, for skew axes and
+// for parallel ones (the parallel form of the rows).
+TEST(DoubleHingeRows, VanishOnTheLinksMotionsAndHaveRankFour) {
+  std::mt19937 random(31);
+  for (const bool parallel : {false, true}) {
+    for (int trial = 0; trial < 5; ++trial) {
+      Model<double> model = TwoBodies(JointType::kDoubleHinge, 0, 1, &random);
+      Joint<double>& joint = model.joints[0];
+      const State<double> start = InitialState(model);
+      const Vec4<double> q_WA = model.bodies[0].orientation, q_WB = model.bodies[1].orientation;
+      const Vec3<double> a_1W = Rotate(q_WA, Vec3<double>(joint.axis.normalized()));
+      if (parallel) joint.axis_b = Rotate(Vec4<double>(q_WB[0], -q_WB[1], -q_WB[2], -q_WB[3]), a_1W);
+      const Vec3<double> a_2W = Rotate(q_WB, Vec3<double>(joint.axis_b.normalized()));
+      const Vec3<double> o_1W = model.bodies[0].position + Rotate(q_WA, joint.a.local);
+      const Vec3<double> o_2W = model.bodies[1].position + Rotate(q_WB, joint.b.local);
+      const ConstraintSet<double> set = BuildConstraintSet(model, start.q);
+      ASSERT_EQ(DescribeRows(model, set).size(), 4u);
+      for (const double theta_1 : {0.0, 0.4, -1.3}) {
+        for (const double theta_2 : {0.0, 0.7, 2.9}) {
+          // B's pose after turning about joint 2's line, then about joint 1's line (world rotations)
+          const Vec4<double> turn_1 = Exp(Vec3<double>(theta_1 * a_1W)), turn_2 = Exp(Vec3<double>(theta_2 * a_2W));
+          const Vec3<double> p_2 = o_2W + Rotate(turn_2, Vec3<double>(model.bodies[1].position - o_2W));
+          const Vec3<double> p_WB = o_1W + Rotate(turn_1, Vec3<double>(p_2 - o_1W));
+          VecX<double> q = start.q;
+          q.segment<3>(model.bodies[1].q_offset) = p_WB;
+          q.segment<4>(model.bodies[1].q_offset + 3) = QuaternionProduct(turn_1, QuaternionProduct(turn_2, q_WB));
+          const std::vector<ConstraintRow<double>> rows = Rows(model, set, q, start.v);
+          Eigen::MatrixXd jacobian(4, 12);
+          for (int i = 0; i < 4; ++i) {
+            EXPECT_NEAR(rows[i].value, 0.0, 1e-14) << "row " << i << " at " << theta_1 << ", " << theta_2;
+            for (const BodyVector<double>& g : {rows[i].a, rows[i].b}) {
+              jacobian.block<1, 3>(i, 6 * g.body) = g.translation.transpose();
+              jacobian.block<1, 3>(i, 6 * g.body + 3) = g.rotation.transpose();
+            }
+          }
+          Eigen::JacobiSVD<Eigen::MatrixXd> svd(jacobian);
+          EXPECT_GT(svd.singularValues()[3], 1e-3 * svd.singularValues()[0]) << "rank below 4";
+        }
+      }
+    }
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(
     Joints, JointRowsTest,
     ::testing::Values(Case{JointType::kDistance, 0, 1}, Case{JointType::kPin, 0, 1}, Case{JointType::kSlider, 0, 1},
@@ -169,7 +221,9 @@ INSTANTIATE_TEST_SUITE_P(
                       Case{JointType::kPrismatic, 0, 1}, Case{JointType::kCylindrical, 0, 1},
                       Case{JointType::kWeld, 0, 1}, Case{JointType::kHinge, kWorld, 1},
                       Case{JointType::kHinge, 1, kWorld}, Case{JointType::kPrismatic, kWorld, 0},
-                      Case{JointType::kSlider, 1, 2}, Case{JointType::kPin, 2, 0}, Case{JointType::kDistance, 2, 1}),
+                      Case{JointType::kSlider, 1, 2}, Case{JointType::kPin, 2, 0}, Case{JointType::kDistance, 2, 1},
+                      Case{JointType::kDoubleHinge, 0, 1}, Case{JointType::kDoubleHinge, kWorld, 1},
+                      Case{JointType::kDoubleHinge, 1, kWorld}),
     [](const ::testing::TestParamInfo<Case>& info) {
       auto name = [](int body) { return body == kWorld ? std::string("world") : std::string(1, "abp"[body]); };
       return std::string(JointTypeName(info.param.type)) + "_" + name(info.param.a) + "_" + name(info.param.b);

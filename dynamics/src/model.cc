@@ -232,6 +232,7 @@ const char* JointTypeName(JointType type) {
     case JointType::kPrismatic: return "prismatic";
     case JointType::kCylindrical: return "cylindrical";
     case JointType::kWeld: return "weld";
+    case JointType::kDoubleHinge: return "double_hinge";
   }
   return "constraint";
 }

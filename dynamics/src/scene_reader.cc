@@ -8,6 +8,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "tether/dynamics/constraint_rows.h"
 #include "tether/dynamics/errors.h"
 #include "tether/dynamics/kinematics.h"
 #include "tether/dynamics/names.h"
@@ -289,6 +290,12 @@ class SceneBuilder {
     }
   }
 
+  // World direction of a body-frame vector in the initial state, unit.
+  Vec3<double> InitialDirection(int body, const Vec3<double>& local) const {
+    const Vec3<double> u = local.normalized();
+    return body == kWorld ? u : Vec3<double>(Rotate(model_.bodies[body].orientation, u));
+  }
+
   // World position of a body point in the initial state.
   Vec3<double> InitialPosition(const BodyPoint<double>& p) const {
     if (p.body == kWorld) return p.local;
@@ -316,6 +323,32 @@ class SceneBuilder {
     }
   }
 
+  // A double hinge's axis lines must not meet at the start: where they do, its link's invariants lose their
+  // rank (constraint_rows.h), and the joint is a universal at the meeting point.
+  void CheckAxisLinesApart(const Joint<double>& joint, const std::string& at) const {
+    const Vec3<double> o_1 = InitialPosition(joint.a), o_2 = InitialPosition(joint.b), d = o_2 - o_1;
+    const Vec3<double> a_1 = InitialDirection(joint.a.body, joint.axis);
+    const Vec3<double> a_2 = InitialDirection(joint.b.body, joint.axis_b);
+    const Vec3<double> normal = a_1.cross(a_2);
+    const bool parallel = normal.norm() < kParallelAxes;
+    const double apart = parallel ? a_1.cross(d).norm() : std::abs(d.dot(normal)) / normal.norm();
+    if (!(apart > 1e-6 * d.norm())) {
+      check_.Fail(at, std::string("the two axis lines ") + (parallel ? "coincide" : "meet") +
+                          " at the start: a double_hinge needs them apart (" +
+                          (parallel ? "two hinges on one line are one hinge"
+                                    : "this is a universal joint at the point where they meet") +
+                          ")");
+    }
+  }
+
+  // A joint's "range" [low, high] (rad or m): kept in the scene for joint limits, not simulated yet.
+  void CheckRange(const json& j, const std::string& at) const {
+    check_.Array(j, at);
+    if (j.size() != 2) check_.Fail(at, "expected [low, high], got " + std::to_string(j.size()) + " numbers");
+    const double low = check_.Number(j[0], Child(at, 0)), high = check_.Number(j[1], Child(at, 1));
+    if (!(low <= high)) check_.Fail(at, "low " + Format(low) + " must not exceed high " + Format(high));
+  }
+
   void ReadConstraints(const json& constraints) {
     check_.Array(constraints, "/constraints");
     for (size_t i = 0; i < constraints.size(); ++i) {
@@ -326,7 +359,7 @@ class SceneBuilder {
       Joint<double> joint;
       joint.scene_index = static_cast<int>(i);
       const bool spatial = type == "hinge" || type == "universal" || type == "prismatic" || type == "cylindrical" ||
-                           type == "weld";
+                           type == "weld" || type == "double_hinge";
       if (type == "distance") {
         joint.type = JointType::kDistance;
         check_.Object(c, at, {"type", "name", "bodies", "points", "length"});
@@ -340,22 +373,25 @@ class SceneBuilder {
       } else if (type == "slider") {
         joint.type = JointType::kSlider;
         check_.Object(c, at, {"type", "name", "bodies", "points", "axis"});
-      } else if (type == "hinge" || type == "cylindrical") {
-        joint.type = type == "hinge" ? JointType::kHinge : JointType::kCylindrical;
+      } else if (type == "hinge") {
+        joint.type = JointType::kHinge;
+        check_.Object(c, at, {"type", "name", "bodies", "points", "axis", "angle", "range"});
+      } else if (type == "cylindrical") {
+        joint.type = JointType::kCylindrical;
         check_.Object(c, at, {"type", "name", "bodies", "points", "axis", "angle"});
-      } else if (type == "universal") {
-        joint.type = JointType::kUniversal;
+      } else if (type == "universal" || type == "double_hinge") {
+        joint.type = type == "universal" ? JointType::kUniversal : JointType::kDoubleHinge;
         check_.Object(c, at, {"type", "name", "bodies", "points", "axes"});
       } else if (type == "prismatic") {
         joint.type = JointType::kPrismatic;
-        check_.Object(c, at, {"type", "name", "bodies", "points", "axis"});
+        check_.Object(c, at, {"type", "name", "bodies", "points", "axis", "range"});
       } else if (type == "weld") {
         joint.type = JointType::kWeld;
         check_.Object(c, at, {"type", "name", "bodies", "points"});
       } else {
         check_.Fail(Child(at, "type"), "unknown constraint type '" + type +
                                            "' (expected distance, pin, slider, hinge, universal, prismatic, "
-                                           "cylindrical or weld)");
+                                           "cylindrical, weld or double_hinge)");
       }
       if (spatial && Dim() != 3) check_.Fail(Child(at, "type"), "a " + type + " joint needs dimension 3 (in 2D a pin is the hinge)");
       joint.name = NewName(c, at, false);
@@ -366,13 +402,15 @@ class SceneBuilder {
         check_.Fail(at, "missing required key 'axis'");
       }
       if (const json* angle = check_.Optional(c, "angle")) joint.angle = check_.Number(*angle, Child(at, "angle"));
-      if (joint.type == JointType::kUniversal) {
+      if (const json* range = check_.Optional(c, "range")) CheckRange(*range, Child(at, "range"));
+      if (joint.type == JointType::kUniversal || joint.type == JointType::kDoubleHinge) {
         const std::string ap = Child(at, "axes");
         const json& axes = check_.Array(check_.Required(c, at, "axes"), ap);
         if (axes.size() != 2) check_.Fail(ap, "expected two axes [in A's frame, in B's frame], got " + std::to_string(axes.size()));
         joint.axis = Axis(axes[0], Child(ap, 0), 3);
         joint.axis_b = Axis(axes[1], Child(ap, 1), 3);
       }
+      if (joint.type == JointType::kDoubleHinge) CheckAxisLinesApart(joint, at);
       if (joint.type == JointType::kDistance) {
         const double initial = (InitialPosition(joint.b) - InitialPosition(joint.a)).norm();
         if (!(initial > 0)) {

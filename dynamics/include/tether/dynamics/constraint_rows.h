@@ -5,7 +5,8 @@
 //
 //   distance   C = |d| - L,   n = d/|d|:  J v = n . d',   Jdot v = (|d'|^2 - (n . d')^2)/|d| + n . (c_B - c_A)
 //   point      C_k = e_k . d for each world axis e_k (d rows):       Jdot v = e_k . (c_B - c_A)
-//   line       C_k = n_k . d, n_k = R_WA n_k^A normal to A's axis (d - 1 rows); n_k turns with A:
+//   line       C_k = n_k . d - c_k, n_k = R_WA n_k^A (1 or 2 rows; c_k = 0 and n_k normal to A's axis for a
+//              point on A's line, d - 1 rows); n_k turns with A:
 //              J v = n . d' + w_A . (n x d),
 //              Jdot v = n . (c_B - c_A) + 2 (w_A x n) . d' + (w_A x (w_A x n)) . d
 //   angle      C_k = u_k . w_k - c_k, u_k = R_WA u_k^A, w_k = R_WB w_k^B (1 to 3 rows, radians for small errors):
@@ -20,6 +21,12 @@
 //   prismatic: line + frozen orientation      weld: point + frozen orientation
 //   frozen orientation: angle rows (e_1 . f_2, e_2 . f_3, e_3 . f_1), e_k A's axes, f_k their images in B at the
 //   start (so that C = 0 there and the three rows are independent).
+//   double_hinge (A turns a massless link K about a_1 through o_1, K turns B about a_2 through o_2; a_1, o_1, a_2
+//   and o_2 are all fixed in K, d = o_2 - o_1): distance (|d|) + line (a_1 . d, normal a_1 on A) + line (a_2 . d
+//   from B's side, normal a_2 on B) + angle (a_1 . a_2), each as at the start. These four invariants of K are
+//   independent unless the axis lines meet (then the joint is a universal at their meeting point; the scene
+//   reader refuses it); with parallel axes the last two are replaced by the hinge's two common-axis rows. Locally
+//   their zero set is the link's two-parameter family of relative poses: it contains it, and has its dimension.
 // Every row touches at most two bodies, so J is stored as two BodyVector blocks per row: the sparse structure is
 // explicit.
 #pragma once
@@ -29,6 +36,10 @@
 #include "tether/dynamics/kinematics.h"
 
 namespace tether {
+
+// A double hinge whose unit axes are closer to parallel than this at the start (the sine of the angle between
+// them) takes the parallel form of its rows (above), whose common-axis rows hold A's axis as seen in B.
+inline constexpr double kParallelAxes = 1e-6;
 
 template <typename T>
 struct ConstraintRow {
@@ -65,7 +76,9 @@ template <typename T>
 struct LinePrimitive {
   int scene_index = 0;
   BodyPoint<T> a, b;
+  int rows = 0;
   Vec3<T> normals[2];  // unit, in A's frame
+  T offsets[2] = {T(0.0), T(0.0)};  // c_k, m
 };
 
 template <typename T>

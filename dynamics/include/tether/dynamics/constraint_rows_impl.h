@@ -61,9 +61,35 @@ AnglePrimitive<T> CommonAxis(const Model<T>& model, const Joint<T>& joint, const
 
 template <typename T>
 LinePrimitive<T> Line(const Model<T>& model, const Joint<T>& joint) {
-  LinePrimitive<T> p{joint.scene_index, joint.a, joint.b, {}};
+  LinePrimitive<T> p{joint.scene_index, joint.a, joint.b, model.dimension - 1, {}};
   AxisNormals(model.dimension, Unit(joint.axis), &p.normals[0], &p.normals[1]);
   return p;
+}
+
+// The world position of a body point at configuration q.
+template <typename T>
+Vec3<T> PositionAt(const Model<T>& model, const BodyPoint<T>& point, const VecX<T>& q) {
+  if (point.body == kWorld) return point.local;
+  const Body<T>& b = model.bodies[point.body];
+  return Translation(model.dimension, q.data() + b.q_offset) + RotationAt(model, point.body, q) * point.local;
+}
+
+// A double hinge's link invariants as they are at configuration q (constraint_rows.h).
+template <typename T>
+void AddDoubleHinge(const Model<T>& model, const Joint<T>& joint, const VecX<T>& q, ConstraintSet<T>* set) {
+  const int index = joint.scene_index;
+  const Vec3<T> a_1 = Unit(joint.axis), a_2 = Unit(joint.axis_b);
+  const Vec3<T> a_1W = RotationAt(model, joint.a.body, q) * a_1, a_2W = RotationAt(model, joint.b.body, q) * a_2;
+  const Vec3<T> d = PositionAt(model, joint.b, q) - PositionAt(model, joint.a, q);
+  using std::sqrt;
+  set->distances.push_back({index, joint.a, joint.b, T(sqrt(d.squaredNorm()))});
+  set->lines.push_back({index, joint.a, joint.b, 1, {a_1}, {T(a_1W.dot(d))}});
+  if (Value(a_1W.cross(a_2W).squaredNorm()) < kParallelAxes * kParallelAxes) {
+    set->angles.push_back(CommonAxis(model, joint, q));
+    return;
+  }
+  set->lines.push_back({index, joint.b, joint.a, 1, {a_2}, {T(-a_2W.dot(d))}});
+  set->angles.push_back({index, joint.a.body, joint.b.body, 1, {a_1}, {a_2}, {T(a_1W.dot(a_2W))}});
 }
 
 template <typename T>
@@ -170,6 +196,9 @@ ConstraintSet<T> BuildConstraintSet(const Model<T>& model, const VecX<T>& q) {
         set.points.push_back({index, joint.a, joint.b});
         set.angles.push_back(internal::FrozenOrientation(model, joint, q));
         break;
+      case JointType::kDoubleHinge:
+        internal::AddDoubleHinge(model, joint, q, &set);
+        break;
     }
   }
   return set;
@@ -185,7 +214,7 @@ std::vector<RowInfo> DescribeRows(const Model<T>& model, const ConstraintSet<T>&
   };
   for (const auto& c : set.distances) add(c.scene_index, c.a.body, c.b.body, 1);
   for (const auto& c : set.points) add(c.scene_index, c.a.body, c.b.body, model.dimension);
-  for (const auto& c : set.lines) add(c.scene_index, c.a.body, c.b.body, model.dimension - 1);
+  for (const auto& c : set.lines) add(c.scene_index, c.a.body, c.b.body, c.rows);
   for (const auto& c : set.angles) add(c.scene_index, c.body_a, c.body_b, c.rows);
   for (const auto& c : model.user_constraints) add(c.scene_index, c.body_a, c.body_b, c.residual->NumRows());
   return infos;
@@ -226,9 +255,9 @@ TETHER_FLATTEN void EvaluateConstraintRows(const Model<T>& model, const Constrai
     const BodyFrame<T>* frame_a = internal::FrameOf(model, frames, c.a.body);
     const Vec3<T> w_A = frame_a && velocity_terms ? frame_a->w_W : Zero3<T>();
     const Vec3<T> d = pb.position - pa.position;
-    for (int k = 0; k < model.dimension - 1; ++k, ++row) {
+    for (int k = 0; k < c.rows; ++k, ++row) {
       const Vec3<T> n = frame_a ? Vec3<T>(frame_a->R_WB * c.normals[k]) : c.normals[k];
-      row->value = n.dot(d);
+      row->value = n.dot(d) - c.offsets[k];
       row->a = PointGradient(model, frames, c.a.body, Vec3<T>(-n), pa);
       if (frame_a) row->a.rotation += RotationalPart(model, frames, c.a.body, Vec3<T>(n.cross(d)));  // n turns with A
       row->b = PointGradient(model, frames, c.b.body, n, pb);

@@ -73,7 +73,9 @@ struct BodyPoint {
 //   prismatic    slider + the relative orientation as at the start
 //   cylindrical  slider + the axis common to A and B
 //   weld         pin + the relative orientation as at the start
-enum class JointType { kDistance, kPin, kSlider, kHinge, kUniversal, kPrismatic, kCylindrical, kWeld };
+//   double_hinge two hinges in series through a massless link: A turns the link about `axis` through A's point,
+//                the link turns B about `axis_b` through B's point; the link's invariants as at the start
+enum class JointType { kDistance, kPin, kSlider, kHinge, kUniversal, kPrismatic, kCylindrical, kWeld, kDoubleHinge };
 
 // "hinge", "pin", ...: the scene file's name of a joint type.
 const char* JointTypeName(JointType type);
@@ -85,7 +87,7 @@ struct Joint {
   std::string name;                     // empty when the scene names none
   BodyPoint<T> a, b;
   Vec3<T> axis = Vec3<T>::UnitX();      // in A's frame, any non-zero length
-  Vec3<T> axis_b = Vec3<T>::UnitY();    // universal: B's axis in B's frame
+  Vec3<T> axis_b = Vec3<T>::UnitY();    // universal, double_hinge: B's axis in B's frame
   T length = T(1.0);                    // distance: m, > 0
   T angle = T(0.0);                     // hinge, cylindrical, 2D hinge pin: the angle coordinate at the start
 };

@@ -1,0 +1,184 @@
+#include "tether/importers/mujoco_tree.h"
+
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <string>
+
+#include "tether/dynamics/errors.h"
+#include "tether/importers/import_model.h"
+
+namespace tether::importers {
+namespace {
+
+// An element's name, or KIND + its id when the model leaves it unnamed (MJCF names are optional).
+std::string NameOf(const mjModel& m, mjtObj type, int id, const std::string& kind) {
+  const char* name = mj_id2name(&m, type, id);
+  return name && *name ? std::string(name) : kind + std::to_string(id);
+}
+
+Eigen::Vector3d Vector3(const mjtNum* x) { return Eigen::Vector3d(x[0], x[1], x[2]); }
+Eigen::Quaterniond Quaternion(const mjtNum* q) { return Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized(); }
+
+bool Disabled(const mjModel& m, int flag) { return (m.opt.disableflags & flag) != 0; }
+
+TreeJoint ReadJoint(const mjModel& m, int j, const std::string& link_name, int index_in_link) {
+  TreeJoint joint;
+  const char* name = mj_id2name(&m, mjOBJ_JOINT, j);
+  joint.name = name && *name ? std::string(name)
+                             : link_name + "_joint" + (index_in_link > 0 ? std::to_string(index_in_link + 1) : "");
+  switch (m.jnt_type[j]) {
+    case mjJNT_FREE: joint.type = TreeJointType::kFree; break;
+    case mjJNT_BALL: joint.type = TreeJointType::kBall; break;
+    case mjJNT_SLIDE: joint.type = TreeJointType::kSlide; break;
+    default: joint.type = TreeJointType::kHinge; break;
+  }
+  joint.p_LJ = Vector3(m.jnt_pos + 3 * j);
+  joint.axis_L = Vector3(m.jnt_axis + 3 * j).normalized();
+  const int qpos = m.jnt_qposadr[j], dof = m.jnt_dofadr[j];
+  const bool scalar = joint.type == TreeJointType::kHinge || joint.type == TreeJointType::kSlide;
+  if (scalar) joint.reference = m.qpos0[qpos];
+  const bool passive = !Disabled(m, mjDSBL_PASSIVE);
+  if (passive) {
+    joint.stiffness = m.jnt_stiffness[j];
+    joint.damping = m.dof_damping[dof];
+    if (scalar) joint.spring_rest = m.qpos_spring[qpos];
+  }
+  joint.armature = m.dof_armature[dof];
+  if (!Disabled(m, mjDSBL_FRICTIONLOSS) && !Disabled(m, mjDSBL_CONSTRAINT)) joint.friction_loss = m.dof_frictionloss[dof];
+  if (m.jnt_limited[j] && !Disabled(m, mjDSBL_LIMIT) && !Disabled(m, mjDSBL_CONSTRAINT)) {
+    joint.range = Eigen::Vector2d(m.jnt_range[2 * j], m.jnt_range[2 * j + 1]);
+  }
+  return joint;
+}
+
+// A motor: force = gear * ctrl on one joint, with no activation dynamics, a fixed gain and no bias.
+bool IsJointMotor(const mjModel& m, int u) {
+  const int transmission = m.actuator_trntype[u];
+  return (transmission == mjTRN_JOINT || transmission == mjTRN_JOINTINPARENT) && m.actuator_dyntype[u] == mjDYN_NONE &&
+         m.actuator_gaintype[u] == mjGAIN_FIXED && m.actuator_biastype[u] == mjBIAS_NONE;
+}
+
+std::string ActuatorKind(const mjModel& m, int u) {
+  if (m.actuator_dyntype[u] == mjDYN_MUSCLE || m.actuator_gaintype[u] == mjGAIN_MUSCLE) return "a muscle";
+  if (m.actuator_biastype[u] == mjBIAS_AFFINE) return "a servo";
+  switch (m.actuator_trntype[u]) {
+    case mjTRN_SLIDERCRANK: return "on a slider-crank";
+    case mjTRN_TENDON: return "on a tendon";
+    case mjTRN_SITE: return "on a site";
+    case mjTRN_BODY: return "an adhesion actuator";
+    default: return "with activation dynamics or a custom gain";
+  }
+}
+
+void ReadActuators(const mjModel& m, KinematicTree* tree) {
+  std::vector<std::string> others;
+  for (int u = 0; u < m.nu; ++u) {
+    const std::string name = NameOf(m, mjOBJ_ACTUATOR, u, "actuator");
+    if (IsJointMotor(m, u)) {
+      tree->motors.push_back({name, NameOf(m, mjOBJ_JOINT, m.actuator_trnid[2 * u], "joint")});
+    } else {
+      others.push_back(name + " (" + ActuatorKind(m, u) + ")");
+    }
+  }
+  if (!others.empty()) {
+    tree->warnings.push_back(ListWarning("actuators other than motors on joints are dropped", others));
+  }
+}
+
+void ReadEqualities(const mjModel& m, KinematicTree* tree) {
+  std::vector<std::string> dropped;
+  const bool disabled = Disabled(m, mjDSBL_EQUALITY) || Disabled(m, mjDSBL_CONSTRAINT);
+  for (int e = 0; e < m.neq; ++e) {
+    const std::string name = NameOf(m, mjOBJ_EQUALITY, e, "equality");
+    const int type = m.eq_type[e];
+    if (disabled || !m.eq_active[e] || (type != mjEQ_CONNECT && type != mjEQ_WELD)) {
+      dropped.push_back(name + (disabled || !m.eq_active[e] ? " (inactive)" : " (couples joints or tendons)"));
+      continue;
+    }
+    TreeEquality eq;
+    eq.type = type == mjEQ_CONNECT ? TreeEquality::Type::kConnect : TreeEquality::Type::kWeld;
+    eq.name = name;
+    eq.link_1 = m.eq_obj1id[e] - 1;
+    eq.link_2 = m.eq_obj2id[e] - 1;
+    eq.p_L1 = Vector3(m.eq_data + mjNEQDATA * e);
+    tree->equalities.push_back(eq);
+  }
+  if (!dropped.empty()) {
+    tree->warnings.push_back(ListWarning("equality constraints tether cannot express are dropped", dropped));
+  }
+}
+
+void WarnAboutDroppedPhysics(const mjModel& m, KinematicTree* tree) {
+  std::vector<std::string> tendons, colliding;
+  for (int t = 0; t < m.ntendon; ++t) tendons.push_back(NameOf(m, mjOBJ_TENDON, t, "tendon"));
+  if (!tendons.empty()) tree->warnings.push_back(ListWarning("tendons are dropped (tether has none)", tendons));
+  if (!Disabled(m, mjDSBL_CONTACT) && !Disabled(m, mjDSBL_CONSTRAINT)) {
+    for (int g = 0; g < m.ngeom; ++g) {
+      if (m.geom_contype[g] || m.geom_conaffinity[g]) colliding.push_back(NameOf(m, mjOBJ_GEOM, g, "geom"));
+    }
+  }
+  if (!colliding.empty()) {
+    tree->warnings.push_back(ListWarning("contacts are ignored (tether has none); geoms that collide", colliding));
+  }
+  if (m.opt.density > 0 || m.opt.viscosity > 0) {
+    std::ostringstream medium;
+    medium << "fluid forces are dropped (tether has none): the medium's density " << m.opt.density
+           << " kg/m^3 and viscosity " << m.opt.viscosity << " Pa s";
+    tree->warnings.push_back(medium.str());
+  }
+}
+
+}  // namespace
+
+KinematicTree TreeFromMujoco(const mjModel& m) {
+  KinematicTree tree;
+  if (!Disabled(m, mjDSBL_GRAVITY)) tree.gravity = Vector3(m.opt.gravity);
+  tree.time_step = m.opt.timestep;
+  for (int b = 1; b < m.nbody; ++b) {
+    TreeLink link;
+    link.name = NameOf(m, mjOBJ_BODY, b, "body");
+    link.parent = m.body_parentid[b] - 1;
+    link.p_PL = Vector3(m.body_pos + 3 * b);
+    link.q_PL = Quaternion(m.body_quat + 4 * b);
+    link.mass = m.body_mass[b];
+    link.p_LC = Vector3(m.body_ipos + 3 * b);
+    const Eigen::Matrix3d R_LI = Quaternion(m.body_iquat + 4 * b).toRotationMatrix();
+    link.I_C_L = R_LI * Vector3(m.body_inertia + 3 * b).asDiagonal() * R_LI.transpose();
+    link.static_link = m.body_mocapid[b] >= 0;
+    for (int k = 0; k < m.body_jntnum[b]; ++k) link.joints.push_back(ReadJoint(m, m.body_jntadr[b] + k, link.name, k));
+    tree.links.push_back(link);
+  }
+  for (int s = 0; s < m.nsite; ++s) {
+    TreeSite site{NameOf(m, mjOBJ_SITE, s, "site"), Vector3(m.site_pos + 3 * s)};
+    if (m.site_bodyid[s] == 0) {
+      tree.world_sites.push_back(site.name);
+    } else {
+      tree.links[m.site_bodyid[s] - 1].sites.push_back(site);
+    }
+  }
+  std::vector<std::string> mocap;
+  for (const TreeLink& link : tree.links) {
+    if (link.static_link) mocap.push_back(link.name);
+  }
+  if (!mocap.empty()) {
+    tree.warnings.push_back(ListWarning("mocap bodies are held where they start (tether cannot move them)", mocap));
+  }
+  ReadActuators(m, &tree);
+  ReadEqualities(m, &tree);
+  WarnAboutDroppedPhysics(m, &tree);
+  return tree;
+}
+
+KinematicTree ReadMjcf(const std::string& path) {
+  if (!std::ifstream(path)) throw InputError(path + ": cannot read the file");
+  char error[1024] = "";
+  const std::unique_ptr<mjModel, void (*)(mjModel*)> model(mj_loadXML(path.c_str(), nullptr, error, sizeof error),
+                                                           mj_deleteModel);
+  if (!model) throw InputError(path + ": MuJoCo cannot compile it: " + error);
+  KinematicTree tree = TreeFromMujoco(*model);
+  if (error[0]) tree.warnings.insert(tree.warnings.begin(), std::string("MuJoCo's compiler: ") + error);
+  return tree;
+}
+
+}  // namespace tether::importers

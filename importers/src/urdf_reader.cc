@@ -1,0 +1,157 @@
+// ReadUrdf (import_model.h): a URDF model through urdfdom, the ROS parser, as a KinematicTree.
+//
+// URDF's frames: a link's frame is its parent joint's frame, placed in the parent link's frame by the joint's
+// origin (X_PL); the joint turns or slides the child about or along `axis` in that frame, at the frame's origin,
+// from coordinate 0. The inertial origin places the centre of mass and the axes of the tensor
+// (ixx ... izz) in the link frame: I_C_L = R_LI I R_LI^T. The root link is the world (a fixed base, as MuJoCo
+// and Pinocchio take it); a floating robot has a `floating` joint below a root link named, say, world.
+// URDF names no gravity (tether takes 9.81 m/s^2 down z) and no time step.
+#include <console_bridge/console.h>
+
+#include <deque>
+#include <fstream>
+#include <sstream>
+#include <urdf_parser/urdf_parser.h>
+
+#include "tether/dynamics/errors.h"
+#include "tether/importers/import_model.h"
+
+namespace tether::importers {
+namespace {
+
+// urdfdom reports through console_bridge; its messages become part of the error instead of stray stderr lines.
+class CapturedLog : public console_bridge::OutputHandler {
+ public:
+  CapturedLog() { console_bridge::useOutputHandler(this); }
+  ~CapturedLog() override { console_bridge::restorePreviousOutputHandler(); }
+  void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
+    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_WARN) text_ += (text_.empty() ? "" : "; ") + text;
+  }
+  const std::string& text() const { return text_; }
+
+ private:
+  std::string text_;
+};
+
+Eigen::Vector3d Vector3(const urdf::Vector3& v) { return Eigen::Vector3d(v.x, v.y, v.z); }
+Eigen::Quaterniond Quaternion(const urdf::Rotation& r) { return Eigen::Quaterniond(r.w, r.x, r.y, r.z).normalized(); }
+
+void ReadInertial(const urdf::Link& source, TreeLink* link) {
+  if (!source.inertial) return;
+  const urdf::Inertial& i = *source.inertial;
+  link->mass = i.mass;
+  link->p_LC = Vector3(i.origin.position);
+  Eigen::Matrix3d I;
+  I << i.ixx, i.ixy, i.ixz, i.ixy, i.iyy, i.iyz, i.ixz, i.iyz, i.izz;
+  const Eigen::Matrix3d R_LI = Quaternion(i.origin.rotation).toRotationMatrix();
+  link->I_C_L = R_LI * I * R_LI.transpose();
+}
+
+TreeJoint ScalarJoint(const urdf::Joint& source, const std::string& name, TreeJointType type,
+                      const Eigen::Vector3d& axis) {
+  TreeJoint joint;
+  joint.name = name;
+  joint.type = type;
+  joint.axis_L = axis;
+  if (source.dynamics) {
+    joint.damping = source.dynamics->damping;
+    joint.friction_loss = source.dynamics->friction;
+  }
+  return joint;
+}
+
+// The joints of a link's parent joint; a planar joint is two slides across its axis and a hinge about it.
+std::vector<TreeJoint> ReadJoints(const urdf::Joint& source, const std::string& path) {
+  const Eigen::Vector3d axis = Vector3(source.axis);
+  const bool needs_axis = source.type != urdf::Joint::FIXED && source.type != urdf::Joint::FLOATING;
+  if (needs_axis && !(axis.norm() > 0)) throw InputError(path + ": joint '" + source.name + "' has a zero axis");
+  switch (source.type) {
+    case urdf::Joint::REVOLUTE:
+    case urdf::Joint::CONTINUOUS:
+    case urdf::Joint::PRISMATIC: {
+      const TreeJointType type = source.type == urdf::Joint::PRISMATIC ? TreeJointType::kSlide : TreeJointType::kHinge;
+      TreeJoint joint = ScalarJoint(source, source.name, type, axis.normalized());
+      if (source.type != urdf::Joint::CONTINUOUS && source.limits) {
+        joint.range = Eigen::Vector2d(source.limits->lower, source.limits->upper);
+      }
+      return {joint};
+    }
+    case urdf::Joint::FLOATING: {
+      TreeJoint joint;
+      joint.name = source.name;
+      joint.type = TreeJointType::kFree;
+      return {joint};
+    }
+    case urdf::Joint::PLANAR: {
+      const Eigen::Vector3d normal = axis.normalized();
+      const Eigen::Vector3d u = normal.unitOrthogonal(), v = normal.cross(u);
+      return {ScalarJoint(source, source.name + "_u", TreeJointType::kSlide, u),
+              ScalarJoint(source, source.name + "_v", TreeJointType::kSlide, v),
+              ScalarJoint(source, source.name, TreeJointType::kHinge, normal)};
+    }
+    case urdf::Joint::FIXED:
+      return {};
+    default:
+      throw InputError(path + ": joint '" + source.name + "' has an unknown type");
+  }
+}
+
+}  // namespace
+
+KinematicTree ReadUrdf(const std::string& path) {
+  std::ifstream file(path);
+  if (!file) throw InputError(path + ": cannot read the file");
+  std::stringstream text;
+  text << file.rdbuf();
+  urdf::ModelInterfaceSharedPtr model;
+  {
+    CapturedLog log;
+    model = urdf::parseURDF(text.str());
+    if (!model) throw InputError(path + ": not a valid URDF model: " + (log.text().empty() ? "urdfdom refused it" : log.text()));
+  }
+  KinematicTree tree;
+  tree.gravity = Eigen::Vector3d(0, 0, -9.81);
+  const urdf::LinkConstSharedPtr root = model->getRoot();
+  std::vector<std::string> mimics, colliding, planar;
+  if (root->inertial && root->inertial->mass > 0) {
+    tree.warnings.push_back("the root link '" + root->name + "' is the world (a fixed base), so its mass does not "
+                            "move; a floating base is a 'floating' joint below a root link");
+  }
+  // breadth first from the root, so that parents come before their children
+  std::map<std::string, int> index;
+  std::deque<std::pair<urdf::LinkSharedPtr, int>> queue;
+  for (const urdf::LinkSharedPtr& child : root->child_links) queue.emplace_back(child, -1);
+  while (!queue.empty()) {
+    const auto [source, parent] = queue.front();
+    queue.pop_front();
+    const urdf::Joint& joint = *source->parent_joint;
+    TreeLink link;
+    link.name = source->name;
+    link.parent = parent;
+    link.p_PL = Vector3(joint.parent_to_joint_origin_transform.position);
+    link.q_PL = Quaternion(joint.parent_to_joint_origin_transform.rotation);
+    ReadInertial(*source, &link);
+    link.joints = ReadJoints(joint, path);
+    if (joint.type == urdf::Joint::PLANAR) planar.push_back(joint.name);
+    const bool driven = joint.type == urdf::Joint::REVOLUTE || joint.type == urdf::Joint::CONTINUOUS ||
+                        joint.type == urdf::Joint::PRISMATIC;
+    if (driven && joint.limits && joint.limits->effort > 0) tree.motors.push_back({joint.name, joint.name});
+    if (joint.mimic) mimics.push_back(joint.name + " (follows " + joint.mimic->joint_name + ")");
+    if (!source->collision_array.empty() || source->collision) colliding.push_back(source->name);
+    const int self = static_cast<int>(tree.links.size());
+    tree.links.push_back(link);
+    for (const urdf::LinkSharedPtr& child : source->child_links) queue.emplace_back(child, self);
+  }
+  if (!mimics.empty()) tree.warnings.push_back(ListWarning("mimic couplings are dropped (tether has none)", mimics));
+  if (!colliding.empty()) {
+    tree.warnings.push_back(ListWarning("contacts are ignored (tether has none); links with collision shapes", colliding));
+  }
+  if (!planar.empty()) {
+    tree.warnings.push_back(ListWarning("planar joints are read as two slides across the axis (NAME_u, NAME_v) and a "
+                                        "hinge about it (NAME)",
+                                        planar));
+  }
+  return tree;
+}
+
+}  // namespace tether::importers
