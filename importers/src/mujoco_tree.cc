@@ -175,9 +175,12 @@ KinematicTree ReadMjcf(const std::string& path) {
   char error[1024] = "";
   const std::unique_ptr<mjModel, void (*)(mjModel*)> model(mj_loadXML(path.c_str(), nullptr, error, sizeof error),
                                                            mj_deleteModel);
-  if (!model) throw InputError(path + ": MuJoCo cannot compile it: " + error);
+  std::string message = error;  // MuJoCo's message has line ends: one line here
+  for (char& c : message) c = c == '\n' ? ' ' : c;
+  while (!message.empty() && message.back() == ' ') message.pop_back();
+  if (!model) throw InputError(path + ": MuJoCo cannot compile it: " + message);
   KinematicTree tree = TreeFromMujoco(*model);
-  if (error[0]) tree.warnings.insert(tree.warnings.begin(), std::string("MuJoCo's compiler: ") + error);
+  if (!message.empty()) tree.warnings.insert(tree.warnings.begin(), "MuJoCo's compiler: " + message);
   return tree;
 }
 

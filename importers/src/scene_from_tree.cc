@@ -161,6 +161,10 @@ class SceneBuilder {
         throw InputError("--fix " + name + ": no moving body of " + source_ + " is named '" + name +
                          "' (a link welded to another one is part of that one's body)");
       }
+      if (LinkMass(bodies_[found]) <= 0) {
+        throw InputError("--fix " + name + ": the link '" + name + "' of " + source_ + " has no mass, so it is not " +
+                         "a body to hold");
+      }
       bodies_[found].fixed = true;
     }
   }
@@ -246,13 +250,15 @@ class SceneBuilder {
     CheckInertia(*body);
   }
 
-  // tether's rigid bodies need positive principal moments, none above the sum of the other two.
+  // tether's rigid bodies need positive principal moments (numerically: not below 1e-12 of the largest, where a
+  // rotated zero is rounding), none above the sum of the other two.
   void CheckInertia(const Body& body) const {
     const Eigen::Vector3d moments = Eigen::SelfAdjointEigenSolver<Matrix3d>(body.I_C_W).eigenvalues();
     const std::string name = tree_.links[body.links[0]].name;
     const std::string values = Format(moments[0]) + ", " + Format(moments[1]) + ", " + Format(moments[2]);
-    if (!(moments.minCoeff() > 0)) {
-      Fail("link '" + name + "': its principal moments of inertia (" + values + " kg m^2) must be positive in tether");
+    if (!(moments[0] > 1e-12 * moments[2])) {
+      Fail("link '" + name + "': its principal moments of inertia (" + values + " kg m^2) must be positive in " +
+           "tether, the smallest at least 1e-12 of the largest");
     }
     if (moments[2] > (moments[0] + moments[1]) * (1 + 1e-12)) {
       Fail("link '" + name + "': no rigid body has the principal moments " + values +

@@ -196,6 +196,36 @@ INSTANTIATE_TEST_SUITE_P(
       return name + (info.param.split ? "_split" : "");
     });
 
+// --joint places the bodies as MuJoCo's forward kinematics does at those coordinates: every centre of mass and
+// orientation of the humanoid at random joint angles of up to 1 rad.
+TEST(MujocoPlacement, JointValuesPlaceTheBodiesAsMujocoDoes) {
+  const MjModelPtr m = Load(kModels + "humanoid/humanoid.xml");
+  ASSERT_TRUE(m);
+  const KinematicTree tree = TreeFromMujoco(*m);
+  MjDataPtr d(mj_makeData(m.get()), mj_deleteData);
+  std::mt19937 random(3);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  ImportOptions options;
+  for (int j = 0; j < m->njnt; ++j) {
+    if (m->jnt_type[j] != mjJNT_HINGE) continue;
+    d->qpos[m->jnt_qposadr[j]] = uniform(random);
+    options.joint_values.emplace_back(mj_id2name(m.get(), mjOBJ_JOINT, j), d->qpos[m->jnt_qposadr[j]]);
+  }
+  mj_kinematics(m.get(), d.get());
+  const ImportedScene imported = SceneFromTree(tree, options, "humanoid.xml");
+  int compared = 0;
+  for (const auto& body : imported.scene["bodies"]) {
+    const int b = MujocoBody(*m, body["name"]);
+    ASSERT_GE(b, 0);
+    const std::vector<double> p = body["position"], q = body["orientation"];
+    EXPECT_LT((Vec3<double>(p.data()) - Vec3<double>(d->xipos + 3 * b)).norm(), 1e-14) << body["name"];
+    const Eigen::Quaterniond mujoco(d->xquat[4 * b], d->xquat[4 * b + 1], d->xquat[4 * b + 2], d->xquat[4 * b + 3]);
+    EXPECT_LT(mujoco.angularDistance(Eigen::Quaterniond(q[0], q[1], q[2], q[3])), 1e-14) << body["name"];
+    ++compared;
+  }
+  EXPECT_EQ(compared, 16);
+}
+
 // The URDF test arm (docs/examples/urdf_arm/arm.urdf) against MuJoCo's own URDF reader, which fuses fixed links
 // into their parents (so tether merges them too) and refuses a massless moving link: MuJoCo's copy gives the
 // wrist, which tether joins to the hand as one double hinge, 1e-9 kg and 1e-12 kg m^2 (a change of the motion far
