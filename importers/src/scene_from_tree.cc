@@ -401,7 +401,8 @@ class SceneBuilder {
       warnings_.push_back(ListWarning(
           "joints that no single tether constraint combines are split: each is its own constraint, joined by "
           "intermediate bodies of " + Format(kNegligible) + " of the carried body's mass and inertia (" +
-              Format(added_mass_) + " kg added in all: the motion differs by that fraction)",
+              Format(added_mass_) + " kg added in all; measured on MuJoCo's humanoid split so, the bodies part " +
+              "from MuJoCo's by 6.1e-8 m in 1 s: docs/import.md)",
           split_));
     }
   }
