@@ -379,6 +379,9 @@ TEST(SceneFromTree, RefusesWhatItCannotImport) {
   options.joint_rates.clear();
   options.fixed_bodies = {"leg"};
   refused(arm, options, "--fix leg: no moving body of model.xml is named 'leg'");
+  options.fixed_bodies = {"arm"};
+  options.joint_rates = {{"shoulder", 1.0}};
+  refused(arm, options, "--joint-velocity shoulder: the joint's body 'arm' is held by --fix");
   KinematicTree flat = arm;
   flat.links[0].I_C_L = Vector3d(0.01, 0.02, 0).asDiagonal();
   refused(flat, {}, "model.xml: link 'arm': its principal moments of inertia (");
