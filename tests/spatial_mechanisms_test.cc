@@ -2,6 +2,8 @@
 //   - degrees of freedom by rank: the orthogonal Bricard linkage (six hinges in a loop, which Grubler's count calls
 //     rigid) moves with one, and simulating it keeps the loop closed; a Cardan joint between two world hinges has
 //     three redundant rows and one degree of freedom; an RSSR four-bar has two (one the coupler's idle spin);
+//   - a double hinge leaves two degrees of freedom, and Jet gradients through it (its axes, points, the foot's mass
+//     and moment) match central differences;
 //   - Jet gradients of a loss against central differences for every new kind of parameter (principal moments,
 //     products of inertia, orientation components, angular velocities, axes, joint angle keys, marker points,
 //     joint springs and motors), with quaternion, encoder and marker columns as data, and Jets against doubles;
@@ -105,6 +107,61 @@ TEST(DegreesOfFreedom, CardanJointBetweenWorldHingesHasThreeRedundantRows) {
 TEST(DegreesOfFreedom, RssrFourBarHasItsCranksFreedomAndTheCouplersSpin) {
   const Model<double> model = ReadSceneFile(std::string(TETHER_SOURCE_DIR) + "/scenes/rssr.json").model;
   EXPECT_EQ(CheckScene(model).degrees_of_freedom, 2);
+}
+
+// A foot on a double hinge below a shin fixed to the world (MuJoCo's humanoid's ankle: two hinges whose axis lines
+// do not meet), with gravity, a marker at the toe and a head start.
+constexpr char kAnkle[] = R"({"dimension": 3,
+  "bodies": [{"name": "foot", "type": "rigid", "mass": 1.1, "inertia": [0.001, 0.006, 0.0065],
+              "position": [0.035, -0.01, -0.04], "angular_velocity": [0.5, 1.0, 0.2]}],
+  "constraints": [{"type": "double_hinge", "name": "ankle", "bodies": ["world", "foot"],
+                   "points": [[0, 0, 0.04], [-0.035, 0.01, 0.04]], "axes": [[0, 1, 0], [0.8944, 0, 0.4472]]}],
+  "effects": [{"type": "gravity", "acceleration": [0, 0, -9.81]}],
+  "markers": [{"name": "toe", "body": "foot", "point": [0.1, 0, -0.02]}],
+  "stabilization": {"method": "baumgarte", "alpha": 20, "beta": 100},
+  "simulation": {"integrator": "rk4", "step": 2e-3, "duration": 0.6}})";
+
+TEST(DegreesOfFreedom, ADoubleHingeLeavesTwo) {
+  const SceneCheck check = CheckScene(ParseScene(ParseJsonText(kAnkle, "ankle.json"), "ankle.json").model);
+  EXPECT_EQ(check.constraint_rows, 4);
+  EXPECT_EQ(check.rank, 4);
+  EXPECT_EQ(check.degrees_of_freedom, 2);
+}
+
+TEST(Gradients, JetsMatchCentralDifferencesThroughADoubleHinge) {
+  const Scene scene = ParseScene(ParseJsonText(kAnkle, "ankle.json"), "ankle.json");
+  // observe the toe shifted from where the run puts it, so that the loss and its gradient are not zero
+  const std::string data = testing::TrajectoryCsvAt(scene.model, {0.3, 0.6});
+  const std::string path = ::testing::TempDir() + "ankle_data.csv";
+  {
+    std::istringstream in(data);
+    std::ofstream out(path);
+    std::string line;
+    std::getline(in, line);
+    const std::vector<TrajectoryColumn> columns = TrajectoryColumns(scene.model);
+    out << "t,toe.x,toe.z\n";
+    while (std::getline(in, line)) {
+      const std::vector<double> cells = Cells(line);
+      for (size_t i = 0; i < columns.size(); ++i) {
+        if (columns[i].name == "t") out << cells[i];
+        if (columns[i].name == "toe.x" || columns[i].name == "toe.z") out << "," << cells[i] + 0.01;
+      }
+      out << "\n";
+    }
+  }
+  const Observations observations = ReadObservations(path, scene.model);
+  const ParameterSet parameters(scene, {"/constraints/0/axes/0/2", "/constraints/0/axes/1/1",
+                                        "/constraints/0/points/0/0", "/constraints/0/points/1/2", "/bodies/0/mass",
+                                        "/bodies/0/inertia/1"});
+  const LossGradient jet = JetLossGradient(scene.model, parameters, observations);
+  const LossGradient fd = CentralDifferenceLossGradient(scene.model, parameters, observations);
+  EXPECT_NEAR(jet.loss, fd.loss, 1e-13 * fd.loss);
+  ASSERT_GT(jet.loss, 0.0);
+  for (int i = 0; i < parameters.size(); ++i) {
+    EXPECT_NEAR(jet.gradient[i], fd.gradient[i], 1e-6 * std::max(1.0, std::abs(fd.gradient[i])))
+        << parameters.pointers()[i];
+    EXPECT_GT(std::abs(fd.gradient[i]), 1e-6) << parameters.pointers()[i];  // every parameter matters
+  }
 }
 
 // A two-link arm with a full inertia tensor, a motor, a joint spring and a marker, observed through a quaternion

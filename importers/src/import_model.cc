@@ -13,7 +13,7 @@ bool EndsWith(const std::string& text, const std::string& end) {
 }  // namespace
 
 ImportedScene ImportModel(const std::string& path, const ImportOptions& options) {
-  if (EndsWith(path, ".xml") || EndsWith(path, ".mjcf")) return SceneFromTree(ReadMjcf(path), options, path);
+  if (EndsWith(path, ".xml")) return SceneFromTree(ReadMjcf(path), options, path);
   if (EndsWith(path, ".urdf")) return SceneFromTree(ReadUrdf(path), options, path);
   throw InputError(path + ": unknown model format: the file's name must end in .xml (MJCF, MuJoCo) or .urdf (URDF)");
 }
