@@ -209,6 +209,10 @@ class SceneBuilder {
                                       collapsed));
     }
     if (!weighted.empty()) {
+      for (const TreeLink& link : tree_.links) {
+        heaviest_mass_ = std::max(heaviest_mass_, link.mass);
+        largest_moment_ = std::max(largest_moment_, link.I_C_L.trace() / 2);  // a bound of the largest
+      }
       warnings_.push_back(ListWarning("massless links with joints that carry no single link are given " +
                                       Format(kNegligible) + " of the heaviest link's mass and inertia (an error " +
                                       "of that order)",
@@ -226,18 +230,13 @@ class SceneBuilder {
     const PlacedLink& first = placed_[body->links[0]];
     body->R_WB = first.X_WL.linear();
     body->V = first.V_WL;
-    double heaviest = 0.0, largest_moment = 0.0;
-    for (const TreeLink& link : tree_.links) {
-      heaviest = std::max(heaviest, link.mass);
-      largest_moment = std::max(largest_moment, link.I_C_L.trace() / 2);
-    }
     std::vector<std::tuple<double, Vector3d, Matrix3d>> parts;
     for (int i : body->links) {
       const TreeLink& link = tree_.links[i];
       const Matrix3d& R = placed_[i].X_WL.linear();
       if (negligible_links_.count(i)) {
-        parts.emplace_back(kNegligible * heaviest, placed_[i].X_WL * link.p_LC,
-                           kNegligible * largest_moment * Matrix3d::Identity());
+        parts.emplace_back(kNegligible * heaviest_mass_, placed_[i].X_WL * link.p_LC,
+                           kNegligible * largest_moment_ * Matrix3d::Identity());
       } else {
         parts.emplace_back(link.mass, placed_[i].X_WL * link.p_LC, R * link.I_C_L * R.transpose());
       }
@@ -580,6 +579,7 @@ class SceneBuilder {
   std::vector<Body> bodies_;
   std::vector<int> link_body_;        // the body of each link; -1 the world, -2 collapsed away
   std::set<int> negligible_links_;    // massless links given kNegligible mass
+  double heaviest_mass_ = 0.0, largest_moment_ = 0.0;  // over the links, for massless links given kNegligible
   double size_ = 0.0;
   double added_mass_ = 0.0;
   std::set<std::string> names_;
