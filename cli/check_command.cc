@@ -27,19 +27,7 @@ class CheckCommand final : public Command {
     overrides_.Apply(&scene.model);
     const SceneCheck c = CheckScene(scene.model);
     if (json_) {
-      nlohmann::json out = {{"coordinates", c.coordinates},
-                            {"constraint_rows", c.constraint_rows},
-                            {"rank", c.rank},
-                            {"degrees_of_freedom", c.degrees_of_freedom},
-                            {"redundant_constraints", c.redundant_constraints},
-                            {"initial_violation", c.initial_violation},
-                            {"condition_number", c.condition_number},
-                            {"condition_estimated", c.condition_estimated},
-                            {"solver", c.solver}};
-      if (c.worst_constraint >= 0) out["worst_constraint"] = c.worst_constraint;
-      out["assembles"] = c.assembly_error.empty();
-      if (!c.assembly_error.empty()) out["assembly_error"] = c.assembly_error;
-      std::cout << out.dump(2) << std::endl;
+      std::cout << SceneCheckJson(c).dump(2) << std::endl;
       return c.assembly_error.empty() ? 0 : 1;
     }
     std::printf("%s: %d coordinates, %d constraint rows of rank %d: %d degrees of freedom\n", scene_path_.c_str(),

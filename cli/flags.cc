@@ -8,14 +8,6 @@
 
 namespace tether::cli {
 
-int CheckCount(int value, int low, int high, const std::string& flag) {
-  if (value < low || value > high) {
-    throw InputError(flag + ": must be a whole number from " + std::to_string(low) + " to " + std::to_string(high) +
-                     ", got " + std::to_string(value));
-  }
-  return value;
-}
-
 void CheckOutputs(const std::vector<OutputFlag>& outputs, const std::vector<std::string>& inputs) {
   for (size_t k = 0; k < outputs.size(); ++k) {
     const OutputFlag& out = outputs[k];

@@ -53,18 +53,7 @@ class GradientCommand final : public Command {
       return 1;
     }
 
-    nlohmann::json out;
-    out["loss"] = result.loss;
-    out["gradient"] = nlohmann::json::object();
-    out["parameters"] = nlohmann::json::object();
-    const std::vector<double> values = parameters.Values(scene.model);
-    for (int i = 0; i < parameters.size(); ++i) {
-      out["gradient"][parameters.pointers()[i]] = result.gradient[i];
-      out["parameters"][parameters.pointers()[i]] = values[i];
-    }
-    out["method"] = method_;
-    out["seconds"] = seconds;
-    std::cout << out.dump(2) << std::endl;
+    std::cout << GradientJson(parameters, scene.model, result, method_, seconds).dump(2) << std::endl;
     return 0;
   }
 

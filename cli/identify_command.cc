@@ -11,7 +11,7 @@
 #include "tether/dynamics/errors.h"
 #include "tether/dynamics/scene_reader.h"
 #include "tether/dynamics/trajectory_csv.h"
-#include "tether/tuning/identification.h"
+#include "tether/tuning/reports.h"
 
 namespace tether::cli {
 namespace {
@@ -34,8 +34,6 @@ std::tuple<std::string, double, double> ParseBound(const std::string& text) {
   if (!(lo < hi)) throw InputError("--bound: '" + text + "': LO must be below HI");
   return {text.substr(0, equals), lo, hi};
 }
-
-nlohmann::json NumberOrNull(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
 
 class IdentifyCommand final : public Command {
  public:
@@ -101,7 +99,7 @@ class IdentifyCommand final : public Command {
       out->stream() << updated.dump(2) << "\n";
       out->Commit();
     }
-    std::cout << ToJson(parameters, result).dump(2) << std::endl;
+    std::cout << IdentifyJson(parameters, result, optimizer_, segments_).dump(2) << std::endl;
     for (const std::string& warning : result.warnings) std::cerr << "tether: warning: " << warning << "\n";
     if (result.failed) {
       std::cerr << "tether: the " << (fit_ ? "fit" : "identification") << " failed (warnings above)"
@@ -121,40 +119,6 @@ class IdentifyCommand final : public Command {
   }
 
  private:
-  nlohmann::json ToJson(const ParameterSet& parameters, const IdentifyResult& r) const {
-    nlohmann::json j;
-    j["parameters"] = nlohmann::json::object();
-    j["standard_deviation"] = nlohmann::json::object();
-    j["initial_parameters"] = nlohmann::json::object();
-    j["correlation"] = nlohmann::json::object();
-    for (int i = 0; i < parameters.size(); ++i) {
-      const std::string& ptr = parameters.pointers()[i];
-      j["parameters"][ptr] = r.estimate[i];
-      j["standard_deviation"][ptr] = NumberOrNull(r.standard_deviation[i]);
-      j["initial_parameters"][ptr] = r.initial[i];
-      for (int k = 0; k < parameters.size(); ++k) {
-        j["correlation"][ptr][parameters.pointers()[k]] = NumberOrNull(r.correlation(i, k));
-      }
-    }
-    j["initial_cost"] = r.initial_cost;
-    j["final_cost"] = r.final_cost;
-    j["condition_number"] = NumberOrNull(r.condition_number);
-    j["residual_count"] = r.residual_count;
-    j["evaluations"] = r.optimizer.evaluations;
-    j["seconds"] = r.optimizer.seconds;
-    j["optimizer"] = optimizer_;
-    j["optimizer_message"] = r.optimizer.message;
-    j["segments"] = segments_;
-    j["warnings"] = r.warnings;
-    j["failed"] = r.failed;
-    j["residuals"] = nlohmann::json::array();
-    for (const ResidualStatistics& s : r.residuals) {
-      j["residuals"].push_back({{"file", s.file}, {"column", s.column}, {"count", s.count}, {"rms", s.rms},
-                                {"max", s.largest}});
-    }
-    return j;
-  }
-
   bool fit_;
   CLI::App* app_;
   std::string scene_path_, output_path_, plot_path_, loss_, optimizer_ = "ceres";

@@ -8,24 +8,10 @@
 #include "tether/dynamics/errors.h"
 #include "tether/dynamics/scene_reader.h"
 #include "tether/dynamics/trajectory_csv.h"
-#include "tether/tuning/gain_tuning.h"
+#include "tether/tuning/reports.h"
 
 namespace tether::cli {
 namespace {
-
-nlohmann::json ToJson(const GainMetrics& m) {
-  nlohmann::json j = {{"name", m.name},
-                      {"alpha", m.alpha},
-                      {"beta", m.beta},
-                      {"objective", m.objective},
-                      {"diverged", m.diverged},
-                      {"rms_position_error", m.rms_position_error},
-                      {"max_constraint_error", m.max_constraint_error},
-                      {"energy_drift", m.energy_drift},
-                      {"seconds", m.seconds}};
-  if (m.diverged) j["divergence"] = m.divergence;
-  return j;  // NaN (no reference, or diverged) prints as null
-}
 
 void PrintSummary(const TuneResult& r, double step) {
   std::fprintf(stderr, "tuned: alpha %.6g, beta %.6g (omega %.6g rad/s, zeta %.4g), objective %.4g m\n", r.alpha,
@@ -90,23 +76,6 @@ class TuneCommand final : public Command {
     } catch (const SimulationDiverged& e) {
       throw SimulationDiverged(scene_path_ + ": the reference motion diverged: " + e.what(), e.time(), e.constraint());
     }
-    nlohmann::json json = {{"alpha", result.alpha},
-                           {"beta", result.beta},
-                           {"omega", result.omega},
-                           {"zeta", result.zeta},
-                           {"objective", result.objective},
-                           {"objective_kind", objective_},
-                           {"window", result.window},
-                           {"optimizer", optimizer_},
-                           {"evaluations", result.optimizer.evaluations},
-                           {"seconds", result.optimizer.seconds},
-                           {"optimizer_message", result.optimizer.message},
-                           {"stability", {{"h_omega", scene.model.simulation.step * result.omega},
-                                          {"bound", result.bound},
-                                          {"margin", result.margin},
-                                          {"omega_upper", result.omega_upper}}}};
-    json["comparison"] = nlohmann::json::array();
-    for (const GainMetrics& m : result.comparison) json["comparison"].push_back(ToJson(m));
     if (out) {
       nlohmann::json tuned = scene.document;
       tuned["stabilization"] = {{"method", "baumgarte"}, {"alpha", result.alpha}, {"beta", result.beta}};
@@ -114,7 +83,7 @@ class TuneCommand final : public Command {
       out->Commit();
     }
     PrintSummary(result, scene.model.simulation.step);
-    std::cout << json.dump(2) << std::endl;
+    std::cout << TuneJson(result, objective_, optimizer_, scene.model.simulation.step).dump(2) << std::endl;
     return 0;
   }
 

@@ -1,6 +1,7 @@
 // ReadObservations (observations.h): trajectory-CSV columns mapped to the q / v / energy entries they observe, for
 // particles (2D and 3D) and planar rigid bodies; rows sorted by time; empty cells missing (NaN) and not counted;
-// and every malformed file refused with an InputError naming the file and the line.
+// and every malformed file refused with an InputError naming the file and the line. MakeObservations (the same from
+// rows in memory, for the Python module) gives what the file gives and names the row in its refusals.
 #include "tether/autodiff/observations.h"
 
 #include <gtest/gtest.h>
@@ -181,6 +182,54 @@ TEST_F(ObservationsTest, WrongNumberOfCellsIsRefused) {
 TEST_F(ObservationsTest, EmptyFileIsRefused) {
   ExpectRefused("", 0, "empty");
   ExpectRefused("t,bob.x\n", 0, "no rows");
+}
+
+TEST_F(ObservationsTest, RowsInMemoryGiveWhatTheFileGives) {
+  const std::string path = Write("gaps.csv",
+                                 "t,bob.x,bob.vx,energy\n"
+                                 "0.3,,,7.5\n"
+                                 "0.1,,0.25,\n"
+                                 "0.2,1.5,,-2\n");
+  const Observations from_file = ReadObservations(path, model_);
+  const Observations in_memory =
+      MakeObservations("data", {"t", "bob.x", "bob.vx", "energy"},
+                       {{0.3, NAN, NAN, 7.5}, {0.1, NAN, 0.25, NAN}, {0.2, 1.5, NAN, -2.0}}, model_);
+  EXPECT_EQ(in_memory.path, "data");
+  EXPECT_EQ(in_memory.times, from_file.times);
+  ASSERT_EQ(in_memory.columns.size(), from_file.columns.size());
+  for (size_t c = 0; c < in_memory.columns.size(); ++c) {
+    ExpectColumn(in_memory.columns[c], from_file.columns[c].name, from_file.columns[c].kind,
+                 from_file.columns[c].index);
+  }
+  ASSERT_EQ(in_memory.values.size(), 3u);
+  for (size_t r = 0; r < 3; ++r) {
+    for (size_t c = 0; c < 3; ++c) {
+      const double a = in_memory.values[r][c], b = from_file.values[r][c];
+      EXPECT_TRUE(a == b || (std::isnan(a) && std::isnan(b))) << r << ", " << c;
+    }
+  }
+  EXPECT_EQ(in_memory.lines, (std::vector<int>{2, 3, 1}));  // the rows, from 1, where the file has lines
+  EXPECT_EQ(in_memory.CellCount(), from_file.CellCount());
+}
+
+TEST_F(ObservationsTest, RowsInMemoryAreRefusedByRow) {
+  auto expect_refused = [this](const std::vector<std::string>& names, const std::vector<std::vector<double>>& rows,
+                               const std::string& detail) {
+    try {
+      MakeObservations("data", names, rows, model_);
+      ADD_FAILURE() << "accepted: " << detail;
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()), "data: " + detail);
+    }
+  };
+  expect_refused({"t", "bob.x"}, {{0.1, 1.0}, {0.2, INFINITY}}, "row 2: column 'bob.x': the value is infinite");
+  expect_refused({"t", "bob.x"}, {{0.1, 1.0}, {NAN, 1.0}}, "row 2: the time 't' is missing");
+  expect_refused({"t", "bob.x"}, {{0.1, 1.0}, {0.1, 2.0}}, "row 2: repeats the time of row 1");
+  expect_refused({"t", "bob.x"}, {{0.1}}, "row 1: expected 2 values, got 1");
+  expect_refused({"t", "bob.x"}, {{0.7, 1.0}},
+                 "row 1: t = 0.69999999999999996 lies outside the simulated interval [0, 0.5]");
+  expect_refused({"bob.x"}, {{1.0}}, "no 't' column");
+  expect_refused({"t", "bob.x"}, {}, "the data has no rows");
 }
 
 TEST_F(ObservationsTest, MissingFileIsRefused) {

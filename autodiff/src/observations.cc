@@ -40,6 +40,78 @@ std::map<std::string, TrajectoryColumn> KnownColumns(const Model<double>& model)
   return known;
 }
 
+// The observed columns a header names (obs->columns) and the position of its `t` (-1 if none);
+// fail(message) for a bad header.
+template <typename Fail>
+std::vector<int> ReadHeader(const std::vector<std::string>& names, const Model<double>& model, Observations* obs,
+                            int* time_column, Fail fail) {
+  const std::map<std::string, TrajectoryColumn> known = KnownColumns(model);
+  *time_column = -1;
+  std::vector<int> column_of_cell(names.size(), -1);  // data column of each cell, -1 for t
+  for (size_t c = 0; c < names.size(); ++c) {
+    const std::string name = Trim(names[c]);
+    if (name == "t") {
+      if (*time_column >= 0) fail("the column 't' appears twice");
+      *time_column = static_cast<int>(c);
+      continue;
+    }
+    if (name == "constraint_error") fail("'constraint_error' is a diagnostic and cannot be observed");
+    const auto it = known.find(name);
+    if (it == known.end()) {
+      fail("unknown column '" + name + "' (expected t and trajectory columns such as " +
+           TrajectoryColumns(model)[1].name + ")");
+    }
+    for (const TrajectoryColumn& seen : obs->columns) {
+      if (seen.name == name) fail("the column '" + name + "' appears twice");
+    }
+    column_of_cell[c] = static_cast<int>(obs->columns.size());
+    obs->columns.push_back(it->second);
+  }
+  if (*time_column < 0) fail("no 't' column");
+  if (obs->columns.empty()) fail("no observed column besides 't'");
+  return column_of_cell;
+}
+
+// Adds a row of numbers (NaN: missing) at its place `line`; fail(message) for a missing or out-of-range time.
+template <typename Fail>
+void AddRow(const std::vector<double>& cells, const std::vector<int>& column_of_cell, int time_column, int line,
+            const Model<double>& model, Observations* obs, Fail fail) {
+  const double t = cells[time_column];
+  if (std::isnan(t)) fail("the time 't' is missing");
+  const double duration = model.simulation.duration;
+  if (!(t >= 0.0 && t <= duration * (1 + 1e-12))) {
+    std::ostringstream message;
+    message.precision(17);
+    message << "t = " << t << " lies outside the simulated interval [0, " << duration << "]";
+    fail(message.str());
+  }
+  std::vector<double> row(obs->columns.size(), NAN);
+  for (size_t c = 0; c < cells.size(); ++c) {
+    if (static_cast<int>(c) != time_column) row[column_of_cell[c]] = cells[c];
+  }
+  obs->times.push_back(t);
+  obs->values.push_back(row);
+  obs->lines.push_back(line);
+}
+
+// Rows in time order, one row per time; `unit` ("line", "row") names a row's place in messages.
+Observations Sorted(const Observations& obs, const std::string& unit) {
+  std::vector<size_t> order(obs.times.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&obs](size_t a, size_t b) { return obs.times[a] < obs.times[b]; });
+  Observations sorted = obs;
+  for (size_t k = 0; k < order.size(); ++k) {
+    sorted.times[k] = obs.times[order[k]];
+    sorted.values[k] = obs.values[order[k]];
+    sorted.lines[k] = obs.lines[order[k]];
+    if (k > 0 && sorted.times[k] == sorted.times[k - 1]) {
+      throw InputError(obs.path + ": " + unit + " " + std::to_string(sorted.lines[k]) + ": repeats the time of " +
+                       unit + " " + std::to_string(sorted.lines[k - 1]));
+    }
+  }
+  return sorted;
+}
+
 }  // namespace
 
 int Observations::CellCount() const {
@@ -59,92 +131,61 @@ Observations ReadObservations(const std::string& path, const Model<double>& mode
   }
   std::ifstream in(path);
   if (!in) throw InputError(path + ": cannot open the data file");
-  auto fail = [&path](int line, const std::string& message) {
+  int line = 1;
+  auto fail = [&path, &line](const std::string& message) {
     throw InputError(path + ": line " + std::to_string(line) + ": " + message);
   };
   Observations obs;
   obs.path = path;
   std::string text;
   if (!std::getline(in, text)) throw InputError(path + ": the data file is empty (it needs a header row)");
-  const std::map<std::string, TrajectoryColumn> known = KnownColumns(model);
   const std::vector<std::string> header = SplitCells(text);
   int time_column = -1;
-  std::vector<int> column_of_cell(header.size(), -1);  // data column of each CSV cell, -1 for t
-  for (size_t c = 0; c < header.size(); ++c) {
-    const std::string name = Trim(header[c]);
-    if (name == "t") {
-      if (time_column >= 0) fail(1, "the column 't' appears twice");
-      time_column = static_cast<int>(c);
-      continue;
-    }
-    if (name == "constraint_error") fail(1, "'constraint_error' is a diagnostic and cannot be observed");
-    const auto it = known.find(name);
-    if (it == known.end()) {
-      fail(1, "unknown column '" + name + "' (expected t and trajectory columns such as " +
-                  TrajectoryColumns(model)[1].name + ")");
-    }
-    for (const TrajectoryColumn& seen : obs.columns) {
-      if (seen.name == name) fail(1, "the column '" + name + "' appears twice");
-    }
-    column_of_cell[c] = static_cast<int>(obs.columns.size());
-    obs.columns.push_back(it->second);
-  }
-  if (time_column < 0) fail(1, "no 't' column");
-  if (obs.columns.empty()) fail(1, "no observed column besides 't'");
-
-  const double duration = model.simulation.duration;
-  for (int line = 2; std::getline(in, text); ++line) {
+  const std::vector<int> column_of_cell = ReadHeader(header, model, &obs, &time_column, fail);
+  for (line = 2; std::getline(in, text); ++line) {
     if (Trim(text).empty()) continue;
     const std::vector<std::string> cells = SplitCells(text);
     if (cells.size() != header.size()) {
-      fail(line, "expected " + std::to_string(header.size()) + " cells, got " + std::to_string(cells.size()));
+      fail("expected " + std::to_string(header.size()) + " cells, got " + std::to_string(cells.size()));
     }
-    std::vector<double> row(obs.columns.size(), NAN);
-    double t = NAN;
+    std::vector<double> numbers(cells.size(), NAN);
     for (size_t c = 0; c < cells.size(); ++c) {
       const std::string cell = Trim(cells[c]);
-      const std::string& name = Trim(header[c]);
-      if (cell.empty()) {
-        if (static_cast<int>(c) == time_column) fail(line, "the time 't' is missing");
-        continue;
-      }
+      if (cell.empty()) continue;
       char* end = nullptr;
-      const double value = std::strtod(cell.c_str(), &end);
-      if (end != cell.c_str() + cell.size() || !std::isfinite(value)) {
-        fail(line, "column '" + name + "': '" + cell + "' is not a finite number");
-      }
-      if (static_cast<int>(c) == time_column) {
-        t = value;
-      } else {
-        row[column_of_cell[c]] = value;
+      numbers[c] = std::strtod(cell.c_str(), &end);
+      if (end != cell.c_str() + cell.size() || !std::isfinite(numbers[c])) {
+        fail("column '" + Trim(header[c]) + "': '" + cell + "' is not a finite number");
       }
     }
-    if (!(t >= 0.0 && t <= duration * (1 + 1e-12))) {
-      std::ostringstream message;
-      message.precision(17);
-      message << "t = " << t << " lies outside the simulated interval [0, " << duration << "]";
-      fail(line, message.str());
-    }
-    obs.times.push_back(t);
-    obs.values.push_back(row);
-    obs.lines.push_back(line);
+    AddRow(numbers, column_of_cell, time_column, line, model, &obs, fail);
   }
   if (obs.times.empty()) throw InputError(path + ": the data file has no rows");
+  return Sorted(obs, "line");
+}
 
-  // rows in time order; one row per time
-  std::vector<size_t> order(obs.times.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&obs](size_t a, size_t b) { return obs.times[a] < obs.times[b]; });
-  Observations sorted = obs;
-  for (size_t k = 0; k < order.size(); ++k) {
-    sorted.times[k] = obs.times[order[k]];
-    sorted.values[k] = obs.values[order[k]];
-    sorted.lines[k] = obs.lines[order[k]];
-    if (k > 0 && sorted.times[k] == sorted.times[k - 1]) {
-      fail(sorted.lines[k], "repeats the time of line " + std::to_string(sorted.lines[k - 1]));
+Observations MakeObservations(const std::string& source, const std::vector<std::string>& names,
+                              const std::vector<std::vector<double>>& rows, const Model<double>& model) {
+  Observations obs;
+  obs.path = source;
+  int row = 0;
+  auto fail = [&source, &row](const std::string& message) {
+    throw InputError(source + (row > 0 ? ": row " + std::to_string(row) : std::string()) + ": " + message);
+  };
+  int time_column = -1;
+  const std::vector<int> column_of_cell = ReadHeader(names, model, &obs, &time_column, fail);
+  for (row = 1; row <= static_cast<int>(rows.size()); ++row) {
+    const std::vector<double>& cells = rows[row - 1];
+    if (cells.size() != names.size()) {
+      fail("expected " + std::to_string(names.size()) + " values, got " + std::to_string(cells.size()));
     }
+    for (size_t c = 0; c < cells.size(); ++c) {
+      if (std::isinf(cells[c])) fail("column '" + names[c] + "': the value is infinite");
+    }
+    AddRow(cells, column_of_cell, time_column, row, model, &obs, fail);
   }
-  return sorted;
+  if (obs.times.empty()) throw InputError(source + ": the data has no rows");
+  return Sorted(obs, "row");
 }
 
 }  // namespace tether

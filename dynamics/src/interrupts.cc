@@ -1,10 +1,12 @@
 #include "tether/dynamics/interrupts.h"
 
+#include <signal.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <csignal>
 #include <cstring>
+#include <mutex>
 #include <stdexcept>
 
 namespace tether {
@@ -20,6 +22,9 @@ struct Slot {
 Slot slots[kMaxTemporaryPaths];
 std::atomic<int> catching{0};
 std::atomic<int> caught{0};
+std::atomic<int> cancelling{0};  // CancelRuns held, changed under cancel_mutex
+std::mutex cancel_mutex;
+struct sigaction before_cancel;  // SIGINT's whole action (handler, flags, mask) before the first CancelRuns
 
 // files first (unlink fails on a folder), then the folders they were in
 void RemoveTemporaries() {
@@ -68,5 +73,29 @@ CatchInterrupts::CatchInterrupts() { ++catching; }
 CatchInterrupts::~CatchInterrupts() { --catching; }
 
 int Interrupted() { return caught.load(); }
+
+// The first holder installs the handler and the last puts the earlier action back, so that runs in several
+// threads at once share one handler, and Python's action comes back exactly (its flags included).
+CancelRuns::CancelRuns() {
+  const std::lock_guard<std::mutex> lock(cancel_mutex);
+  if (cancelling.fetch_add(1) > 0) return;
+  caught.store(0);
+  struct sigaction action = {};
+  action.sa_handler = OnInterrupt;
+  action.sa_flags = SA_RESTART;  // as std::signal installs it for the command line
+  sigemptyset(&action.sa_mask);
+  sigaction(SIGINT, &action, &before_cancel);
+}
+
+CancelRuns::~CancelRuns() {
+  const std::lock_guard<std::mutex> lock(cancel_mutex);
+  if (cancelling.fetch_sub(1) > 1) return;
+  sigaction(SIGINT, &before_cancel, nullptr);
+  caught.store(0);
+}
+
+bool RunsCancelled() {
+  return cancelling.load(std::memory_order_relaxed) > 0 && caught.load(std::memory_order_relaxed) != 0;
+}
 
 }  // namespace tether

@@ -129,4 +129,20 @@ SceneCheck CheckScene(const Model<double>& model) {
   return check;
 }
 
+nlohmann::json SceneCheckJson(const SceneCheck& c) {
+  nlohmann::json out = {{"coordinates", c.coordinates},
+                        {"constraint_rows", c.constraint_rows},
+                        {"rank", c.rank},
+                        {"degrees_of_freedom", c.degrees_of_freedom},
+                        {"redundant_constraints", c.redundant_constraints},
+                        {"initial_violation", c.initial_violation},
+                        {"condition_number", c.condition_number},
+                        {"condition_estimated", c.condition_estimated},
+                        {"solver", c.solver}};
+  if (c.worst_constraint >= 0) out["worst_constraint"] = c.worst_constraint;
+  out["assembles"] = c.assembly_error.empty();
+  if (!c.assembly_error.empty()) out["assembly_error"] = c.assembly_error;
+  return out;
+}
+
 }  // namespace tether

@@ -8,6 +8,7 @@
 #include "tether/dynamics/default_gains.h"
 #include "tether/dynamics/effects.h"
 #include "tether/dynamics/errors.h"
+#include "tether/dynamics/interrupts.h"
 #include "tether/dynamics/integrators.h"
 #include "tether/dynamics/projection.h"
 
@@ -218,6 +219,7 @@ RunReport Simulate(const Model<T>& model, const RunOptions& options,
 
   // one step of the run, with its stabilization and divergence checks
   auto advance = [&](double t, double dt) {
+    if (RunsCancelled()) throw RunInterrupted(Interrupted());
     ws.solver.ForgetConditioning();
     const StepStatus status = Advance(model, t, dt, &ws, &q, &v, settle);
     const double t_next = t + dt;

@@ -32,6 +32,11 @@ struct Observations {
 inline constexpr std::uintmax_t kMaxDataBytes = std::uintmax_t{1} << 30;  // 1 GiB
 Observations ReadObservations(const std::string& path, const Model<double>& model);
 
+// The same from columns in memory (the Python module's data): `names` (one of them "t") and rows of numbers, NaN
+// where a value is missing; validated as a file is, messages naming `source` and the row (from 1).
+Observations MakeObservations(const std::string& source, const std::vector<std::string>& names,
+                              const std::vector<std::vector<double>>& rows, const Model<double>& model);
+
 // Calls add(c, simulated - observed) for every observed cell c of row `row`, in column order, the simulated
 // value taken from a sample of a run of `model` at that row's time.
 template <typename T, typename Add>

@@ -32,6 +32,17 @@ class SimulationDiverged : public std::runtime_error {
   int constraint_;
 };
 
+// A run stopped by an interruption (Ctrl-C) while a CancelRuns was held (interrupts.h).
+class RunInterrupted : public std::runtime_error {
+ public:
+  explicit RunInterrupted(int signal)
+      : std::runtime_error("interrupted by signal " + std::to_string(signal)), signal_(signal) {}
+  int signal() const { return signal_; }
+
+ private:
+  int signal_;
+};
+
 // Writing an output failed on the way (a full disk, a closed device): exit status 1, as a failed run.
 class OutputError : public std::runtime_error {
  public:

@@ -39,4 +39,22 @@ class CatchInterrupts {
 // The signal caught while a CatchInterrupts was held (0: none).
 int Interrupted();
 
+// An interactive caller (the Python module, during one call) that wants a run to stop at once rather than at the
+// end of a piece of work: while any CancelRuns is held, SIGINT is caught, and a run checks for it at every step
+// and stops with RunInterrupted (errors.h); every run then held stops. When the last is released, the action it
+// replaced (Python's) is back and a signal caught is forgotten. Holders may be in several threads.
+class CancelRuns {
+ public:
+  CancelRuns();
+  ~CancelRuns();
+  CancelRuns(const CancelRuns&) = delete;
+  CancelRuns& operator=(const CancelRuns&) = delete;
+
+ private:
+  CatchInterrupts catching_;
+};
+
+// Whether a run must stop now: a signal was caught while a CancelRuns is held.
+bool RunsCancelled();
+
 }  // namespace tether

@@ -14,6 +14,7 @@
 // assembles.
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -45,5 +46,9 @@ struct SceneCheck {
 };
 
 SceneCheck CheckScene(const Model<double>& model);
+
+// `tether check --json` (and the Python module's check): the fields above by name, `worst_constraint` only where
+// there is one, `assembles`, and `assembly_error` where it is not empty.
+nlohmann::json SceneCheckJson(const SceneCheck& check);
 
 }  // namespace tether

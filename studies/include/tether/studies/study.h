@@ -25,6 +25,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "tether/dynamics/errors.h"
 #include "tether/studies/study_spec.h"
 
 namespace tether {
@@ -40,14 +41,9 @@ using StudyProgress = std::function<void(int, int, double)>;
 
 // A study stopped by a signal (interrupts.h) between rows: what finished is kept in the partial results, and
 // running the study again resumes it.
-class StudyInterrupted : public std::runtime_error {
+class StudyInterrupted : public RunInterrupted {
  public:
-  explicit StudyInterrupted(int signal)
-      : std::runtime_error("interrupted by signal " + std::to_string(signal)), signal_(signal) {}
-  int signal() const { return signal_; }
-
- private:
-  int signal_;
+  using RunInterrupted::RunInterrupted;
 };
 
 // What a study's results are the results of, as 16 hex digits: a hash (FNV-1a) of the study file, its scene

@@ -1,0 +1,264 @@
+// tether._tether: the C++ side of the Python module (python/tether/__init__.py is the API users see). It is a thin
+// shell over the libraries: results cross as the JSON text the command line prints (tether.gradient, tune,
+// identify, fit, check return what `tether gradient` ... print), trajectories as NumPy arrays that own the memory
+// the run filled (no copy), data as the names and rows of a table.
+//
+// During every run the GIL is released, and a CancelRuns (interrupts.h) is held: Ctrl-C stops the run at its next
+// step and raises KeyboardInterrupt here.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "tether/autodiff/residuals.h"
+#include "tether/dynamics/errors.h"
+#include "tether/dynamics/interrupts.h"
+#include "tether/dynamics/names.h"
+#include "tether/dynamics/request_limits.h"
+#include "tether/dynamics/scene_check.h"
+#include "tether/dynamics/scene_reader.h"
+#include "tether/dynamics/simulator.h"
+#include "tether/dynamics/trajectory_columns.h"
+#include "tether/studies/study.h"
+#include "tether/tuning/optimizer.h"
+#include "tether/tuning/reports.h"
+
+namespace py = pybind11;
+
+namespace tether::python {
+namespace {
+
+// A NumPy array of `rows` x `columns` that takes over `values` (row-major) without copying them.
+py::array_t<double> TakeMatrix(std::vector<double>&& values, size_t rows, size_t columns) {
+  auto* owned = new std::vector<double>(std::move(values));
+  py::capsule free_when_done(owned, [](void* p) { delete static_cast<std::vector<double>*>(p); });
+  return py::array_t<double>({rows, columns}, {columns * sizeof(double), sizeof(double)}, owned->data(),
+                             free_when_done);
+}
+
+// Runs `work` with the GIL released and Ctrl-C stopping it; a stop is KeyboardInterrupt.
+template <typename Work>
+auto Interruptible(Work work) {
+  try {
+    const CancelRuns cancel;
+    const py::gil_scoped_release release;
+    return work();
+  } catch (const RunInterrupted&) {
+    PyErr_SetNone(PyExc_KeyboardInterrupt);
+    throw py::error_already_set();
+  }
+}
+
+// The scene overrides of the command line's simulate, as keyword arguments (None: the scene's own).
+void Override(Model<double>* model, std::optional<double> duration, std::optional<double> step,
+              std::optional<std::string> integrator) {
+  if (duration) {
+    if (!(*duration > 0) || !std::isfinite(*duration)) throw InputError("duration: must be > 0");
+    model->simulation.duration = *duration;
+  }
+  if (step) {
+    if (!(*step > 0) || !std::isfinite(*step)) throw InputError("step: must be > 0");
+    model->simulation.step = *step;
+  }
+  if (integrator) model->simulation.integrator = ParseIntegrator(*integrator, "integrator");
+  CheckStepCount(model->simulation, "duration and step");
+}
+
+struct Recorded {
+  std::vector<std::string> columns;
+  py::array_t<double> table, q, v;
+};
+
+Recorded SimulateScene(const Scene& scene, std::optional<double> duration, std::optional<double> step,
+                       std::optional<std::string> integrator, int every) {
+  CheckCount(every, 1, std::numeric_limits<int>::max(), "every");
+  Model<double> model = scene.model;
+  Override(&model, duration, step, integrator);
+  const std::vector<TrajectoryColumn> columns = TrajectoryColumns(model);
+  const size_t nq = model.NumCoordinates(), nv = model.NumVelocities();
+  std::vector<double> table, q, v;
+  size_t rows = 0;
+  Interruptible([&] {
+    RunOptions options;
+    options.every = every;
+    try {
+      Simulate<double>(model, options, [&](const Sample<double>& s) {
+        for (const TrajectoryColumn& column : columns) table.push_back(ColumnValue(model, column, s));
+        q.insert(q.end(), s.q.data(), s.q.data() + nq);
+        v.insert(v.end(), s.v.data(), s.v.data() + nv);
+        ++rows;
+      });
+    } catch (const InputError& e) {  // the initial state cannot be assembled
+      throw InputError(scene.path + ": " + e.what());
+    } catch (const SimulationDiverged& e) {
+      throw SimulationDiverged(scene.path + ": " + e.what(), e.time(), e.constraint());
+    }
+    return 0;
+  });
+  Recorded out;
+  for (const TrajectoryColumn& column : columns) out.columns.push_back(column.name);
+  out.table = TakeMatrix(std::move(table), rows, columns.size());
+  out.q = TakeMatrix(std::move(q), rows, nq);
+  out.v = TakeMatrix(std::move(v), rows, nv);
+  return out;
+}
+
+// A table of observations: column names and a rows x columns array (NaN: missing).
+Observations Data(const std::string& source, const std::vector<std::string>& names,
+                  const py::array_t<double, py::array::c_style | py::array::forcecast>& values,
+                  const Model<double>& model) {
+  if (values.ndim() != 2 || static_cast<size_t>(values.shape(1)) != names.size()) {
+    throw InputError(source + ": expected a table of " + std::to_string(names.size()) + " columns");
+  }
+  std::vector<std::vector<double>> rows(values.shape(0));
+  const auto view = values.unchecked<2>();
+  for (py::ssize_t r = 0; r < values.shape(0); ++r) {
+    rows[r].resize(names.size());
+    for (size_t c = 0; c < names.size(); ++c) rows[r][c] = view(r, c);
+  }
+  return MakeObservations(source, names, rows, model);
+}
+
+std::string GradientOf(const Scene& scene, const std::vector<std::string>& names,
+                       const py::array_t<double, py::array::c_style | py::array::forcecast>& values,
+                       const std::vector<std::string>& pointers, const std::string& method) {
+  if (method != "jet" && method != "fd")
+    throw InputError("method: unknown method '" + method + "' (expected jet or fd)");
+  const ParameterSet parameters(scene, pointers);
+  const Observations observations = Data("data", names, values, scene.model);
+  return Interruptible([&] {
+    const auto start = std::chrono::steady_clock::now();
+    LossGradient result;
+    try {
+      result = method == "jet" ? JetLossGradient(scene.model, parameters, observations)
+                               : CentralDifferenceLossGradient(scene.model, parameters, observations);
+    } catch (const SimulationDiverged& e) {
+      throw SimulationDiverged(scene.path + ": " + e.what(), e.time(), e.constraint());
+    }
+    bool finite = std::isfinite(result.loss);
+    for (double g : result.gradient) finite = finite && std::isfinite(g);
+    if (!finite) {
+      throw SimulationDiverged(scene.path +
+                                   ": the loss or its gradient is not finite (an overflow in the simulation "
+                                   "or its derivatives)",
+                               0.0, -1);
+    }
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return GradientJson(parameters, scene.model, result, method, seconds).dump();
+  });
+}
+
+std::string TuneScene(const Scene& scene, const std::string& objective, const std::string& optimizer, int samples,
+                      int max_evaluations) {
+  TuneSettings settings;
+  if (objective == "reference") {
+    settings.objective.kind = GainObjectiveKind::kReference;
+  } else if (objective == "drift") {
+    settings.objective.kind = GainObjectiveKind::kDrift;
+  } else {
+    throw InputError("objective: unknown objective '" + objective + "' (expected reference or drift)");
+  }
+  CheckCount(samples, 1, kMaxSamples, "samples");
+  CheckCount(max_evaluations, 2, kMaxEvaluations, "max_evaluations");
+  CheckOptimizerName(optimizer);
+  settings.objective.samples = samples;
+  settings.optimizer.name = optimizer;
+  settings.optimizer.max_evaluations = max_evaluations;
+  return Interruptible([&] {
+    try {
+      return TuneJson(TuneGains(scene.model, settings), objective, optimizer, scene.model.simulation.step).dump();
+    } catch (const SimulationDiverged& e) {
+      throw SimulationDiverged(scene.path + ": the reference motion diverged: " + e.what(), e.time(), e.constraint());
+    }
+  });
+}
+
+struct Dataset {
+  std::string source;
+  std::vector<std::string> names;
+  py::array_t<double, py::array::c_style | py::array::forcecast> values;
+};
+
+std::string IdentifyParameters(const Scene& scene, const std::vector<Dataset>& datasets,
+                               const std::vector<std::string>& pointers,
+                               const std::vector<std::tuple<std::string, double, double>>& bounds, int segments,
+                               const std::string& loss, const std::string& optimizer, int max_evaluations,
+                               double smooth) {
+  IdentifySettings settings;
+  CheckOptimizerName(optimizer);
+  settings.optimizer.name = optimizer;
+  if (!loss.empty()) settings.optimizer.loss = ParseRobustLoss(loss, "loss");
+  CheckCount(segments, 1, kMaxSegments, "segments");
+  CheckCount(max_evaluations, 2, kMaxEvaluations, "max_evaluations");
+  if (!(smooth >= 0) || !std::isfinite(smooth)) throw InputError("smooth: must be >= 0");
+  settings.segments = segments;
+  settings.smooth = smooth;
+  settings.optimizer.max_evaluations = max_evaluations;
+  const ParameterSet parameters(scene, pointers);
+  settings.bounds.assign(parameters.size(), {-std::numeric_limits<double>::max(), std::numeric_limits<double>::max()});
+  for (const auto& [pointer, lo, hi] : bounds) {
+    const auto it = std::find(pointers.begin(), pointers.end(), pointer);
+    if (it == pointers.end()) throw InputError("bounds: '" + pointer + "' is not one of the parameters");
+    if (!(lo < hi)) throw InputError("bounds: '" + pointer + "': the lower bound must be below the upper");
+    settings.bounds[it - pointers.begin()] = {lo, hi};
+  }
+  std::vector<Observations> recordings;
+  for (const Dataset& d : datasets) recordings.push_back(Data(d.source, d.names, d.values, scene.model));
+  return Interruptible([&] {
+    try {
+      return IdentifyJson(parameters, Identify(scene.model, parameters, recordings, settings), optimizer, segments)
+          .dump();
+    } catch (const InputError& e) {
+      throw InputError(scene.path + ": " + e.what());
+    }
+  });
+}
+
+// Runs (or resumes) a study into `folder`; its results are folder/results.csv, as `tether study` writes them.
+void RunStudyFile(const std::string& path, const std::string& folder, int threads, bool restart) {
+  const StudySpec spec = ReadStudySpec(path);
+  CheckCount(threads, 1, kMaxThreads, "threads");
+  Interruptible([&] { return RunStudy(spec, folder, threads, restart, [](int, int, double) {}); });
+}
+
+}  // namespace
+}  // namespace tether::python
+
+PYBIND11_MODULE(_tether, m) {
+  using namespace tether;
+  using namespace tether::python;
+  m.doc() = "tether's C++ core; use the tether package (python/tether/__init__.py)";
+  py::register_exception<InputError>(m, "InputError", PyExc_ValueError);
+  py::register_exception<SimulationDiverged>(m, "SimulationDiverged", PyExc_RuntimeError);
+  py::register_exception<OutputError>(m, "OutputError", PyExc_OSError);
+
+  py::class_<Scene>(m, "Scene")
+      .def_static("load", &ReadSceneFile, py::arg("path"))
+      .def_static("parse", [](const std::string& text,
+                              const std::string& name) { return ParseScene(ParseJsonText(text, name), name); })
+      .def_readonly("path", &Scene::path)
+      .def("text", [](const Scene& s) { return s.document.dump(); })
+      .def("dimension", [](const Scene& s) { return s.model.dimension; })
+      .def("duration", [](const Scene& s) { return s.model.simulation.duration; });
+
+  py::class_<Recorded>(m, "Recorded")
+      .def_readonly("columns", &Recorded::columns)
+      .def_readonly("table", &Recorded::table)
+      .def_readonly("q", &Recorded::q)
+      .def_readonly("v", &Recorded::v);
+  m.def("simulate", &SimulateScene);
+  m.def("gradient", &GradientOf);
+  m.def("tune", &TuneScene);
+  py::class_<Dataset>(m, "Dataset")
+      .def(py::init<std::string, std::vector<std::string>,
+                    py::array_t<double, py::array::c_style | py::array::forcecast>>());
+  m.def("identify", &IdentifyParameters);
+  m.def("check", [](const Scene& scene) { return SceneCheckJson(CheckScene(scene.model)).dump(); });
+  m.def("study", &RunStudyFile);
+}

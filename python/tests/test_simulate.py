@@ -1,0 +1,60 @@
+"""Scene.simulate: the arrays are the command line's CSV to the last digit; q and v in the model's layouts;
+columns(), to_pandas(); the overrides; errors."""
+import numpy as np
+import pytest
+
+import tether
+from conftest import cli, read_csv, source
+
+
+@pytest.mark.parametrize("scene_file", ["pendulum.json", "four_bar.json", "robot_arm.json"])
+def test_arrays_are_the_cli_csv_to_the_last_digit(tmp_path, scene_file):
+    path = source("scenes", scene_file)
+    cli("simulate", path, "--duration", "0.2", "--every", "10", "-o", tmp_path / "run.csv")
+    header, rows = read_csv(tmp_path / "run.csv")
+    run = tether.Scene.load(path).simulate(duration=0.2, every=10)
+    assert run.names == header
+    assert np.array_equal(run.table, np.array(rows))  # exactly: the CSV prints shortest round-trip numbers
+    assert np.array_equal(run.t, np.array(rows)[:, 0])
+    assert len(run) == len(rows)
+
+
+def test_q_and_v_are_the_models_layouts():
+    run = tether.Scene.load(source("scenes", "robot_arm.json")).simulate(duration=0.05)
+    assert run.q.shape == (len(run), 7 * 7)  # seven 3D bodies: position and quaternion
+    assert run.v.shape == (len(run), 7 * 6)
+    assert np.array_equal(run.q[:, 0], run["link1.x"])
+    assert not run.q.flags.owndata  # the run's memory, not a copy
+    norms = np.linalg.norm(run.q[:, 3:7], axis=1)
+    assert np.allclose(norms, 1.0, atol=1e-12)
+
+
+def test_columns_and_pandas(pendulum):
+    run = tether.Scene.load(pendulum).simulate(duration=0.01)
+    columns = run.columns()
+    assert list(columns) == run.names
+    assert np.array_equal(columns["bob.x"], run["bob.x"])
+    assert np.array_equal(run.energy, columns["energy"])
+    frame = run.to_pandas()
+    assert list(frame.columns) == run.names
+    assert np.array_equal(frame["bob.y"].to_numpy(), run["bob.y"])
+    with pytest.raises(KeyError, match="no column 'bob.z'"):
+        run["bob.z"]
+
+
+def test_overrides_and_their_errors(pendulum):
+    scene = tether.Scene.load(pendulum)
+    run = scene.simulate(duration=0.1, step=0.01, integrator="symplectic_euler")
+    assert len(run) == 11 and run.t[-1] == 0.1
+    with pytest.raises(tether.InputError, match=r"integrator: unknown integrator 'rk9'"):
+        scene.simulate(duration=0.1, integrator="rk9")
+    with pytest.raises(tether.InputError, match=r"step: must be > 0"):
+        scene.simulate(step=-1.0)
+    with pytest.raises(tether.InputError, match=r"every: must be a whole number from 1 to"):
+        scene.simulate(every=0)
+
+
+def test_a_diverging_run_raises_simulation_diverged():
+    scene = tether.Scene.load(source("scenes", "chain20.json"))
+    with pytest.raises(tether.SimulationDiverged, match=r"diverged at t = .* constraint"):
+        scene.simulate(step=0.01, duration=2.0)

@@ -1,0 +1,232 @@
+"""tether: constrained multibody dynamics in maximal coordinates, differentiable end to end.
+
+The Python face of the C++ library (docs/python.md). A scene is loaded from a file or built from a dict and is
+validated exactly as `tether` validates a file; it simulates into a Trajectory of NumPy arrays; gradient, tune,
+identify, fit and check return what the command line prints as JSON, as Python objects; study runs a study file.
+Data are tables: a dict of equal-length arrays, a pandas DataFrame or a Trajectory, with a `t` column and any
+trajectory columns (NaN where a value is missing).
+
+Errors are exceptions: InputError (a ValueError, naming the file or "<dict>" and the JSON Pointer, the row or
+the argument at fault), SimulationDiverged (a RuntimeError: when and which constraint), OutputError (an OSError:
+a file that could not be written), and KeyboardInterrupt when Ctrl-C stops a run (it stops at its next step; the
+interpreter's lock is released while tether runs). An estimate that failed (identify, fit) is returned with
+"failed": true and warned as EstimateFailed.
+"""
+import csv
+import json
+import os
+import warnings
+from collections.abc import Mapping
+
+import numpy as np
+
+from . import _tether
+from ._tether import InputError, OutputError, SimulationDiverged
+
+__all__ = ["Scene", "Trajectory", "gradient", "tune", "identify", "fit", "check", "study", "InputError",
+           "SimulationDiverged", "OutputError", "EstimateFailed"]
+for _error in (InputError, OutputError, SimulationDiverged):
+    _error.__module__ = __name__  # shown as tether.InputError
+
+
+class EstimateFailed(UserWarning):
+    """Warned by identify and fit when their result has "failed": true (the command line's exit status 1): the
+    residuals are far above the data's noise, or the optimizer did not converge. The result is returned all the
+    same, with its warnings and without standard deviations."""
+
+
+def _tokens(pointer):
+    """The reference tokens of a JSON Pointer (RFC 6901)."""
+    if not isinstance(pointer, str) or not pointer.startswith("/"):
+        raise InputError(f"{pointer!r}: not a JSON Pointer (it must look like /bodies/0/mass)")
+    return [t.replace("~1", "/").replace("~0", "~") for t in pointer[1:].split("/")]
+
+
+class Scene:
+    """A validated scene: Scene.load(path) or Scene.from_dict(d)."""
+
+    def __init__(self, core):
+        self._core = core
+
+    @classmethod
+    def load(cls, path):
+        """Reads and validates a scene file."""
+        return cls(_tether.Scene.load(os.fspath(path)))
+
+    @classmethod
+    def from_dict(cls, document, name="<dict>"):
+        """Validates a scene given as Python objects, as a file is validated; `name` names it in messages."""
+        return cls(_tether.Scene.parse(json.dumps(document, allow_nan=False), name))
+
+    @property
+    def path(self):
+        """The file the scene came from, or the name given to from_dict."""
+        return self._core.path
+
+    def to_dict(self):
+        """The scene as Python objects (a new copy)."""
+        return json.loads(self._core.text())
+
+    def set(self, pointer, value):
+        """Sets the value at a JSON Pointer (which must exist) and validates the scene again; returns self."""
+        document = self.to_dict()
+        node, tokens = document, _tokens(pointer)
+        try:
+            for token in tokens[:-1]:
+                node = node[int(token)] if isinstance(node, list) else node[token]
+            last = tokens[-1]
+            if isinstance(node, list):
+                node[int(last)] = value
+            elif last in node:
+                node[last] = value
+            else:
+                raise KeyError(last)
+        except (KeyError, IndexError, ValueError, TypeError):
+            raise InputError(f"{self.path}: {pointer}: is not in the scene (a value left to its default must be "
+                             "written out to be set)") from None
+        self._core = _tether.Scene.parse(json.dumps(document, allow_nan=False), self.path)
+        return self
+
+    def simulate(self, duration=None, step=None, integrator=None, every=1):
+        """Runs the scene (with these settings instead of its own where given) into a Trajectory."""
+        return Trajectory(_tether.simulate(self._core, duration, step, integrator, every))
+
+    def __repr__(self):
+        return f"tether.Scene({self.path!r})"
+
+
+class Trajectory:
+    """A run: every output row's time `t`, configuration `q` and velocity `v` (the model's layouts, rows x size),
+    `constraint_error` and `energy`, and every CSV column by name (columns(), to_pandas()). The arrays are views of
+    the memory the run filled."""
+
+    def __init__(self, recorded):
+        self.table = recorded.table
+        self.q = recorded.q
+        self.v = recorded.v
+        self._names = list(recorded.columns)
+        self._index = {name: k for k, name in enumerate(self._names)}
+        self.t = self["t"]
+        self.constraint_error = self["constraint_error"]
+        self.energy = self["energy"]
+
+    @property
+    def names(self):
+        """The CSV's column names, in its order."""
+        return list(self._names)
+
+    def __getitem__(self, name):
+        try:
+            return self.table[:, self._index[name]]
+        except KeyError:
+            raise KeyError(f"no column {name!r} (the columns are {', '.join(self._names)})") from None
+
+    def columns(self):
+        """Every column by its CSV name, as views."""
+        return {name: self.table[:, k] for k, name in enumerate(self._names)}
+
+    def to_pandas(self):
+        """A pandas DataFrame with the CSV's columns (needs pandas)."""
+        import pandas
+        return pandas.DataFrame(self.table, columns=self._names, copy=False)
+
+    def __len__(self):
+        return self.table.shape[0]
+
+
+def _scene(scene):
+    if isinstance(scene, Scene):
+        return scene._core
+    if isinstance(scene, Mapping):
+        return Scene.from_dict(scene)._core
+    return Scene.load(scene)._core
+
+
+def _table(data, name):
+    """(column names, rows x columns float array) of a table: a dict of arrays, a DataFrame or a Trajectory."""
+    if isinstance(data, Trajectory):  # all its columns but constraint_error, a diagnostic nothing observes
+        keep = [k for k, column in enumerate(data.names) if column != "constraint_error"]
+        return [data.names[k] for k in keep], data.table[:, keep]
+    if hasattr(data, "columns") and hasattr(data, "to_numpy"):  # a pandas DataFrame
+        return [str(c) for c in data.columns], data.to_numpy(dtype=float)
+    if isinstance(data, Mapping):
+        names = [str(k) for k in data]
+        columns = [np.asarray(data[k], dtype=float).reshape(-1) for k in data]
+        if len({len(c) for c in columns}) > 1:
+            raise InputError(f"{name}: the columns have different lengths")
+        return names, np.column_stack(columns) if columns else np.zeros((0, 0))
+    raise InputError(f"{name}: expected a dict of arrays, a pandas DataFrame or a Trajectory, "
+                     f"got {type(data).__name__}")
+
+
+def _datasets(data):
+    tables = data if isinstance(data, (list, tuple)) else [data]
+    out = []
+    for k, table in enumerate(tables):
+        source = "data" if len(tables) == 1 else f"data[{k}]"
+        names, values = _table(table, source)
+        out.append(_tether.Dataset(source, names, values))
+    return out
+
+
+def _pointers(params):
+    return [params] if isinstance(params, str) else list(params)
+
+
+def gradient(scene, data, params, method="jet"):
+    """The loss 1/2 sum (simulated - observed)^2 over the data and its gradient with respect to the parameters
+    (JSON Pointers): {"loss", "gradient", "parameters", "method", "seconds"}, as `tether gradient` prints.
+    method: "jet" (forward mode through the KKT solves) or "fd" (central differences)."""
+    names, values = _table(data, "data")
+    return json.loads(_tether.gradient(_scene(scene), names, values, _pointers(params), method))
+
+
+def tune(scene, objective="reference", optimizer="ceres", samples=1, max_evaluations=200):
+    """Tunes the Baumgarte gains for the scene's integrator and step, as `tether tune` (its JSON)."""
+    return json.loads(_tether.tune(_scene(scene), objective, optimizer, samples, max_evaluations))
+
+
+def _estimate(scene, data, params, bounds, segments, loss, optimizer, max_evaluations, smooth):
+    bounds = [(p, -np.finfo(float).max if lo is None else float(lo), np.finfo(float).max if hi is None else float(hi))
+              for p, (lo, hi) in (bounds or {}).items()]
+    result = json.loads(_tether.identify(_scene(scene), _datasets(data), _pointers(params), bounds, segments,
+                                         loss or "", optimizer, max_evaluations, smooth))
+    if result["failed"]:  # where the command line exits with status 1
+        warnings.warn("the estimate failed: " + "; ".join(result["warnings"]), EstimateFailed, stacklevel=3)
+    return result
+
+
+def identify(scene, data, params, bounds=None, segments=1, loss=None, optimizer="ceres", max_evaluations=200):
+    """Estimates the parameters (JSON Pointers) from one recording or a list of them, as `tether identify` (its
+    JSON: estimates, standard deviations, correlations, residuals, "failed"). bounds: {pointer: (lo, hi)}, either
+    may be None; loss: None, "huber:DELTA" or "cauchy:DELTA"."""
+    return _estimate(scene, data, params, bounds, segments, loss, optimizer, max_evaluations, 0.0)
+
+
+def fit(scene, data, params, bounds=None, segments=1, loss=None, optimizer="ceres", max_evaluations=200,
+        smooth=0.0):
+    """Fits initial conditions or schedules to targets, as `tether fit` (smooth: the weight of the penalty on
+    changes between schedule values)."""
+    return _estimate(scene, data, params, bounds, segments, loss, optimizer, max_evaluations, smooth)
+
+
+def check(scene):
+    """Degrees of freedom, rank, redundant constraints, initial violation and conditioning, as `tether check
+    --json`."""
+    return json.loads(_tether.check(_scene(scene)))
+
+
+def _cell(text):
+    try:
+        return float(text)
+    except ValueError:
+        return text
+
+
+def study(path, out, threads=None, restart=False):
+    """Runs (or resumes) the study file `path` into the folder `out`, as `tether study` does (results.csv, without
+    the figures and summary.md the command line adds), and returns results.csv's rows as dicts."""
+    threads = (os.cpu_count() or 1) if threads is None else threads
+    _tether.study(os.fspath(path), os.fspath(out), threads, restart)
+    with open(os.path.join(os.fspath(out), "results.csv"), newline="") as f:
+        return [{k: _cell(v) for k, v in row.items()} for row in csv.DictReader(f)]

@@ -1,0 +1,83 @@
+#include "tether/tuning/reports.h"
+
+#include <cmath>
+
+namespace tether {
+namespace {
+
+nlohmann::json NumberOrNull(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
+
+nlohmann::json MetricsJson(const GainMetrics& m) {
+  nlohmann::json j = {{"name", m.name},
+                      {"alpha", m.alpha},
+                      {"beta", m.beta},
+                      {"objective", m.objective},
+                      {"diverged", m.diverged},
+                      {"rms_position_error", m.rms_position_error},
+                      {"max_constraint_error", m.max_constraint_error},
+                      {"energy_drift", m.energy_drift},
+                      {"seconds", m.seconds}};
+  if (m.diverged) j["divergence"] = m.divergence;
+  return j;  // NaN (no reference, or diverged) prints as null
+}
+
+}  // namespace
+
+nlohmann::json TuneJson(const TuneResult& result, const std::string& objective_kind, const std::string& optimizer,
+                        double step) {
+  nlohmann::json json = {{"alpha", result.alpha},
+                         {"beta", result.beta},
+                         {"omega", result.omega},
+                         {"zeta", result.zeta},
+                         {"objective", result.objective},
+                         {"objective_kind", objective_kind},
+                         {"window", result.window},
+                         {"optimizer", optimizer},
+                         {"evaluations", result.optimizer.evaluations},
+                         {"seconds", result.optimizer.seconds},
+                         {"optimizer_message", result.optimizer.message},
+                         {"stability", {{"h_omega", step * result.omega},
+                                        {"bound", result.bound},
+                                        {"margin", result.margin},
+                                        {"omega_upper", result.omega_upper}}}};
+  json["comparison"] = nlohmann::json::array();
+  for (const GainMetrics& m : result.comparison) json["comparison"].push_back(MetricsJson(m));
+  return json;
+}
+
+nlohmann::json IdentifyJson(const ParameterSet& parameters, const IdentifyResult& r, const std::string& optimizer,
+                            int segments) {
+  nlohmann::json j;
+  j["parameters"] = nlohmann::json::object();
+  j["standard_deviation"] = nlohmann::json::object();
+  j["initial_parameters"] = nlohmann::json::object();
+  j["correlation"] = nlohmann::json::object();
+  for (int i = 0; i < parameters.size(); ++i) {
+    const std::string& ptr = parameters.pointers()[i];
+    j["parameters"][ptr] = r.estimate[i];
+    j["standard_deviation"][ptr] = NumberOrNull(r.standard_deviation[i]);
+    j["initial_parameters"][ptr] = r.initial[i];
+    for (int k = 0; k < parameters.size(); ++k) {
+      j["correlation"][ptr][parameters.pointers()[k]] = NumberOrNull(r.correlation(i, k));
+    }
+  }
+  j["initial_cost"] = r.initial_cost;
+  j["final_cost"] = r.final_cost;
+  j["condition_number"] = NumberOrNull(r.condition_number);
+  j["residual_count"] = r.residual_count;
+  j["evaluations"] = r.optimizer.evaluations;
+  j["seconds"] = r.optimizer.seconds;
+  j["optimizer"] = optimizer;
+  j["optimizer_message"] = r.optimizer.message;
+  j["segments"] = segments;
+  j["warnings"] = r.warnings;
+  j["failed"] = r.failed;
+  j["residuals"] = nlohmann::json::array();
+  for (const ResidualStatistics& s : r.residuals) {
+    j["residuals"].push_back({{"file", s.file}, {"column", s.column}, {"count", s.count}, {"rms", s.rms},
+                              {"max", s.largest}});
+  }
+  return j;
+}
+
+}  // namespace tether
