@@ -1,22 +1,17 @@
 // Command-line flags that override a scene's simulation and stabilization settings, shared by the commands
-// that run scenes. Each value is validated with a message naming its flag.
+// that run scenes. Each value is validated (settings_overrides.h) with a message naming its flag.
 #pragma once
 
 #include <CLI/CLI.hpp>
-#include <optional>
-#include <string>
 
-#include "tether/dynamics/model.h"
+#include "tether/dynamics/settings_overrides.h"
 
 namespace tether::cli {
 
-struct SceneOverrides {
-  std::optional<double> duration, step, alpha, beta;
-  std::optional<std::string> integrator, solver, stabilization;
-
+struct SceneOverrides : SettingsOverrides {
   void Register(CLI::App* app);
   // Applies the flags to the model; throws InputError naming the flag at fault.
-  void Apply(Model<double>* model) const;
+  void Apply(Model<double>* model) const { SettingsOverrides::Apply(model, "--"); }
 };
 
 }  // namespace tether::cli

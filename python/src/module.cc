@@ -23,6 +23,7 @@
 #include "tether/dynamics/request_limits.h"
 #include "tether/dynamics/scene_check.h"
 #include "tether/dynamics/scene_reader.h"
+#include "tether/dynamics/settings_overrides.h"
 #include "tether/dynamics/simulator.h"
 #include "tether/dynamics/trajectory_columns.h"
 #include "tether/studies/study.h"
@@ -55,31 +56,16 @@ auto Interruptible(Work work) {
   }
 }
 
-// The scene overrides of the command line's simulate, as keyword arguments (None: the scene's own).
-void Override(Model<double>* model, std::optional<double> duration, std::optional<double> step,
-              std::optional<std::string> integrator) {
-  if (duration) {
-    if (!(*duration > 0) || !std::isfinite(*duration)) throw InputError("duration: must be > 0");
-    model->simulation.duration = *duration;
-  }
-  if (step) {
-    if (!(*step > 0) || !std::isfinite(*step)) throw InputError("step: must be > 0");
-    model->simulation.step = *step;
-  }
-  if (integrator) model->simulation.integrator = ParseIntegrator(*integrator, "integrator");
-  CheckStepCount(model->simulation, "duration and step");
-}
-
 struct Recorded {
   std::vector<std::string> columns;
   py::array_t<double> table, q, v;
 };
 
-Recorded SimulateScene(const Scene& scene, std::optional<double> duration, std::optional<double> step,
-                       std::optional<std::string> integrator, int every) {
+// A run of the scene with `overrides` (None: the scene's own settings), every `every`-th step recorded.
+Recorded SimulateScene(const Scene& scene, const SettingsOverrides& overrides, int every) {
   CheckCount(every, 1, std::numeric_limits<int>::max(), "every");
   Model<double> model = scene.model;
-  Override(&model, duration, step, integrator);
+  overrides.Apply(&model, "");
   const std::vector<TrajectoryColumn> columns = TrajectoryColumns(model);
   const size_t nq = model.NumCoordinates(), nv = model.NumVelocities();
   std::vector<double> table, q, v;
@@ -252,6 +238,15 @@ PYBIND11_MODULE(_tether, m) {
       .def_readonly("table", &Recorded::table)
       .def_readonly("q", &Recorded::q)
       .def_readonly("v", &Recorded::v);
+  py::class_<SettingsOverrides>(m, "SettingsOverrides")
+      .def(py::init<>())
+      .def_readwrite("duration", &SettingsOverrides::duration)
+      .def_readwrite("step", &SettingsOverrides::step)
+      .def_readwrite("integrator", &SettingsOverrides::integrator)
+      .def_readwrite("alpha", &SettingsOverrides::alpha)
+      .def_readwrite("beta", &SettingsOverrides::beta)
+      .def_readwrite("solver", &SettingsOverrides::solver)
+      .def_readwrite("stabilization", &SettingsOverrides::stabilization);
   m.def("simulate", &SimulateScene);
   m.def("gradient", &GradientOf);
   m.def("tune", &TuneScene);

@@ -48,10 +48,27 @@ def test_overrides_and_their_errors(pendulum):
     assert len(run) == 11 and run.t[-1] == 0.1
     with pytest.raises(tether.InputError, match=r"integrator: unknown integrator 'rk9'"):
         scene.simulate(duration=0.1, integrator="rk9")
-    with pytest.raises(tether.InputError, match=r"step: must be > 0"):
+    with pytest.raises(tether.InputError, match=r"step: must be > 0, got -1"):
         scene.simulate(step=-1.0)
+    with pytest.raises(tether.InputError, match=r"duration/step: .* steps"):
+        scene.simulate(duration=1e6, step=1e-6)
+    with pytest.raises(tether.InputError, match=r"alpha/beta: gains apply to the baumgarte method only"):
+        scene.simulate(alpha=1.0, stabilization="projection")
+    with pytest.raises(tether.InputError, match=r"solver: unknown"):
+        scene.simulate(solver="fastest")
     with pytest.raises(tether.InputError, match=r"every: must be a whole number from 1 to"):
         scene.simulate(every=0)
+
+
+@pytest.mark.parametrize("settings", [
+    {"alpha": 20.0, "step": 2e-3}, {"beta": 50.0, "integrator": "symplectic_euler"},
+    {"stabilization": "projection", "solver": "dense"}, {"stabilization": "none", "duration": 0.3}])
+def test_settings_as_the_cli_flags(tmp_path, settings):
+    path = source("scenes", "four_bar.json")
+    flags = sum(([f"--{name}", str(value)] for name, value in settings.items()), [])
+    cli("simulate", path, *flags, "--every", "20", "-o", tmp_path / "run.csv")
+    _, rows = read_csv(tmp_path / "run.csv")
+    assert np.array_equal(tether.Scene.load(path).simulate(every=20, **settings).table, np.array(rows))
 
 
 def test_a_diverging_run_raises_simulation_diverged():

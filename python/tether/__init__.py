@@ -87,9 +87,18 @@ class Scene:
         self._core = _tether.Scene.parse(json.dumps(document, allow_nan=False), self.path)
         return self
 
-    def simulate(self, duration=None, step=None, integrator=None, every=1):
-        """Runs the scene (with these settings instead of its own where given) into a Trajectory."""
-        return Trajectory(_tether.simulate(self._core, duration, step, integrator, every))
+    def simulate(self, duration=None, step=None, integrator=None, every=1, *, alpha=None, beta=None,
+                 stabilization=None, solver=None):
+        """Runs the scene into a Trajectory, recording every `every`-th step. The other arguments, where given,
+        replace the scene's settings as the command line's flags of the same names do: duration and step in s,
+        integrator ("euler", "symplectic_euler", "rk4", "rk45"), alpha (1/s) and beta (1/s^2), which select the
+        baumgarte method, stabilization ("none", "baumgarte", "projection") and solver ("auto", "dense",
+        "sparse")."""
+        overrides = _tether.SettingsOverrides()
+        for name, value in (("duration", duration), ("step", step), ("integrator", integrator), ("alpha", alpha),
+                            ("beta", beta), ("stabilization", stabilization), ("solver", solver)):
+            setattr(overrides, name, value)
+        return Trajectory(_tether.simulate(self._core, overrides, every))
 
     def __repr__(self):
         return f"tether.Scene({self.path!r})"
