@@ -60,7 +60,7 @@ class IdentifyCommand final : public Command {
   int Run() override {
     IdentifySettings settings;
     settings.optimizer.name = optimizer_;
-    CheckOptimizerName(optimizer_);
+    CheckOptimizerName(optimizer_, "--optimizer");
     if (!loss_.empty()) settings.optimizer.loss = ParseRobustLoss(loss_, "--loss");
     CheckCount(segments_, 1, kMaxSegments, "--segments");
     CheckCount(max_evaluations_, 2, kMaxEvaluations, "--max-evaluations");

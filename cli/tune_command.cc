@@ -62,7 +62,7 @@ class TuneCommand final : public Command {
     settings.objective.samples = samples_;
     settings.optimizer.name = optimizer_;
     settings.optimizer.max_evaluations = max_evaluations_;
-    CheckOptimizerName(optimizer_);
+    CheckOptimizerName(optimizer_, "--optimizer");
     Scene scene = ReadSceneFile(scene_path_);
     overrides_.Apply(&scene.model);
     std::unique_ptr<AtomicOutputFile> out;

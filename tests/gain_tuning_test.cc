@@ -364,7 +364,7 @@ TEST(Minimize, RefusesAnInfeasibleStartAndUnknownNames) {
       Minimize(OvershootingResiduals(&trials, 1.5), {0.0, 0.0}, {-3.0, -3.0}, {12.0, 3.0}, settings);
       ADD_FAILURE() << name << " was accepted";
     } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find("--optimizer"), std::string::npos) << e.what();
+      EXPECT_EQ(std::string(e.what()).rfind("optimizer: unknown", 0), 0u) << e.what();  // the settings field
     }
   }
 }

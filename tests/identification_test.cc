@@ -640,10 +640,10 @@ TEST(Identification, NloptAgreesWithCeres) { ExpectNloptAgreesWithCeres({}); }
 TEST(Identification, NloptAgreesWithCeresInsideABox) { ExpectNloptAgreesWithCeres({{1.0, 1000.0}, {0.01, 10.0}}); }
 
 TEST(Identification, UnknownOptimizerNames) {
-  EXPECT_NO_THROW(CheckOptimizerName("ceres"));
-  EXPECT_NO_THROW(CheckOptimizerName("nlopt:LN_BOBYQA"));
-  EXPECT_THROW(CheckOptimizerName("nlopt:NOPE"), InputError);
-  EXPECT_THROW(CheckOptimizerName("simplex"), InputError);
+  EXPECT_NO_THROW(CheckOptimizerName("ceres", "--optimizer"));
+  EXPECT_NO_THROW(CheckOptimizerName("nlopt:LN_BOBYQA", "--optimizer"));
+  EXPECT_THROW(CheckOptimizerName("nlopt:NOPE", "--optimizer"), InputError);
+  EXPECT_THROW(CheckOptimizerName("simplex", "--optimizer"), InputError);
 }
 
 }  // namespace

@@ -37,8 +37,9 @@ void RemoveTemporaries() {
 }
 
 extern "C" void OnInterrupt(int signal) {
-  if (catching.load() > 0 && caught.load() == 0) {
-    caught.store(signal);
+  // noted, not the end: a first signal during a job, or any while runs in the Python module may be cancelled
+  if (cancelling.load() > 0 || (catching.load() > 0 && caught.load() == 0)) {
+    if (caught.load() == 0) caught.store(signal);
     return;
   }
   RemoveTemporaries();

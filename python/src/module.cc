@@ -19,7 +19,6 @@
 #include "tether/autodiff/residuals.h"
 #include "tether/dynamics/errors.h"
 #include "tether/dynamics/interrupts.h"
-#include "tether/dynamics/names.h"
 #include "tether/dynamics/request_limits.h"
 #include "tether/dynamics/scene_check.h"
 #include "tether/dynamics/scene_reader.h"
@@ -56,35 +55,57 @@ auto Interruptible(Work work) {
   }
 }
 
+// Runs `work` on `scene` as Interruptible does; its InputError and SimulationDiverged name the scene's file (or
+// the name given to from_dict) first, as the command line's messages do.
+template <typename Work>
+auto OnScene(const Scene& scene, Work work) {
+  return Interruptible([&] {
+    try {
+      return work();
+    } catch (const InputError& e) {
+      throw InputError(scene.path + ": " + e.what());
+    } catch (const SimulationDiverged& e) {
+      throw SimulationDiverged(scene.path + ": " + e.what(), e.time(), e.constraint());
+    }
+  });
+}
+
+// The most a run's arrays may hold, refused up front rather than running out of memory at the end.
+constexpr double kMaxRecordingBytes = 4.0 * (1 << 30);
+
 struct Recorded {
   std::vector<std::string> columns;
   py::array_t<double> table, q, v;
 };
 
-// A run of the scene with `overrides` (None: the scene's own settings), every `every`-th step recorded.
+// A run of the scene with `overrides` in place of its settings, every `every`-th step recorded.
 Recorded SimulateScene(const Scene& scene, const SettingsOverrides& overrides, int every) {
   CheckCount(every, 1, std::numeric_limits<int>::max(), "every");
   Model<double> model = scene.model;
   overrides.Apply(&model, "");
   const std::vector<TrajectoryColumn> columns = TrajectoryColumns(model);
   const size_t nq = model.NumCoordinates(), nv = model.NumVelocities();
+  const size_t expected_rows = static_cast<size_t>(StepCount(model.simulation) / every) + 2;  // t = 0, the end
+  const double bytes = 8.0 * static_cast<double>(expected_rows) * static_cast<double>(columns.size() + nq + nv);
+  if (bytes > kMaxRecordingBytes) {
+    throw InputError(scene.path + ": the run would record " + std::to_string(expected_rows) + " rows of " +
+                     std::to_string(columns.size() + nq + nv) + " numbers, more than the 4 GiB a recording may " +
+                     "hold; record fewer rows (every) or simulate less (duration)");
+  }
   std::vector<double> table, q, v;
+  table.reserve(expected_rows * columns.size());
+  q.reserve(expected_rows * nq);
+  v.reserve(expected_rows * nv);
   size_t rows = 0;
-  Interruptible([&] {
+  OnScene(scene, [&] {
     RunOptions options;
     options.every = every;
-    try {
-      Simulate<double>(model, options, [&](const Sample<double>& s) {
-        for (const TrajectoryColumn& column : columns) table.push_back(ColumnValue(model, column, s));
-        q.insert(q.end(), s.q.data(), s.q.data() + nq);
-        v.insert(v.end(), s.v.data(), s.v.data() + nv);
-        ++rows;
-      });
-    } catch (const InputError& e) {  // the initial state cannot be assembled
-      throw InputError(scene.path + ": " + e.what());
-    } catch (const SimulationDiverged& e) {
-      throw SimulationDiverged(scene.path + ": " + e.what(), e.time(), e.constraint());
-    }
+    Simulate<double>(model, options, [&](const Sample<double>& s) {
+      for (const TrajectoryColumn& column : columns) table.push_back(ColumnValue(model, column, s));
+      q.insert(q.end(), s.q.data(), s.q.data() + nq);
+      v.insert(v.end(), s.v.data(), s.v.data() + nv);
+      ++rows;
+    });
     return 0;
   });
   Recorded out;
@@ -118,22 +139,16 @@ std::string GradientOf(const Scene& scene, const std::vector<std::string>& names
     throw InputError("method: unknown method '" + method + "' (expected jet or fd)");
   const ParameterSet parameters(scene, pointers);
   const Observations observations = Data("data", names, values, scene.model);
-  return Interruptible([&] {
+  return OnScene(scene, [&] {
     const auto start = std::chrono::steady_clock::now();
-    LossGradient result;
-    try {
-      result = method == "jet" ? JetLossGradient(scene.model, parameters, observations)
-                               : CentralDifferenceLossGradient(scene.model, parameters, observations);
-    } catch (const SimulationDiverged& e) {
-      throw SimulationDiverged(scene.path + ": " + e.what(), e.time(), e.constraint());
-    }
+    const LossGradient result = method == "jet"
+                                    ? JetLossGradient(scene.model, parameters, observations)
+                                    : CentralDifferenceLossGradient(scene.model, parameters, observations);
     bool finite = std::isfinite(result.loss);
     for (double g : result.gradient) finite = finite && std::isfinite(g);
-    if (!finite) {
-      throw SimulationDiverged(scene.path +
-                                   ": the loss or its gradient is not finite (an overflow in the simulation "
-                                   "or its derivatives)",
-                               0.0, -1);
+    if (!finite) {  // a failure, never a result (the command line exits 1)
+      throw SimulationDiverged(
+          "the loss or its gradient is not finite (an overflow in the simulation or its derivatives)", 0.0, -1);
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return GradientJson(parameters, scene.model, result, method, seconds).dump();
@@ -152,15 +167,15 @@ std::string TuneScene(const Scene& scene, const std::string& objective, const st
   }
   CheckCount(samples, 1, kMaxSamples, "samples");
   CheckCount(max_evaluations, 2, kMaxEvaluations, "max_evaluations");
-  CheckOptimizerName(optimizer);
+  CheckOptimizerName(optimizer, "optimizer");
   settings.objective.samples = samples;
   settings.optimizer.name = optimizer;
   settings.optimizer.max_evaluations = max_evaluations;
-  return Interruptible([&] {
+  return OnScene(scene, [&] {
     try {
       return TuneJson(TuneGains(scene.model, settings), objective, optimizer, scene.model.simulation.step).dump();
     } catch (const SimulationDiverged& e) {
-      throw SimulationDiverged(scene.path + ": the reference motion diverged: " + e.what(), e.time(), e.constraint());
+      throw SimulationDiverged(std::string("the reference motion diverged: ") + e.what(), e.time(), e.constraint());
     }
   });
 }
@@ -177,7 +192,7 @@ std::string IdentifyParameters(const Scene& scene, const std::vector<Dataset>& d
                                const std::string& loss, const std::string& optimizer, int max_evaluations,
                                double smooth) {
   IdentifySettings settings;
-  CheckOptimizerName(optimizer);
+  CheckOptimizerName(optimizer, "optimizer");
   settings.optimizer.name = optimizer;
   if (!loss.empty()) settings.optimizer.loss = ParseRobustLoss(loss, "loss");
   CheckCount(segments, 1, kMaxSegments, "segments");
@@ -196,13 +211,9 @@ std::string IdentifyParameters(const Scene& scene, const std::vector<Dataset>& d
   }
   std::vector<Observations> recordings;
   for (const Dataset& d : datasets) recordings.push_back(Data(d.source, d.names, d.values, scene.model));
-  return Interruptible([&] {
-    try {
-      return IdentifyJson(parameters, Identify(scene.model, parameters, recordings, settings), optimizer, segments)
-          .dump();
-    } catch (const InputError& e) {
-      throw InputError(scene.path + ": " + e.what());
-    }
+  return OnScene(scene, [&] {
+    return IdentifyJson(parameters, Identify(scene.model, parameters, recordings, settings), optimizer, segments)
+        .dump();
   });
 }
 
@@ -220,6 +231,7 @@ PYBIND11_MODULE(_tether, m) {
   using namespace tether;
   using namespace tether::python;
   m.doc() = "tether's C++ core; use the tether package (python/tether/__init__.py)";
+  m.attr("__version__") = TETHER_VERSION;
   py::register_exception<InputError>(m, "InputError", PyExc_ValueError);
   py::register_exception<SimulationDiverged>(m, "SimulationDiverged", PyExc_RuntimeError);
   py::register_exception<OutputError>(m, "OutputError", PyExc_OSError);
@@ -229,9 +241,7 @@ PYBIND11_MODULE(_tether, m) {
       .def_static("parse", [](const std::string& text,
                               const std::string& name) { return ParseScene(ParseJsonText(text, name), name); })
       .def_readonly("path", &Scene::path)
-      .def("text", [](const Scene& s) { return s.document.dump(); })
-      .def("dimension", [](const Scene& s) { return s.model.dimension; })
-      .def("duration", [](const Scene& s) { return s.model.simulation.duration; });
+      .def("text", [](const Scene& s) { return s.document.dump(); });
 
   py::class_<Recorded>(m, "Recorded")
       .def_readonly("columns", &Recorded::columns)

@@ -63,8 +63,14 @@ def test_identify_takes_bounds_and_several_recordings():
     assert bounded["failed"] and bounded["parameters"]["/bodies/1/mass"] <= 1.5
     with pytest.raises(tether.InputError, match=r"bounds: '/bodies/0/mass' is not one of the parameters"):
         tether.identify(GUESS, data, ["/bodies/1/mass"], bounds={"/bodies/0/mass": (0, 1)})
-    with pytest.raises(tether.InputError, match=r"optimizer"):
+    with pytest.raises(tether.InputError, match=r"optimizer: unknown NLopt algorithm 'NOPE'"):
         tether.identify(GUESS, data, ["/bodies/1/mass"], optimizer="nlopt:NOPE")
+    with pytest.raises(tether.InputError, match=r"bounds: expected a dict"):
+        tether.identify(GUESS, data, ["/bodies/1/mass"], bounds=[(0.5, None)])
+    with pytest.raises(tether.InputError, match=r"bounds: '/bodies/1/mass': expected \(lo, hi\)"):
+        tether.identify(GUESS, data, ["/bodies/1/mass"], bounds={"/bodies/1/mass": (0.5, 1.0, 2.0)})
+    with pytest.raises(tether.InputError, match=r"params: give at least one JSON Pointer"):
+        tether.fit(GUESS, data, [])
 
 
 def test_fit_as_the_cli(tmp_path):

@@ -81,3 +81,34 @@ def test_bad_data_and_parameters_are_input_errors(pendulum, observed):
         tether.gradient(scene, data, "/bodies/0/name")
     with pytest.raises(tether.InputError, match=r"method: unknown method 'adjoint'"):
         tether.gradient(scene, data, PARAMS, method="adjoint")
+    with pytest.raises(tether.InputError, match=r"params: give at least one JSON Pointer"):
+        tether.gradient(scene, data, [])
+    with pytest.raises(tether.InputError, match=r"data: column 'bob.x': not all numbers"):
+        tether.gradient(scene, {"t": [0.1], "bob.x": ["left"]}, PARAMS)
+    with pytest.raises(tether.InputError, match=r"data: column 'bob.x': expected one value per row"):
+        tether.gradient(scene, {"t": [0.1, 0.2], "bob.x": [[1.0, 2.0], [3.0, 4.0]]}, PARAMS)
+    with pytest.raises(tether.InputError, match=r"data: the column 't' appears twice"):
+        tether.gradient(scene, pandas.DataFrame([[0.1, 0.2, 1.0]], columns=["t", "t", "bob.x"]), PARAMS)
+    with pytest.raises(tether.InputError, match=r"data: expected a dict of arrays"):
+        tether.gradient(scene, [[0.1, 1.0]], PARAMS)
+
+
+def test_missing_values_in_a_dataframe_are_missing_observations(pendulum, observed):
+    data, _ = observed
+    scene = scene_with_velocity(pendulum)
+    frame = pandas.DataFrame(data)
+    frame.loc[2, "bob.vy"] = None  # NaN: not observed
+    nullable = frame.astype({"bob.vy": "Float64"})  # pandas' own missing value, pandas.NA
+    with_nan = tether.gradient(scene, frame, PARAMS)
+    assert tether.gradient(scene, nullable, PARAMS)["gradient"] == with_nan["gradient"]
+    assert with_nan["loss"] < tether.gradient(scene, data, PARAMS)["loss"]
+
+
+def test_a_scene_that_cannot_be_assembled_is_named(tmp_path):
+    document = tether.Scene.load(source("scenes", "four_bar.json")).to_dict()
+    document["constraints"][0]["points"][0] = [5.0, 5.0]  # a pin moved far off: no assembly
+    scene = tether.Scene.from_dict(document, name="moved_pin")
+    with pytest.raises(tether.InputError, match=r"^moved_pin: .*"):
+        scene.simulate(duration=0.01)
+    with pytest.raises(tether.InputError, match=r"^moved_pin: .*"):
+        tether.gradient(scene, {"t": [0.01], "crank0.x": [0.0]}, "/bodies/0/mass")

@@ -1,4 +1,5 @@
 """Ctrl-C during a long run raises KeyboardInterrupt at once, and the module works on after it."""
+import json
 import os
 import signal
 import threading
@@ -44,3 +45,26 @@ def test_runs_in_several_threads_stop_together_and_python_handles_ctrl_c_after()
     with pytest.raises(KeyboardInterrupt):  # Python's own handling of SIGINT is back, whole
         os.kill(os.getpid(), signal.SIGINT)
         time.sleep(1.0)
+
+
+def test_a_second_ctrl_c_does_not_end_the_interpreter():
+    scene = tether.Scene.load(source("scenes", "chain100.json"))
+    timer = threading.Timer(0.5, lambda: [os.kill(os.getpid(), signal.SIGINT) for _ in range(3)])
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        scene.simulate(duration=1000.0, every=1000000)
+    assert len(scene.simulate(duration=0.01)) == 11
+
+
+def test_ctrl_c_in_a_study_keeps_no_row_it_stopped(tmp_path):
+    spec = tmp_path / "study.json"
+    spec.write_text(json.dumps({"scene": source("scenes", "chain100.json"),
+                                "sweep": {"/simulation/duration": [0.05, 0.06, 0.07, 0.08],
+                                          "/stabilization/method": ["tuned"]},
+                                "metrics": ["max_constraint_error"]}))
+    timer = threading.Timer(1.0, lambda: os.kill(os.getpid(), signal.SIGINT))
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        tether.study(spec, tmp_path / "out", threads=1)
+    rows = tether.study(spec, tmp_path / "out", threads=1)  # resumed: every row measured, none "failed"
+    assert [r["status"] for r in rows] == ["ok"] * 4

@@ -5,7 +5,7 @@ import json
 import pytest
 
 import tether
-from conftest import read_json, source
+from conftest import cli, read_json, source
 
 
 def test_load_and_to_dict_give_the_file(pendulum):
@@ -40,8 +40,20 @@ def test_set_changes_the_scene_and_validates_it(pendulum):
         scene.set("/bodies/0/charge", 1.0)
     with pytest.raises(tether.InputError, match=r"not a JSON Pointer"):
         scene.set("bodies/0/mass", 1.0)
+    with pytest.raises(tether.InputError, match=r"/bodies/-1/mass: is not in the scene"):  # no index from the end
+        scene.set("/bodies/-1/mass", 1.0)
+    with pytest.raises(tether.InputError, match=r"the scene holds NaN or an infinity"):
+        scene.set("/bodies/0/mass", float("nan"))
+    with pytest.raises(tether.InputError, match=r"<dict>: the scene holds NaN or an infinity"):
+        tether.Scene.from_dict({"bodies": [{"mass": float("inf")}]})
 
 
 def test_a_missing_file_is_an_input_error():
     with pytest.raises(tether.InputError, match=r"cannot"):
         tether.Scene.load(source("scenes", "no_such_scene.json"))
+
+
+def test_version_is_the_command_line_s_and_the_package_s():
+    assert cli("--version").split()[1] == tether.__version__
+    with open(source("pyproject.toml")) as f:
+        assert f'version = "{tether.__version__}"' in f.read()

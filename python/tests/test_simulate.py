@@ -56,6 +56,8 @@ def test_overrides_and_their_errors(pendulum):
         scene.simulate(alpha=1.0, stabilization="projection")
     with pytest.raises(tether.InputError, match=r"solver: unknown"):
         scene.simulate(solver="fastest")
+    with pytest.raises(tether.InputError, match=r"rows of 11 numbers, more than the 4 GiB a recording may hold"):
+        scene.simulate(duration=1e5, step=1e-4)  # 1e9 steps: refused before it runs
     with pytest.raises(tether.InputError, match=r"every: must be a whole number from 1 to"):
         scene.simulate(every=0)
 

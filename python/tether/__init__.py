@@ -22,6 +22,7 @@ import numpy as np
 
 from . import _tether
 from ._tether import InputError, OutputError, SimulationDiverged
+from ._tether import __version__  # the project's (CMakeLists.txt), as `tether --version` names it
 
 __all__ = ["Scene", "Trajectory", "gradient", "tune", "identify", "fit", "check", "study", "InputError",
            "SimulationDiverged", "OutputError", "EstimateFailed"]
@@ -35,11 +36,28 @@ class EstimateFailed(UserWarning):
     same, with its warnings and without standard deviations."""
 
 
+def _json_text(document, name):
+    """The scene as JSON text; NaN and infinities, which JSON lacks, are refused as a file's would be."""
+    try:
+        return json.dumps(document, allow_nan=False)
+    except ValueError:
+        raise InputError(f"{name}: the scene holds NaN or an infinity, which JSON cannot") from None
+    except TypeError as error:
+        raise InputError(f"{name}: {error}") from None
+
+
 def _tokens(pointer):
     """The reference tokens of a JSON Pointer (RFC 6901)."""
     if not isinstance(pointer, str) or not pointer.startswith("/"):
         raise InputError(f"{pointer!r}: not a JSON Pointer (it must look like /bodies/0/mass)")
     return [t.replace("~1", "/").replace("~0", "~") for t in pointer[1:].split("/")]
+
+
+def _index(token):
+    """An array index of a JSON Pointer: digits, without leading zeros (no negative index from the end)."""
+    if not token.isdigit() or (len(token) > 1 and token[0] == "0"):
+        raise ValueError(token)
+    return int(token)
 
 
 class Scene:
@@ -56,7 +74,7 @@ class Scene:
     @classmethod
     def from_dict(cls, document, name="<dict>"):
         """Validates a scene given as Python objects, as a file is validated; `name` names it in messages."""
-        return cls(_tether.Scene.parse(json.dumps(document, allow_nan=False), name))
+        return cls(_tether.Scene.parse(_json_text(document, name), name))
 
     @property
     def path(self):
@@ -73,10 +91,10 @@ class Scene:
         node, tokens = document, _tokens(pointer)
         try:
             for token in tokens[:-1]:
-                node = node[int(token)] if isinstance(node, list) else node[token]
+                node = node[_index(token)] if isinstance(node, list) else node[token]
             last = tokens[-1]
             if isinstance(node, list):
-                node[int(last)] = value
+                node[_index(last)] = value
             elif last in node:
                 node[last] = value
             else:
@@ -84,7 +102,7 @@ class Scene:
         except (KeyError, IndexError, ValueError, TypeError):
             raise InputError(f"{self.path}: {pointer}: is not in the scene (a value left to its default must be "
                              "written out to be set)") from None
-        self._core = _tether.Scene.parse(json.dumps(document, allow_nan=False), self.path)
+        self._core = _tether.Scene.parse(_json_text(document, self.path), self.path)
         return self
 
     def simulate(self, duration=None, step=None, integrator=None, every=1, *, alpha=None, beta=None,
@@ -156,16 +174,32 @@ def _table(data, name):
     if isinstance(data, Trajectory):  # all its columns but constraint_error, a diagnostic nothing observes
         keep = [k for k, column in enumerate(data.names) if column != "constraint_error"]
         return [data.names[k] for k in keep], data.table[:, keep]
-    if hasattr(data, "columns") and hasattr(data, "to_numpy"):  # a pandas DataFrame
-        return [str(c) for c in data.columns], data.to_numpy(dtype=float)
-    if isinstance(data, Mapping):
-        names = [str(k) for k in data]
-        columns = [np.asarray(data[k], dtype=float).reshape(-1) for k in data]
-        if len({len(c) for c in columns}) > 1:
-            raise InputError(f"{name}: the columns have different lengths")
-        return names, np.column_stack(columns) if columns else np.zeros((0, 0))
-    raise InputError(f"{name}: expected a dict of arrays, a pandas DataFrame or a Trajectory, "
-                     f"got {type(data).__name__}")
+    if hasattr(data, "columns") and hasattr(data, "iloc"):  # a pandas DataFrame (its columns may repeat a name)
+        pairs = [(str(label), data.iloc[:, k]) for k, label in enumerate(data.columns)]
+    elif isinstance(data, Mapping):
+        pairs = [(str(label), column) for label, column in data.items()]
+    else:
+        raise InputError(f"{name}: expected a dict of arrays, a pandas DataFrame or a Trajectory, "
+                         f"got {type(data).__name__}")
+    columns = [_numbers(column, name, label) for label, column in pairs]
+    if len({len(c) for c in columns}) > 1:
+        raise InputError(f"{name}: the columns have different lengths")
+    return [label for label, _ in pairs], np.column_stack(columns) if columns else np.zeros((0, 0))
+
+
+def _numbers(column, name, label):
+    """A column as a 1-D float array (a pandas Series' missing values as NaN)."""
+    try:
+        if hasattr(column, "to_numpy"):
+            values = column.to_numpy(dtype=float, na_value=np.nan)
+        else:
+            values = np.asarray(column, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"{name}: column {label!r}: not all numbers") from None
+    if values.ndim != 1:
+        raise InputError(f"{name}: column {label!r}: expected one value per row, got an array of shape "
+                         f"{values.shape}")
+    return values
 
 
 def _datasets(data):
@@ -179,7 +213,26 @@ def _datasets(data):
 
 
 def _pointers(params):
-    return [params] if isinstance(params, str) else list(params)
+    pointers = [params] if isinstance(params, str) else list(params)
+    if not pointers:
+        raise InputError("params: give at least one JSON Pointer")
+    return pointers
+
+
+def _bounds(bounds):
+    """{pointer: (lo, hi)} (None: unbounded) as (pointer, lo, hi) triples."""
+    if bounds is None:
+        return []
+    if not isinstance(bounds, Mapping):
+        raise InputError(f"bounds: expected a dict of {{pointer: (lo, hi)}}, got {type(bounds).__name__}")
+    out, big = [], np.finfo(float).max
+    for pointer, pair in bounds.items():
+        try:
+            lo, hi = pair
+            out.append((pointer, -big if lo is None else float(lo), big if hi is None else float(hi)))
+        except (TypeError, ValueError):
+            raise InputError(f"bounds: {pointer!r}: expected (lo, hi), either None, got {pair!r}") from None
+    return out
 
 
 def gradient(scene, data, params, method="jet"):
@@ -196,9 +249,7 @@ def tune(scene, objective="reference", optimizer="ceres", samples=1, max_evaluat
 
 
 def _estimate(scene, data, params, bounds, segments, loss, optimizer, max_evaluations, smooth):
-    bounds = [(p, -np.finfo(float).max if lo is None else float(lo), np.finfo(float).max if hi is None else float(hi))
-              for p, (lo, hi) in (bounds or {}).items()]
-    result = json.loads(_tether.identify(_scene(scene), _datasets(data), _pointers(params), bounds, segments,
+    result = json.loads(_tether.identify(_scene(scene), _datasets(data), _pointers(params), _bounds(bounds), segments,
                                          loss or "", optimizer, max_evaluations, smooth))
     if result["failed"]:  # where the command line exits with status 1
         warnings.warn("the estimate failed: " + "; ".join(result["warnings"]), EstimateFailed, stacklevel=3)

@@ -76,6 +76,8 @@ StudyRow MeasureRow(const StudySpec& spec, int index, ReferenceCache* references
     try {
       const TuneResult tuned = TuneGains(scene.model, TuneSettings{});
       scene.model = WithGains(scene.model, tuned.alpha, tuned.beta);
+    } catch (const RunInterrupted&) {  // Ctrl-C in the Python module (interrupts.h): the row is not measured
+      throw;
     } catch (const std::runtime_error& e) {  // InputError or SimulationDiverged: no gains to run with
       row.status = std::string("tuning failed: ") + e.what();
       return row;

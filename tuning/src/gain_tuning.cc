@@ -48,7 +48,7 @@ GainMetrics MeasureGains(const Model<double>& model, const std::string& name, do
 }
 
 TuneResult TuneGains(const Model<double>& model, const TuneSettings& settings) {
-  CheckOptimizerName(settings.optimizer.name);
+  CheckOptimizerName(settings.optimizer.name, "optimizer");
   const GainObjective objective(model, settings.objective);
   const double h = model.simulation.step;
   const Integrator integrator = model.simulation.integrator;

@@ -11,6 +11,7 @@
 #include <nlopt.hpp>
 
 #include "tether/dynamics/errors.h"
+#include "tether/dynamics/interrupts.h"
 
 namespace tether {
 namespace {
@@ -200,6 +201,8 @@ OptimizerResult MinimizeWithNlopt(const ResidualFunction& residuals, const std::
     value = opt.last_optimum_value();
     result.message = "nlopt stopped: roundoff limited";
   } catch (const std::runtime_error& e) {  // nlopt's failure codes arrive as exceptions
+    // an exception in the objective arrives as nlopt's forced stop; a cancelled run (interrupts.h) stays one
+    if (RunsCancelled()) throw RunInterrupted(Interrupted());
     value = opt.last_optimum_value();
     result.message = std::string("nlopt stopped: ") + e.what();
   }
@@ -266,22 +269,24 @@ bool UnscaledCovariance(const ResidualFunction& residuals, const std::vector<dou
   return true;
 }
 
-void CheckOptimizerName(const std::string& name) {
+void CheckOptimizerName(const std::string& name, const std::string& where) {
   if (name == "ceres") return;
   const std::string prefix = "nlopt:";
   if (name.compare(0, prefix.size(), prefix) != 0) {
-    throw InputError("--optimizer: unknown optimizer '" + name + "' (expected ceres or nlopt:ALGORITHM, e.g. nlopt:LD_LBFGS)");
+    throw InputError(where + ": unknown optimizer '" + name +
+                     "' (expected ceres or nlopt:ALGORITHM, e.g. nlopt:LD_LBFGS)");
   }
   const std::string algorithm = name.substr(prefix.size());
   if (static_cast<int>(nlopt_algorithm_from_string(algorithm.c_str())) < 0) {
-    throw InputError("--optimizer: unknown NLopt algorithm '" + algorithm + "' (NLopt's own names: LD_LBFGS, LN_BOBYQA, GN_DIRECT_L, ...)");
+    throw InputError(where + ": unknown NLopt algorithm '" + algorithm +
+                     "' (NLopt's own names: LD_LBFGS, LN_BOBYQA, GN_DIRECT_L, ...)");
   }
 }
 
 OptimizerResult Minimize(const ResidualFunction& residuals, const std::vector<double>& start,
                          const std::vector<double>& lower, const std::vector<double>& upper,
                          const OptimizerSettings& settings) {
-  CheckOptimizerName(settings.name);
+  CheckOptimizerName(settings.name, "optimizer");
   const auto begin = std::chrono::steady_clock::now();
   // Both back ends have absolute tolerances somewhere (Ceres' gradient tolerance, NLopt's stopping values), so
   // they see residuals scaled to |r(start)| = 1; the minimizer is the same.

@@ -7,6 +7,7 @@
 //
 // A job that can stop between pieces of work (a study between rows) holds a CatchInterrupts while it runs:
 // the first signal then only sets Interrupted(), which the job polls; a second one ends the process as above.
+// While a CancelRuns (below) is held, no SIGINT ends the process: an interpreter (Python) must outlive its runs.
 #pragma once
 
 #include <string>

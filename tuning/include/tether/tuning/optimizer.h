@@ -53,13 +53,14 @@ struct OptimizerResult {
   bool hit_limit = false;  // stopped by its budget (Ceres' iterations, NLopt's evaluations), not by converging
 };
 
-// Throws InputError ("--optimizer: ...") for an unknown optimizer name.
+// Throws InputError ("optimizer: ...") for an unknown optimizer name.
 OptimizerResult Minimize(const ResidualFunction& residuals, const std::vector<double>& start,
                          const std::vector<double>& lower, const std::vector<double>& upper,
                          const OptimizerSettings& settings);
 
-// Checks an optimizer name without running anything; throws InputError like Minimize.
-void CheckOptimizerName(const std::string& name);
+// Checks an optimizer name without running anything; throws InputError naming `where` (the command line's
+// "--optimizer", the Python module's "optimizer").
+void CheckOptimizerName(const std::string& name, const std::string& where);
 
 // 1/2 sum rho(r_i^2).
 double RobustCost(const RobustLoss& loss, const Eigen::VectorXd& r);
