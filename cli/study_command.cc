@@ -155,8 +155,10 @@ class StudyCommand final : public Command {
     StudySpec spec;
     try {
       spec = ReadStudySpec(study_path_);
-    } catch (const InputError&) {
-      if (session.rank() == 0) throw;
+    } catch (const InputError& e) {
+      // rank 0 reports before MPI_Finalize (the session's end): the other ranks return at once, and once one has
+      // exited with status 2 mpirun may stop rank 0 before a message printed after its MPI_Finalize
+      if (session.rank() == 0) std::cerr << "tether: error: " << e.what() << std::endl;
       return 2;
     }
     const int threads = threads_option_->count() > 0 ? threads_ : session.threads_per_rank();
