@@ -42,5 +42,6 @@ void GainsInUse(const Model<T>& model, T* alpha, T* beta) {
 
 template void GainsInUse<double>(const Model<double>&, double*, double*);
 template void GainsInUse<Jet>(const Model<Jet>&, Jet*, Jet*);
+template void GainsInUse<Rev>(const Model<Rev>&, Rev*, Rev*);
 
 }  // namespace tether

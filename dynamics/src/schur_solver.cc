@@ -112,6 +112,56 @@ bool SchurSolver::Solve<Jet>(const std::vector<Jet>& values, const VecX<Jet>& b,
   return true;
 }
 
+// Rev: the solution's values as for double, recorded as an external operation. Its adjoint is one more solve
+// with the matrix factored (S symmetric): from S x = b, b_bar = S^-1 x_bar and S_bar = -b_bar x^T, a stored
+// off-diagonal value standing for S_ij and S_ji. The regularization adds eps S_ii to a diagonal value (the floor
+// is a constant, as for Jets).
+template <>
+bool SchurSolver::Solve<Rev>(const std::vector<Rev>& values, const VecX<Rev>& b, VecX<Rev>* x) {
+  value_part_.resize(values.size());
+  bool recorded = false;
+  for (size_t k = 0; k < values.size(); ++k) {
+    value_part_[k] = values[k].a;
+    recorded = recorded || values[k].index >= 0;
+  }
+  if (!Factor(value_part_)) return false;
+  const int n = pattern_->size();
+  x0_.resize(n);
+  for (int i = 0; i < n; ++i) {
+    x0_[i] = b[i].a;
+    recorded = recorded || b[i].index >= 0;
+  }
+  SolveInPlace(&x0_);
+  x->resize(n);
+  if (!recorded || n == 0) {
+    for (int i = 0; i < n; ++i) (*x)[i] = Rev(x0_[i]);
+    return true;
+  }
+  std::vector<int> value_nodes(values.size()), rhs_nodes(n);
+  for (size_t k = 0; k < values.size(); ++k) value_nodes[k] = values[k].index;
+  for (int i = 0; i < n; ++i) rhs_nodes[i] = b[i].index;
+  const double diagonal_factor = regularized_ ? 1.0 + kSchurRegularization : 1.0;
+  auto backward = [this, n, factored = regularized_ ? regularized_values_ : value_part_, solution = x0_,
+                   value_nodes = std::move(value_nodes), rhs_nodes = std::move(rhs_nodes),
+                   diagonal_factor](const double* x_bar, Tape* tape) {
+    Eigen::VectorXd b_bar = Eigen::Map<const Eigen::VectorXd>(x_bar, n);
+    FactorAsGiven(factored);  // the matrix factored forward, which factored then
+    SolveInPlace(&b_bar);
+    for (int i = 0; i < n; ++i) tape->AddAdjoint(rhs_nodes[i], b_bar[i]);
+    const std::vector<int>& row = pattern_->row_index();
+    const std::vector<int>& column = pattern_->column_index();
+    for (size_t k = 0; k < value_nodes.size(); ++k) {
+      const int i = row[k], j = column[k];
+      const double adjoint = i == j ? -b_bar[i] * solution[i] * diagonal_factor
+                                    : -(b_bar[i] * solution[j] + b_bar[j] * solution[i]);
+      tape->AddAdjoint(value_nodes[k], adjoint);
+    }
+  };
+  const int first = ActiveTape()->RecordExternal(n, std::move(backward));
+  for (int i = 0; i < n; ++i) (*x)[i] = Rev(x0_[i], first + i);
+  return true;
+}
+
 // The oracle's substitutions are written out: Eigen's triangular solves skip right-hand-side entries that
 // compare equal to zero, and a Jet compares by its value only, so a zero value with non-zero derivatives would
 // lose them. It regularizes where the double path does (the conditioning of the value part decides).

@@ -1,5 +1,7 @@
 #include "tether/dynamics/simulator.h"
 
+#include "tether/dynamics/stepper.h"
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -127,145 +129,208 @@ std::string DescribeConstraint(const Model<T>& model, int scene_index) {
 }
 
 template <typename T>
-RunReport Simulate(const Model<T>& model, const RunOptions& options,
-                   const std::function<void(const Sample<T>&)>& observer) {
+Stepper<T>::Stepper(const Model<T>& model, const RunOptions& options, Observer observer)
+    : model_(model),
+      options_(options),
+      observer_(std::move(observer)),
+      state_(InitialState(model)),
+      ws_(model, state_.q, options.factor_jet_matrices),
+      scale_(LengthScale(model)),
+      h_(model.simulation.step) {
   if (options.every < 1) throw InputError("RunOptions::every must be >= 1, got " + std::to_string(options.every));
   const double duration = model.simulation.duration;
   const double t0 = options.start_time;
-  for (size_t i = 0; i < options.stops.size(); ++i) {
-    if (!(options.stops[i] >= t0 && options.stops[i] <= t0 + duration * (1 + 1e-12)) ||
-        (i > 0 && !(options.stops[i] > options.stops[i - 1]))) {
+  const std::vector<double>& stops = options.stops;
+  for (size_t i = 0; i < stops.size(); ++i) {
+    if (!(stops[i] >= t0 && stops[i] <= t0 + duration * (1 + 1e-12)) || (i > 0 && !(stops[i] > stops[i - 1]))) {
       throw InputError("RunOptions::stops must increase strictly and lie within the run's interval");
     }
   }
-  RunReport report;
-  State<T> start = InitialState(model);
-  VecX<T>& q = start.q;
-  VecX<T>& v = start.v;
-  Workspace<T> ws(model, q, options.factor_jet_matrices);
-  GainsInUse(model, &ws.alpha, &ws.beta);
-  const double scale = LengthScale(model);
-  const double h = model.simulation.step;
+  GainsInUse(model, &ws_.alpha, &ws_.beta);
   CheckStepCount(model.simulation, "the simulation settings");
-  const std::int64_t steps = StepCount(model.simulation);
-  const bool project = model.stabilization.method == Stabilization::kProjection;
-  const bool guard_singular = model.stabilization.method == Stabilization::kBaumgarte;
+  steps_ = StepCount(model.simulation);
+  time_ = t0;
+  AssembleInitialState(model, scale_, &ws_, &state_.q, &state_.v, &report_);
+  ws_.coordinates = BuildJointCoordinates(model, state_.q);
+  const int num_coordinates = static_cast<int>(ws_.coordinates.references.size());
+  coordinates_ = VecX<T>::Zero(num_coordinates);
+  rates_ = VecX<T>::Zero(num_coordinates);
+  q_projected_ = state_.q;
+  v_projected_ = state_.v;
+  settle_ = [this](double t, VecX<T>* q, VecX<T>* v) { return Settle(t, q, v); };
+}
 
-  AssembleInitialState(model, scale, &ws, &q, &v, &report);
-  ws.coordinates = BuildJointCoordinates(model, q);
-
-  const int num_coordinates = static_cast<int>(ws.coordinates.references.size());
-  VecX<T> coordinates = VecX<T>::Zero(num_coordinates), rates = VecX<T>::Zero(num_coordinates);
-  auto diverged = [&](double t, const std::string& what) {
-    const Violation worst = LargestViolation(ws.infos, ws.rows);
-    std::string message = "the simulation diverged at " + Seconds(t) + ": " + what;
-    if (worst.scene_index >= 0) {
-      std::ostringstream out;
-      out << "; the worst constraint is " << DescribeConstraint(model, worst.scene_index) << ", violated by "
-          << worst.largest << (model.dimension == 3 ? " (m, or rad for an axis)" : " m");
-      message += out.str();
-    }
-    return SimulationDiverged(message, t, worst.scene_index);
-  };
-  // A violation above the scene's length scale: the run has left its constraints.
-  auto check_violation = [&](double t, double largest) {
-    if (largest <= scale) return;
+template <typename T>
+SimulationDiverged Stepper<T>::Diverged(double t, const std::string& what) const {
+  const Violation worst = LargestViolation(ws_.infos, ws_.rows);
+  std::string message = "the simulation diverged at " + Seconds(t) + ": " + what;
+  if (worst.scene_index >= 0) {
     std::ostringstream out;
-    out << "a constraint ran away (violation above the scene's length scale " << scale << " m)";
-    throw diverged(t, out.str());
-  };
-  // Every sample is checked as it is made, the last one included (the steps' own checks see the rows of their
-  // last stage, not of the state they end in).
-  auto emit = [&](double t, bool output, int stop) {
-    UpdateFrames(model, q, v, true, &ws.frames);
-    EvaluateConstraintRows(model, ws.constraints, ws.frames, q, v, false, &ws.rows);
-    const double error = ws.rows.empty() ? 0.0 : LargestViolation(ws.infos, ws.rows).largest;
-    check_violation(t, error);
-    for (int k = 0; k < num_coordinates; ++k) {
-      const CoordinateRow<T> row = EvaluateCoordinate(model, ws.coordinates, k, ws.frames, q, v, true);
-      coordinates[k] = row.value;
-      rates[k] = row.rate;
-    }
-    observer(Sample<T>{t, q, v, error, Energy(model, ws.coordinates, ws.frames, q, v), coordinates, rates, ws.frames,
-                       ws.rows, output, stop});
-  };
-
-  // After every integrator step (rk45: every internal step): the projection stabilization; or, for Baumgarte,
-  // when the step's Schur factorizations saw a configuration near a singular one (schur_solver.h), the same
-  // projection, adopted only when it converges (there it can stall a little above its rounding-level tolerance,
-  // and the Baumgarte state is then kept as it is).
-  VecX<T> q_projected = q, v_projected = v;
-  const SettleState<T> settle = [&](double t, VecX<T>* q_now, VecX<T>* v_now) {
-    bool changed = false;
-    if (project) {
-      if (!ProjectPositions(model, kProjectionTolerance * scale, &ws, q_now).converged ||
-          !ProjectVelocities(model, *q_now, &ws, v_now)) {
-        throw diverged(t, "the projection onto the constraints did not converge");
-      }
-      changed = true;
-    } else if (guard_singular && ws.solver.saw_near_singular()) {
-      q_projected = *q_now;
-      v_projected = *v_now;
-      if (ProjectPositions(model, kProjectionTolerance * scale, &ws, &q_projected).converged &&
-          ProjectVelocities(model, q_projected, &ws, &v_projected)) {
-        q_now->swap(q_projected);
-        v_now->swap(v_projected);
-        changed = true;
-      }
-    }
-    ws.solver.ForgetConditioning();  // the next step starts afresh (the projection's own solves included)
-    return changed;
-  };
-
-  // one step of the run, with its stabilization and divergence checks
-  auto advance = [&](double t, double dt) {
-    if (RunsCancelled()) throw RunInterrupted(Interrupted());
-    ws.solver.ForgetConditioning();
-    const StepStatus status = Advance(model, t, dt, &ws, &q, &v, settle);
-    const double t_next = t + dt;
-    if (status == StepStatus::kSolveFailed) throw diverged(t_next, "the constraint system became singular or non-finite");
-    if (status == StepStatus::kStepSizeUnderflow) throw diverged(t_next, "rk45's step size collapsed");
-    if (!AllFinite(q) || !AllFinite(v)) throw diverged(t_next, "the state became non-finite (NaN or infinity)");
-    check_violation(t_next, LargestViolation(ws.infos, ws.rows).largest);
-    if (num_coordinates > 0) {  // the branch of every hinge angle follows the motion step by step
-      UpdateFrames(model, q, v, false, &ws.frames);
-      TrackCoordinates(model, ws.frames, q, v, &ws.coordinates);
-    }
-  };
-
-  // stops closer than this to a grid time are served by that grid time
-  const double same_time = 1e-9 * h;
-  const std::vector<double>& stops = options.stops;
-  size_t next_stop = 0;
-  auto stop_at = [&](double t) {
-    return next_stop < stops.size() && std::abs(stops[next_stop] - t) <= same_time ? static_cast<int>(next_stop++) : -1;
-  };
-
-  emit(t0, true, stop_at(t0));
-  for (std::int64_t k = 0; k < steps; ++k) {
-    double t = t0 + static_cast<double>(k) * h;
-    const double t_next = t0 + (k + 1 == steps ? duration : static_cast<double>(k + 1) * h);
-    while (next_stop < stops.size() && stops[next_stop] < t_next - same_time) {  // step onto the stop
-      advance(t, stops[next_stop] - t);
-      t = stops[next_stop];
-      emit(t, false, static_cast<int>(next_stop++));
-    }
-    advance(t, t_next - t);
-    report.steps = k + 1;
-    const bool output = (k + 1) % options.every == 0 || k + 1 == steps;
-    const int stop = stop_at(t_next);
-    if (output || stop >= 0) emit(t_next, output, stop);
+    out << "; the worst constraint is " << DescribeConstraint(model_, worst.scene_index) << ", violated by "
+        << worst.largest << (model_.dimension == 3 ? " (m, or rad for an axis)" : " m");
+    message += out.str();
   }
-  // stops past the last grid time by no more than the rounding allowed above are served by the end state
-  while (next_stop < stops.size()) emit(t0 + duration, false, static_cast<int>(next_stop++));
-  return report;
+  return SimulationDiverged(message, t, worst.scene_index);
+}
+
+// A violation above the scene's length scale: the run has left its constraints.
+template <typename T>
+void Stepper<T>::CheckViolation(double t, double largest) const {
+  if (largest <= scale_) return;
+  std::ostringstream out;
+  out << "a constraint ran away (violation above the scene's length scale " << scale_ << " m)";
+  throw Diverged(t, out.str());
+}
+
+// Every sample is checked as it is made, the last one included (the steps' own checks see the rows of their
+// last stage, not of the state they end in).
+template <typename T>
+void Stepper<T>::Emit(double t, bool output, int stop) {
+  const VecX<T>& q = state_.q;
+  const VecX<T>& v = state_.v;
+  UpdateFrames(model_, q, v, true, &ws_.frames);
+  EvaluateConstraintRows(model_, ws_.constraints, ws_.frames, q, v, false, &ws_.rows);
+  const double error = ws_.rows.empty() ? 0.0 : LargestViolation(ws_.infos, ws_.rows).largest;
+  CheckViolation(t, error);
+  for (int k = 0; k < coordinates_.size(); ++k) {
+    const CoordinateRow<T> row = EvaluateCoordinate(model_, ws_.coordinates, k, ws_.frames, q, v, true);
+    coordinates_[k] = row.value;
+    rates_[k] = row.rate;
+  }
+  observer_(Sample<T>{t, q, v, error, Energy(model_, ws_.coordinates, ws_.frames, q, v), coordinates_, rates_,
+                      ws_.frames, ws_.rows, output, stop});
+}
+
+// After every integrator step (rk45: every internal step): the projection stabilization; or, for Baumgarte,
+// when the step's Schur factorizations saw a configuration near a singular one (schur_solver.h), the same
+// projection, adopted only when it converges (there it can stall a little above its rounding-level tolerance,
+// and the Baumgarte state is then kept as it is).
+template <typename T>
+bool Stepper<T>::Settle(double t, VecX<T>* q, VecX<T>* v) {
+  const Stabilization method = model_.stabilization.method;
+  bool changed = false;
+  if (method == Stabilization::kProjection) {
+    if (!ProjectPositions(model_, kProjectionTolerance * scale_, &ws_, q).converged ||
+        !ProjectVelocities(model_, *q, &ws_, v)) {
+      throw Diverged(t, "the projection onto the constraints did not converge");
+    }
+    changed = true;
+  } else if (method == Stabilization::kBaumgarte && ws_.solver.saw_near_singular()) {
+    q_projected_ = *q;
+    v_projected_ = *v;
+    if (ProjectPositions(model_, kProjectionTolerance * scale_, &ws_, &q_projected_).converged &&
+        ProjectVelocities(model_, q_projected_, &ws_, &v_projected_)) {
+      q->swap(q_projected_);
+      v->swap(v_projected_);
+      changed = true;
+    }
+  }
+  ws_.solver.ForgetConditioning();  // the next step starts afresh (the projection's own solves included)
+  return changed;
+}
+
+// one step of the run, with its stabilization and divergence checks
+template <typename T>
+void Stepper<T>::Advance(double t, double dt) {
+  if (RunsCancelled()) throw RunInterrupted(Interrupted());
+  VecX<T>& q = state_.q;
+  VecX<T>& v = state_.v;
+  ws_.solver.ForgetConditioning();
+  const StepStatus status = tether::Advance(model_, t, dt, &ws_, &q, &v, settle_);
+  const double t_next = t + dt;
+  if (status == StepStatus::kSolveFailed) throw Diverged(t_next, "the constraint system became singular or non-finite");
+  if (status == StepStatus::kStepSizeUnderflow) throw Diverged(t_next, "rk45's step size collapsed");
+  if (!AllFinite(q) || !AllFinite(v)) throw Diverged(t_next, "the state became non-finite (NaN or infinity)");
+  CheckViolation(t_next, LargestViolation(ws_.infos, ws_.rows).largest);
+  if (coordinates_.size() > 0) {  // the branch of every hinge angle follows the motion step by step
+    UpdateFrames(model_, q, v, false, &ws_.frames);
+    TrackCoordinates(model_, ws_.frames, q, v, &ws_.coordinates);
+  }
+}
+
+// stops closer than 1e-9 h to a grid time are served by that grid time
+template <typename T>
+int Stepper<T>::StopAt(double t) {
+  const std::vector<double>& stops = options_.stops;
+  return next_stop_ < stops.size() && std::abs(stops[next_stop_] - t) <= 1e-9 * h_ ? static_cast<int>(next_stop_++)
+                                                                                    : -1;
+}
+
+template <typename T>
+void Stepper<T>::Start() {
+  Emit(time_, true, StopAt(time_));
+}
+
+template <typename T>
+bool Stepper<T>::Step() {
+  if (step_ >= steps_) return false;
+  const std::vector<double>& stops = options_.stops;
+  const double t0 = options_.start_time;
+  const double t = time_;
+  const double t_next = t0 + (step_ + 1 == steps_ ? model_.simulation.duration : static_cast<double>(step_ + 1) * h_);
+  if (next_stop_ < stops.size() && stops[next_stop_] < t_next - 1e-9 * h_) {  // step onto the stop
+    Advance(t, stops[next_stop_] - t);
+    time_ = stops[next_stop_];
+    Emit(time_, false, static_cast<int>(next_stop_++));
+    return true;
+  }
+  Advance(t, t_next - t);
+  report_.steps = ++step_;
+  time_ = t_next;
+  const bool output = step_ % options_.every == 0 || step_ == steps_;
+  const int stop = StopAt(t_next);
+  if (output || stop >= 0) Emit(t_next, output, stop);
+  // stops past the last grid time by no more than the rounding RunOptions allows are served by the end state
+  if (step_ == steps_) {
+    while (next_stop_ < stops.size()) Emit(t0 + model_.simulation.duration, false, static_cast<int>(next_stop_++));
+  }
+  return true;
+}
+
+template <typename T>
+typename Stepper<T>::Carry Stepper<T>::Save() const {
+  Carry carry{state_.q, state_.v, {}, {}, step_, time_, next_stop_, ws_.rk45_step, ws_.solver.starts_regularized(),
+              ws_.coordinates.last};
+  if (ws_.rk45_first_stage_valid) {
+    carry.first_stage_q = ws_.stage_q[0];
+    carry.first_stage_v = ws_.stage_v[0];
+  }
+  return carry;
+}
+
+template <typename T>
+void Stepper<T>::Restore(const Carry& carry) {
+  state_.q = carry.q;
+  state_.v = carry.v;
+  ws_.rk45_first_stage_valid = carry.first_stage_q.size() > 0;
+  if (ws_.rk45_first_stage_valid) {
+    ws_.stage_q[0] = carry.first_stage_q;
+    ws_.stage_v[0] = carry.first_stage_v;
+  }
+  step_ = carry.step;
+  time_ = carry.time;
+  next_stop_ = carry.next_stop;
+  ws_.rk45_step = carry.rk45_step;
+  ws_.solver.set_starts_regularized(carry.starts_regularized);
+  ws_.coordinates.last = carry.coordinate_branches;
+}
+
+template <typename T>
+RunReport Simulate(const Model<T>& model, const RunOptions& options,
+                   const std::function<void(const Sample<T>&)>& observer) {
+  Stepper<T> stepper(model, options, observer);
+  stepper.Start();
+  while (stepper.Step()) {
+  }
+  return stepper.report();
 }
 
 #define TETHER_INSTANTIATE_SIMULATOR(T)                                                                       \
   template RunReport Simulate<T>(const Model<T>&, const RunOptions&, const std::function<void(const Sample<T>&)>&); \
   template double LengthScale<T>(const Model<T>&);                                                            \
   template State<T> AssembledInitialState<T>(const Model<T>&, RunReport*);                                    \
-  template std::string DescribeConstraint<T>(const Model<T>&, int);
+  template std::string DescribeConstraint<T>(const Model<T>&, int);                                          \
+  template class Stepper<T>;
 TETHER_FOR_EACH_SCALAR(TETHER_INSTANTIATE_SIMULATOR)
 
 }  // namespace tether

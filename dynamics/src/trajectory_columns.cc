@@ -76,5 +76,6 @@ T ColumnValue(const Model<T>& model, const TrajectoryColumn& column, const Sampl
 
 template double ColumnValue<double>(const Model<double>&, const TrajectoryColumn&, const Sample<double>&);
 template Jet ColumnValue<Jet>(const Model<Jet>&, const TrajectoryColumn&, const Sample<Jet>&);
+template Rev ColumnValue<Rev>(const Model<Rev>&, const TrajectoryColumn&, const Sample<Rev>&);
 
 }  // namespace tether

@@ -1,8 +1,9 @@
 // The scalars tether is instantiated for, and the little glue every templated header needs.
 //
-// Every numerical routine is a template on the scalar T and is compiled for exactly two scalars:
+// Every numerical routine is a template on the scalar T and is compiled for exactly three scalars:
 //   double                               values;
-//   Jet = ceres::Jet<double, kJetStride> values plus kJetStride directional derivatives.
+//   Jet = ceres::Jet<double, kJetStride> values plus kJetStride directional derivatives (forward mode);
+//   Rev                                  values recorded for reverse mode (reverse.h).
 // Value(x) is the double part of either; branches that must not be differentiated (step-size control,
 // divergence checks, pivoting) look at Value(x) only.
 #pragma once
@@ -10,6 +11,8 @@
 #include <ceres/jet.h>
 
 #include <Eigen/Core>
+
+#include "tether/dynamics/reverse.h"
 
 namespace tether {
 
@@ -73,4 +76,5 @@ TETHER_HOT_INLINE Eigen::Matrix<T, 3, 1> Zero3() {
 // Expands MACRO(T) once for every scalar the library is compiled for (explicit instantiation, see DESIGN.md).
 #define TETHER_FOR_EACH_SCALAR(MACRO) \
   MACRO(double)                       \
-  MACRO(::tether::Jet)
+  MACRO(::tether::Jet)                \
+  MACRO(::tether::Rev)

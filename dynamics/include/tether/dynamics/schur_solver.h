@@ -66,6 +66,10 @@ class SchurSolver {
   bool saw_near_singular() const { return saw_near_singular_; }
   void ForgetConditioning() { saw_near_singular_ = false; }
 
+  // Whether the next factorization starts from S + eps D (after a regularized one): state a replayed step restores.
+  bool starts_regularized() const { return regularized_; }
+  void set_starts_regularized(bool regularized) { regularized_ = regularized; }
+
   // x = S^-1 b, S given by its stored values (AssembleSchur). Returns false, leaving x unchanged, when the
   // factorization fails (a non-finite or indefinite matrix: the run is diverging).
   template <typename T>

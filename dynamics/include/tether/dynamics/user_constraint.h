@@ -66,6 +66,8 @@ class UserConstraint {
                         UserRow<double>* rows) const = 0;
   virtual void Evaluate(const BodyState<Jet>& a, const BodyState<Jet>& b, bool velocity_terms,
                         UserRow<Jet>* rows) const = 0;
+  virtual void Evaluate(const BodyState<Rev>& a, const BodyState<Rev>& b, bool velocity_terms,
+                        UserRow<Rev>* rows) const = 0;
 };
 
 template <class Residual>
@@ -79,6 +81,10 @@ class AutoDiffUserConstraint final : public UserConstraint {
   }
   void Evaluate(const BodyState<Jet>& a, const BodyState<Jet>& b, bool velocity_terms,
                 UserRow<Jet>* rows) const override {
+    EvaluateWith(a, b, velocity_terms, rows);
+  }
+  void Evaluate(const BodyState<Rev>& a, const BodyState<Rev>& b, bool velocity_terms,
+                UserRow<Rev>* rows) const override {
     EvaluateWith(a, b, velocity_terms, rows);
   }
 

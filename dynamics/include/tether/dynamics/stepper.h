@@ -1,0 +1,77 @@
+// Stepper<T>: a run (simulator.h) taken one step at a time. Simulate is
+//   Stepper<T> stepper(model, options, observer);  stepper.Start();  while (stepper.Step()) {}
+// and the discrete adjoint (autodiff/adjoint.h) saves the state between steps (checkpoints) and restores it to
+// replay a step, recorded, in Rev arithmetic.
+//
+// The plan of a run: the grid t_k = start_time + k h (the last step shortened to land on the duration), each
+// step split at a requested stop time that falls inside it. Step() takes one step of the plan (to the next grid
+// time or to a stop), stabilizes, checks for divergence, and emits the samples due there.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "tether/dynamics/errors.h"
+#include "tether/dynamics/integrators.h"
+#include "tether/dynamics/simulator.h"
+
+namespace tether {
+
+template <typename T>
+class Stepper {
+ public:
+  using Observer = std::function<void(const Sample<T>&)>;
+
+  // Everything a step depends on besides the model: the state (q, v), rk45's first stage when it carries over
+  // from the step before (first same as last; empty otherwise), and plain data: the position in the plan,
+  // rk45's step size, the Schur solver's memory and the joint angles' branches.
+  struct Carry {
+    VecX<T> q, v;
+    VecX<T> first_stage_q, first_stage_v;
+    std::int64_t step = 0;  // grid steps taken
+    double time = 0.0;
+    size_t next_stop = 0;
+    double rk45_step = 0.0;
+    bool starts_regularized = false;
+    std::vector<double> coordinate_branches;
+  };
+
+  // Validates the options, assembles the initial state onto the constraints (InputError when it cannot) and
+  // builds the run's workspace. The model and the observer must outlive the stepper.
+  Stepper(const Model<T>& model, const RunOptions& options, Observer observer);
+
+  // Emits the samples at the start time.
+  void Start();
+  // Takes the next step of the plan and emits the samples due after it; false (and nothing done) once the run
+  // has ended. Throws SimulationDiverged (and RunInterrupted when runs are cancelled, interrupts.h).
+  bool Step();
+
+  Carry Save() const;
+  void Restore(const Carry& carry);
+  const RunReport& report() const { return report_; }
+
+ private:
+  void Emit(double t, bool output, int stop);
+  void Advance(double t, double dt);
+  SimulationDiverged Diverged(double t, const std::string& what) const;
+  void CheckViolation(double t, double largest) const;
+  bool Settle(double t, VecX<T>* q, VecX<T>* v);
+  int StopAt(double t);
+
+  const Model<T>& model_;
+  RunOptions options_;
+  Observer observer_;
+  RunReport report_;
+  State<T> state_;  // (q, v) now
+  Workspace<T> ws_;
+  double scale_, h_;
+  std::int64_t steps_;
+  std::int64_t step_ = 0;
+  double time_ = 0.0;
+  size_t next_stop_ = 0;
+  VecX<T> coordinates_, rates_, q_projected_, v_projected_;
+  SettleState<T> settle_;
+};
+
+}  // namespace tether

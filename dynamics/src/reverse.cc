@@ -1,0 +1,43 @@
+#include "tether/dynamics/reverse.h"
+
+namespace tether {
+namespace {
+thread_local Tape* active_tape = nullptr;
+}  // namespace
+
+Tape* ActiveTape() { return active_tape; }
+
+Tape::Tape() : previous_(active_tape) { active_tape = this; }
+Tape::~Tape() { active_tape = previous_; }
+
+Rev Tape::Variable(double value) { return Rev(value, Push(-1, 0.0, -1, 0.0)); }
+
+int Tape::RecordExternal(int count, ExternalBackward backward) {
+  const int first = size();
+  for (int k = 0; k < count; ++k) Push(-1, 0.0, -1, 0.0);
+  externals_.push_back({first, count, std::move(backward)});
+  return first;
+}
+
+void Tape::Backward(int mark) {
+  for (int i = size() - 1; i >= mark; --i) {
+    // an external operation's outputs are consecutive: at the last one every use of them has been swept
+    while (!externals_.empty() && externals_.back().first + externals_.back().count - 1 == i) {
+      External external = std::move(externals_.back());
+      externals_.pop_back();
+      external.backward(adjoints_.data() + external.first, this);
+    }
+    const double adjoint = adjoints_[i];
+    if (adjoint == 0.0) continue;
+    const Node& node = nodes_[i];
+    if (node.parent[0] >= 0) adjoints_[node.parent[0]] += node.partial[0] * adjoint;
+    if (node.parent[1] >= 0) adjoints_[node.parent[1]] += node.partial[1] * adjoint;
+  }
+  nodes_.resize(mark);
+  adjoints_.resize(mark);
+  while (!externals_.empty() && externals_.back().first >= mark) externals_.pop_back();
+}
+
+void Tape::ClearAdjoints() { std::fill(adjoints_.begin(), adjoints_.end(), 0.0); }
+
+}  // namespace tether
