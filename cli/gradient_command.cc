@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "scene_overrides.h"
+#include "tether/autodiff/adjoint.h"
 #include "tether/autodiff/residuals.h"
 #include "tether/dynamics/errors.h"
 
@@ -18,15 +19,16 @@ class GradientCommand final : public Command {
     app_->add_option("SCENE", scene_path_, "scene file (JSON)")->required();
     app_->add_option("--data", data_path_, "observations: a trajectory CSV with t and any subset of columns")->required();
     app_->add_option("--param", pointers_, "a parameter, as a JSON Pointer into the scene (repeatable)")->required();
-    app_->add_option("--method", method_, "jet (default: Jets through the KKT solves) or fd (central differences)");
+    app_->add_option("--method", method_,
+                     "adjoint (the discrete adjoint), jet (Jets through the KKT solves) or fd (central differences)");
     overrides_.Register(app_);
   }
 
   CLI::App* app() const override { return app_; }
 
   int Run() override {
-    if (method_ != "jet" && method_ != "fd") {
-      throw InputError("--method: unknown method '" + method_ + "' (expected jet or fd)");
+    if (method_ != "jet" && method_ != "fd" && method_ != "adjoint") {
+      throw InputError("--method: unknown method '" + method_ + "' (expected adjoint, jet or fd)");
     }
     Scene scene = ReadSceneFile(scene_path_);
     overrides_.Apply(&scene.model);
@@ -36,8 +38,13 @@ class GradientCommand final : public Command {
     const auto start = std::chrono::steady_clock::now();
     LossGradient result;
     try {
-      result = method_ == "jet" ? JetLossGradient(scene.model, parameters, observations)
-                                : CentralDifferenceLossGradient(scene.model, parameters, observations);
+      if (method_ == "jet") {
+        result = JetLossGradient(scene.model, parameters, observations);
+      } else if (method_ == "adjoint") {
+        result = AdjointLossGradient(scene.model, parameters, observations);
+      } else {
+        result = CentralDifferenceLossGradient(scene.model, parameters, observations);
+      }
     } catch (const InputError& e) {
       throw InputError(scene_path_ + ": " + e.what());
     } catch (const SimulationDiverged& e) {

@@ -5,6 +5,9 @@
 // simulated and a few of its columns (a coordinate, a velocity and the energy, with one cell left empty) are
 // written to a CSV at times on and off the step grid.
 //
+// The discrete adjoint (adjoint.h) equals the Jet gradient on every combination, and checkpointing does not
+// change its numbers.
+//
 // Also: the implicit-function KKT path equals the Jet-factorization oracle on a dense and a sparse constraint
 // system; more than kJetStride parameters at once give the gradients of one-at-a-time runs; the loss is half the
 // sum of squared differences computed independently from a plain run; and stop times are sampled exactly.
@@ -22,6 +25,7 @@
 
 #include "test_files.h"
 #include "test_scenes.h"
+#include "tether/autodiff/adjoint.h"
 #include "tether/autodiff/residuals.h"
 #include "tether/dynamics/kinematics.h"
 #include "tether/dynamics/schur_solver.h"
@@ -433,6 +437,73 @@ INSTANTIATE_TEST_SUITE_P(
                                          Integrator::kRk45),
                        ::testing::Values(Stabilization::kNone, Stabilization::kBaumgarte, Stabilization::kProjection)),
     CombinationName);
+
+
+// ---------------------------------------------------------------------------------------------------------------
+// the discrete adjoint vs Jets, every scene x integrator x stabilization
+
+// Both differentiate the same computation (the adjoint in reverse), so they agree to round-off: 1e-8 relative to
+// max(|g|, 1e-3 of the largest component).
+constexpr double kAdjointAgreement = 1e-8;
+
+class AdjointGradient : public ::testing::TestWithParam<Combination> {};
+
+TEST_P(AdjointGradient, EqualsJets) {
+  const auto [kind, integrator, stabilization] = GetParam();
+  const GradientScene scene = Make(kind);
+  std::vector<std::string> pointers;
+  const json document = Configured(scene, integrator, stabilization, &pointers);
+  ScratchFile csv("observations.csv");
+  const Problem p = MakeProblem(document, pointers, scene.columns, csv.path());
+  const LossGradient jet = JetLossGradient(p.scene.model, p.parameters, p.observations);
+  AdjointReport report;
+  const LossGradient adjoint = AdjointLossGradient(p.scene.model, p.parameters, p.observations, 0, &report);
+  EXPECT_NEAR(adjoint.loss, jet.loss, 1e-12 * jet.loss);
+  ASSERT_EQ(adjoint.gradient.size(), pointers.size());
+  const double scale = Largest(jet.gradient);
+  ASSERT_GT(scale, 0.0);
+  for (size_t i = 0; i < pointers.size(); ++i) {
+    EXPECT_NEAR(adjoint.gradient[i], jet.gradient[i],
+                kAdjointAgreement * std::max(1e-3 * scale, std::abs(jet.gradient[i])))
+        << pointers[i];
+  }
+  // 150 grid steps and two stops off the grid: checkpoints every ceil(sqrt(152)) = 13 steps
+  EXPECT_EQ(report.steps, 152);
+  EXPECT_EQ(report.interval, 13);
+  EXPECT_EQ(report.checkpoints, 12);
+  EXPECT_GT(report.largest_record, 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    AllScenesIntegratorsAndStabilizations, AdjointGradient,
+    ::testing::Combine(::testing::Values(SceneKind::kParticles, SceneKind::kRigidPins, SceneKind::kSlider,
+                                         SceneKind::kSprings, SceneKind::kDamping),
+                       ::testing::Values(Integrator::kEuler, Integrator::kSymplecticEuler, Integrator::kRk4,
+                                         Integrator::kRk45),
+                       ::testing::Values(Stabilization::kNone, Stabilization::kBaumgarte, Stabilization::kProjection)),
+    CombinationName);
+
+// Checkpoints change only what is recomputed: every state kept (K = 1), the default, and a single checkpoint
+// (K = all steps) give the same numbers.
+TEST(AdjointCheckpoints, CheckpointedEqualsStored) {
+  const GradientScene scene = RigidPins();
+  std::vector<std::string> pointers;
+  const json document = Configured(scene, Integrator::kRk45, Stabilization::kBaumgarte, &pointers);
+  ScratchFile csv("observations.csv");
+  const Problem p = MakeProblem(document, pointers, scene.columns, csv.path());
+  AdjointReport stored_report, single_report;
+  const LossGradient stored = AdjointLossGradient(p.scene.model, p.parameters, p.observations, 1, &stored_report);
+  const LossGradient checkpointed = AdjointLossGradient(p.scene.model, p.parameters, p.observations);
+  const LossGradient single = AdjointLossGradient(p.scene.model, p.parameters, p.observations, 1000, &single_report);
+  EXPECT_EQ(stored_report.checkpoints, 152);
+  EXPECT_EQ(single_report.checkpoints, 1);
+  EXPECT_GT(stored_report.memory_bytes, 0);
+  for (size_t i = 0; i < pointers.size(); ++i) {
+    EXPECT_EQ(checkpointed.gradient[i], stored.gradient[i]) << pointers[i];
+    EXPECT_EQ(single.gradient[i], stored.gradient[i]) << pointers[i];
+  }
+  EXPECT_EQ(checkpointed.loss, stored.loss);
+}
 
 
 // ---------------------------------------------------------------------------------------------------------------

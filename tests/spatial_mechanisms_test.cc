@@ -7,6 +7,7 @@
 //   - Jet gradients of a loss against central differences for every new kind of parameter (principal moments,
 //     products of inertia, orientation components, angular velocities, axes, joint angle keys, marker points,
 //     joint springs and motors), with quaternion, encoder and marker columns as data, and Jets against doubles;
+//     the discrete adjoint equals the Jets in both gradient tests;
 //   - a recorded quaternion of either sign fits the same.
 #include <gtest/gtest.h>
 
@@ -17,6 +18,7 @@
 #include <string>
 
 #include "test_scenes.h"
+#include "tether/autodiff/adjoint.h"
 #include "tether/autodiff/residuals.h"
 #include "tether/dynamics/scene_check.h"
 #include "tether/dynamics/scene_reader.h"
@@ -25,6 +27,17 @@ namespace tether {
 namespace {
 
 using testing::SceneFromJson;
+
+// The discrete adjoint differentiates the computation the Jets do, in reverse: equal to 1e-8 relative.
+void ExpectAdjointEqualsJets(const Model<double>& model, const ParameterSet& parameters,
+                             const Observations& observations, const LossGradient& jet) {
+  const LossGradient adjoint = AdjointLossGradient(model, parameters, observations);
+  EXPECT_NEAR(adjoint.loss, jet.loss, 1e-12 * jet.loss);
+  for (int i = 0; i < parameters.size(); ++i) {
+    EXPECT_NEAR(adjoint.gradient[i], jet.gradient[i], 1e-8 * std::max(1.0, std::abs(jet.gradient[i])))
+        << "adjoint, " << parameters.pointers()[i];
+  }
+}
 
 // The numbers of one CSV row.
 std::vector<double> Cells(const std::string& line) {
@@ -162,6 +175,7 @@ TEST(Gradients, JetsMatchCentralDifferencesThroughADoubleHinge) {
         << parameters.pointers()[i];
     EXPECT_GT(std::abs(fd.gradient[i]), 1e-6) << parameters.pointers()[i];  // every parameter matters
   }
+  ExpectAdjointEqualsJets(scene.model, parameters, observations, jet);
 }
 
 // A two-link arm with a full inertia tensor, a motor, a joint spring and a marker, observed through a quaternion
@@ -230,7 +244,7 @@ TEST(Gradients, JetsMatchCentralDifferencesForEveryThreeDimensionalParameter) {
   for (int i = 0; i < parameters.size(); ++i) {
     EXPECT_NEAR(jet.gradient[i], fd.gradient[i], 1e-6 * std::max(1.0, std::abs(fd.gradient[i])))
         << parameters.pointers()[i];
-  }
+  }  ExpectAdjointEqualsJets(scene.model, parameters, observations, jet);
 }
 
 TEST(Observations, ARecordedQuaternionOfEitherSignFitsTheSame) {

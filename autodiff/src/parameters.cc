@@ -240,5 +240,6 @@ void ParameterSet::WriteInto(const std::vector<double>& values, nlohmann::json* 
 
 template double& ParameterSet::Field<double>(Model<double>*, int) const;
 template Jet& ParameterSet::Field<Jet>(Model<Jet>*, int) const;
+template Rev& ParameterSet::Field<Rev>(Model<Rev>*, int) const;
 
 }  // namespace tether

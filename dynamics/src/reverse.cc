@@ -33,11 +33,12 @@ void Tape::Backward(int mark) {
     if (node.parent[0] >= 0) adjoints_[node.parent[0]] += node.partial[0] * adjoint;
     if (node.parent[1] >= 0) adjoints_[node.parent[1]] += node.partial[1] * adjoint;
   }
+}
+
+void Tape::Rewind(int mark) {
   nodes_.resize(mark);
   adjoints_.resize(mark);
   while (!externals_.empty() && externals_.back().first >= mark) externals_.pop_back();
 }
-
-void Tape::ClearAdjoints() { std::fill(adjoints_.begin(), adjoints_.end(), 0.0); }
 
 }  // namespace tether

@@ -289,24 +289,14 @@ bool Stepper<T>::Step() {
 
 template <typename T>
 typename Stepper<T>::Carry Stepper<T>::Save() const {
-  Carry carry{state_.q, state_.v, {}, {}, step_, time_, next_stop_, ws_.rk45_step, ws_.solver.starts_regularized(),
-              ws_.coordinates.last};
-  if (ws_.rk45_first_stage_valid) {
-    carry.first_stage_q = ws_.stage_q[0];
-    carry.first_stage_v = ws_.stage_v[0];
-  }
-  return carry;
+  return {state_.q,     state_.v,       step_, time_, next_stop_, ws_.rk45_step, ws_.solver.starts_regularized(),
+          ws_.coordinates.last};
 }
 
 template <typename T>
 void Stepper<T>::Restore(const Carry& carry) {
   state_.q = carry.q;
   state_.v = carry.v;
-  ws_.rk45_first_stage_valid = carry.first_stage_q.size() > 0;
-  if (ws_.rk45_first_stage_valid) {
-    ws_.stage_q[0] = carry.first_stage_q;
-    ws_.stage_v[0] = carry.first_stage_v;
-  }
   step_ = carry.step;
   time_ = carry.time;
   next_stop_ = carry.next_stop;

@@ -73,11 +73,11 @@ class Tape {
   void AddAdjoint(int node, double value) {
     if (node >= 0) adjoints_[node] += value;
   }
-  // Sweeps nodes [mark, size) in reverse, then drops them (their adjoints are consumed; those of the nodes below
-  // the mark keep what the sweep added, so one prefix, swept last, collects over many pieces).
+  // Sweeps nodes [mark, size) in reverse: the nodes below the mark keep what the sweep added to their adjoints,
+  // so that a prefix (the initial state), swept last, collects over many pieces (the steps).
   void Backward(int mark);
-  // Sets every adjoint to zero.
-  void ClearAdjoints();
+  // Drops the nodes [mark, size).
+  void Rewind(int mark);
 
  private:
   friend struct Rev;
@@ -94,6 +94,11 @@ class Tape {
     adjoints_.push_back(0.0);
     return static_cast<int>(nodes_.size()) - 1;
   }
+
+ public:
+  static constexpr int kBytesPerNode = sizeof(Node) + sizeof(double);  // a node and its adjoint
+
+ private:
   std::vector<Node> nodes_;
   std::vector<double> adjoints_;
   std::vector<External> externals_;  // in the order recorded

@@ -23,12 +23,11 @@ class Stepper {
  public:
   using Observer = std::function<void(const Sample<T>&)>;
 
-  // Everything a step depends on besides the model: the state (q, v), rk45's first stage when it carries over
-  // from the step before (first same as last; empty otherwise), and plain data: the position in the plan,
-  // rk45's step size, the Schur solver's memory and the joint angles' branches.
+  // Everything a step depends on besides the model: the state (q, v) and plain data: the position in the plan,
+  // rk45's step size, the Schur solver's memory and the joint angles' branches. (rk45's first stage carries over
+  // only between the internal steps of one step: Advance starts each step afresh.)
   struct Carry {
     VecX<T> q, v;
-    VecX<T> first_stage_q, first_stage_v;
     std::int64_t step = 0;  // grid steps taken
     double time = 0.0;
     size_t next_stop = 0;
@@ -47,6 +46,7 @@ class Stepper {
   // has ended. Throws SimulationDiverged (and RunInterrupted when runs are cancelled, interrupts.h).
   bool Step();
 
+  bool done() const { return step_ >= steps_; }
   Carry Save() const;
   void Restore(const Carry& carry);
   const RunReport& report() const { return report_; }
