@@ -26,6 +26,7 @@
 #include <benchmark/benchmark.h>
 
 #include "bench_models.h"
+#include "tether/autodiff/adjoint.h"
 #include "tether/autodiff/residuals.h"
 #include "tether/dynamics/scene_reader.h"
 
@@ -35,7 +36,7 @@ namespace {
 constexpr double kDuration = 0.2;  // s: 200 steps of 1e-3 s
 constexpr int kObservationTimes = 10;
 
-enum class Method { kImplicit, kJetFactor, kCentral };
+enum class Method { kImplicit, kJetFactor, kCentral, kAdjoint };
 
 struct Problem {
   Scene scene;
@@ -97,6 +98,18 @@ void SetCounters(benchmark::State& state, const Problem& problem, double plain) 
   state.counters["plain_ms"] = 1e3 * plain;
 }
 
+LossGradient Compute(const Problem& problem, Method method) {
+  switch (method) {
+    case Method::kCentral:
+      return CentralDifferenceLossGradient(problem.scene.model, problem.parameters, problem.observations);
+    case Method::kAdjoint:
+      return AdjointLossGradient(problem.scene.model, problem.parameters, problem.observations);
+    default:
+      return JetLossGradient(problem.scene.model, problem.parameters, problem.observations,
+                             method == Method::kJetFactor);
+  }
+}
+
 // Every iteration times one gradient and then, with the benchmark clock paused, plain simulations (at least one,
 // and until they add up to a quarter of the gradient's time), so that both see the same load, clock speed and
 // heap: the ratio is the mean gradient time over the mean plain time.
@@ -107,11 +120,7 @@ void Gradient(benchmark::State& state, Method method) {
   int plain_runs = 0;
   for (auto _ : state) {
     const double start = ThreadSeconds();
-    const LossGradient g =
-        method == Method::kCentral
-            ? CentralDifferenceLossGradient(problem.scene.model, problem.parameters, problem.observations)
-            : JetLossGradient(problem.scene.model, problem.parameters, problem.observations,
-                              method == Method::kJetFactor);
+    const LossGradient g = Compute(problem, method);
     benchmark::DoNotOptimize(g.gradient.data());
     const double seconds = ThreadSeconds() - start;
     gradient_seconds += seconds;
@@ -151,6 +160,7 @@ BENCHMARK(PlainSimulation)->ArgNames({"n", "P"})->Args({20, 1})->Args({200, 1})-
 BENCHMARK_CAPTURE(Gradient, implicit, Method::kImplicit)->Apply(Sizes);
 BENCHMARK_CAPTURE(Gradient, jet_factor, Method::kJetFactor)->Apply(Sizes);
 BENCHMARK_CAPTURE(Gradient, central, Method::kCentral)->Apply(Sizes);
+BENCHMARK_CAPTURE(Gradient, adjoint, Method::kAdjoint)->Apply(Sizes);
 
 }  // namespace
 }  // namespace tether::bench

@@ -467,10 +467,10 @@ TEST_P(AdjointGradient, EqualsJets) {
                 kAdjointAgreement * std::max(1e-3 * scale, std::abs(jet.gradient[i])))
         << pointers[i];
   }
-  // 150 grid steps and two stops off the grid: checkpoints every ceil(sqrt(152)) = 13 steps
+  // 150 grid steps and two stops off the grid, whose states all fit in the memory budget: every one is kept
   EXPECT_EQ(report.steps, 152);
-  EXPECT_EQ(report.interval, 13);
-  EXPECT_EQ(report.checkpoints, 12);
+  EXPECT_EQ(report.interval, 1);
+  EXPECT_EQ(report.checkpoints, 152);
   EXPECT_GT(report.largest_record, 0);
 }
 
@@ -483,26 +483,39 @@ INSTANTIATE_TEST_SUITE_P(
                        ::testing::Values(Stabilization::kNone, Stabilization::kBaumgarte, Stabilization::kProjection)),
     CombinationName);
 
-// Checkpoints change only what is recomputed: every state kept (K = 1), the default, and a single checkpoint
-// (K = all steps) give the same numbers.
+// Checkpoints change only what is recomputed: every state kept (K = 1, the default here), checkpoints every
+// ceil(sqrt(152)) = 13 steps, and a single checkpoint (K = all steps) give the same numbers.
 TEST(AdjointCheckpoints, CheckpointedEqualsStored) {
   const GradientScene scene = RigidPins();
   std::vector<std::string> pointers;
   const json document = Configured(scene, Integrator::kRk45, Stabilization::kBaumgarte, &pointers);
   ScratchFile csv("observations.csv");
   const Problem p = MakeProblem(document, pointers, scene.columns, csv.path());
-  AdjointReport stored_report, single_report;
+  AdjointReport stored_report, checkpointed_report, single_report;
   const LossGradient stored = AdjointLossGradient(p.scene.model, p.parameters, p.observations, 1, &stored_report);
-  const LossGradient checkpointed = AdjointLossGradient(p.scene.model, p.parameters, p.observations);
+  const LossGradient checkpointed =
+      AdjointLossGradient(p.scene.model, p.parameters, p.observations, 13, &checkpointed_report);
   const LossGradient single = AdjointLossGradient(p.scene.model, p.parameters, p.observations, 1000, &single_report);
   EXPECT_EQ(stored_report.checkpoints, 152);
+  EXPECT_EQ(checkpointed_report.checkpoints, 12);
   EXPECT_EQ(single_report.checkpoints, 1);
-  EXPECT_GT(stored_report.memory_bytes, 0);
+  // checkpoints and one segment's states: fewer kept with checkpoints than with every state
+  EXPECT_LT(checkpointed_report.memory_bytes - checkpointed_report.largest_record * Tape::kBytesPerNode,
+            stored_report.memory_bytes - stored_report.largest_record * Tape::kBytesPerNode);
   for (size_t i = 0; i < pointers.size(); ++i) {
     EXPECT_EQ(checkpointed.gradient[i], stored.gradient[i]) << pointers[i];
     EXPECT_EQ(single.gradient[i], stored.gradient[i]) << pointers[i];
   }
   EXPECT_EQ(checkpointed.loss, stored.loss);
+}
+
+// The memory rule: every state while they fit, then the smallest K with N / K + K states fitting, then sqrt(N).
+TEST(AdjointCheckpoints, IntervalKeepsWithinTheBudget) {
+  EXPECT_EQ(CheckpointInterval(1000, 8, 8000), 1);          // 1000 states fit
+  const std::int64_t k = CheckpointInterval(1000000, 8, 8 * 10000);  // 10^4 states: K + 10^6 / K <= 10^4
+  EXPECT_LE(k + (1000000 + k - 1) / k, 10000);
+  EXPECT_GT((k - 1) + (1000000 + k - 2) / (k - 1), 10000);  // and K is the smallest such
+  EXPECT_EQ(CheckpointInterval(1000000, 8, 8 * 100), 1000);  // nothing fits: 2 sqrt(N) states, the fewest
 }
 
 

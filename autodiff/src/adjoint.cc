@@ -3,38 +3,75 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <type_traits>
 #include <vector>
 
 namespace tether {
 namespace {
 
-using Carry = Stepper<Rev>::Carry;
+// The states of a run in double (checkpoints, a segment) and the recorded replay's.
+using PlainCarry = Stepper<double>::Carry;
+using RecordedCarry = Stepper<Rev>::Carry;
 
-// The state's values as fresh recorded inputs.
-void RecordInputs(Tape* tape, Carry* carry) {
-  for (VecX<Rev>* x : {&carry->q, &carry->v}) {
-    for (int i = 0; i < x->size(); ++i) (*x)[i] = tape->Variable((*x)[i].a);
-  }
+// A state of the double run as recorded inputs of a replay.
+RecordedCarry RecordInputs(Tape* tape, const PlainCarry& plain) {
+  RecordedCarry carry{VecX<Rev>(plain.q.size()), VecX<Rev>(plain.v.size()), plain.step, plain.time, plain.next_stop,
+                      plain.rk45_step, plain.starts_regularized, plain.coordinate_branches};
+  for (int i = 0; i < plain.q.size(); ++i) carry.q[i] = tape->Variable(plain.q[i]);
+  for (int i = 0; i < plain.v.size(); ++i) carry.v[i] = tape->Variable(plain.v[i]);
+  return carry;
 }
 
-void AddAdjoints(Tape* tape, const Carry& carry, const Eigen::VectorXd& q_bar, const Eigen::VectorXd& v_bar) {
+void AddAdjoints(Tape* tape, const RecordedCarry& carry, const Eigen::VectorXd& q_bar, const Eigen::VectorXd& v_bar) {
   for (int i = 0; i < carry.q.size(); ++i) tape->AddAdjoint(carry.q[i], q_bar[i]);
   for (int i = 0; i < carry.v.size(); ++i) tape->AddAdjoint(carry.v[i], v_bar[i]);
 }
 
-void ReadAdjoints(const Tape& tape, const Carry& carry, Eigen::VectorXd* q_bar, Eigen::VectorXd* v_bar) {
+void ReadAdjoints(const Tape& tape, const RecordedCarry& carry, Eigen::VectorXd* q_bar, Eigen::VectorXd* v_bar) {
   for (int i = 0; i < carry.q.size(); ++i) (*q_bar)[i] = tape.Adjoint(carry.q[i]);
   for (int i = 0; i < carry.v.size(); ++i) (*v_bar)[i] = tape.Adjoint(carry.v[i]);
 }
 
 }  // namespace
 
+std::int64_t CheckpointInterval(std::int64_t steps, std::int64_t state_bytes, std::int64_t budget_bytes) {
+  const std::int64_t states = budget_bytes / std::max<std::int64_t>(state_bytes, 1);
+  if (steps <= states) return 1;
+  const auto kept = [steps](std::int64_t k) { return (steps + k - 1) / k + k; };  // checkpoints and a segment
+  const auto root = static_cast<std::int64_t>(std::ceil(std::sqrt(static_cast<double>(steps))));
+  if (kept(root) > states) return root;
+  // the smallest K with N / K + K <= states (the root of K^2 - states K + N), then rounding settled exactly
+  const double s = static_cast<double>(states), n = static_cast<double>(steps);
+  std::int64_t k = std::max<std::int64_t>(1, static_cast<std::int64_t>((s - std::sqrt(s * s - 4.0 * n)) / 2.0));
+  while (k > 1 && kept(k - 1) <= states) --k;
+  while (kept(k) > states) ++k;
+  return k;
+}
+
 LossGradient AdjointGradient(const Model<double>& model, const ParameterSet& parameters, const RunOptions& options,
                              const SampleLoss& loss, std::int64_t interval, AdjointReport* report) {
+  // forward, in double: the loss, and a checkpoint every `interval` steps
+  LossGradient result;
+  bool forward = true;  // the segments run again backwards do not add to the loss
+  Stepper<double> plain(model, options, [&](const Sample<double>& s) {
+    if (forward && s.stop >= 0) result.loss += loss.plain(model, s);
+  });
+  plain.Start();
+  const int nq = model.NumCoordinates(), nv = model.NumVelocities();
+  const std::int64_t state_bytes = static_cast<std::int64_t>(nq + nv) * sizeof(double);
+  const std::int64_t planned = StepCount(model.simulation) + static_cast<std::int64_t>(options.stops.size());
+  const std::int64_t k = interval > 0 ? interval : CheckpointInterval(planned, state_bytes, kAdjointMemoryBudget);
+  std::vector<PlainCarry> checkpoints;
+  std::int64_t steps = 0;
+  for (; !plain.done(); ++steps) {
+    if (steps % k == 0) checkpoints.push_back(plain.Save());
+    plain.Step();
+  }
+  forward = false;
+
+  // the recorded run, whose parameters are the tape's inputs: its construction and start (the initial state
+  // and its loss) are the prefix, swept last
   Tape tape;
-  // two copies of the model in Rev: one of constants (runs that record nothing), one whose parameters are the
-  // recorded inputs
-  const Model<Rev> plain_model = CastModel<Rev>(model);
   Model<Rev> recorded_model = CastModel<Rev>(model);
   std::vector<Rev> inputs;
   for (int i = 0; i < parameters.size(); ++i) {
@@ -42,55 +79,34 @@ LossGradient AdjointGradient(const Model<double>& model, const ParameterSet& par
     field = tape.Variable(field.a);
     inputs.push_back(field);
   }
-
-  // forward: the loss, and a checkpoint every `interval` steps
-  LossGradient result;
-  bool forward = true;  // the segments run again backwards do not add to the loss
-  Stepper<Rev> plain(plain_model, options, [&](const Sample<Rev>& s) {
-    if (forward && s.stop >= 0) result.loss += loss(plain_model, s).a;
-  });
-  plain.Start();
-  const std::int64_t planned = StepCount(model.simulation) + static_cast<std::int64_t>(options.stops.size());
-  const std::int64_t k = interval > 0 ? interval : std::max<std::int64_t>(1, std::ceil(std::sqrt(double(planned))));
-  std::vector<Carry> checkpoints;
-  std::int64_t steps = 0;
-  for (; !plain.done(); ++steps) {
-    if (steps % k == 0) checkpoints.push_back(plain.Save());
-    plain.Step();
-  }
-
-  forward = false;
-
-  // the recorded run: its construction and start (the initial state and its loss) are the prefix, swept last
   Rev recorded_loss(0.0);
   Stepper<Rev> recorded(recorded_model, options, [&](const Sample<Rev>& s) {
-    if (s.stop >= 0) recorded_loss += loss(recorded_model, s);
+    if (s.stop >= 0) recorded_loss += loss.recorded(recorded_model, s);
   });
   recorded.Start();
   const Rev start_loss = recorded_loss;
-  const Carry start = recorded.Save();
+  const RecordedCarry start = recorded.Save();
   const int prefix = tape.size();
   std::int64_t largest_record = prefix;
 
-  // backward, segment by segment: run the segment again keeping its states, then sweep its steps in reverse
-  const int nq = plain_model.NumCoordinates(), nv = plain_model.NumVelocities();
+  // backward, segment by segment: run the segment again keeping the states its steps start from, then replay
+  // its steps recorded, in reverse, each swept back at once
   Eigen::VectorXd q_bar = Eigen::VectorXd::Zero(nq), v_bar = Eigen::VectorXd::Zero(nv);
-  std::vector<Carry> segment;
+  std::vector<PlainCarry> segment;
   for (std::int64_t c = static_cast<std::int64_t>(checkpoints.size()) - 1; c >= 0; --c) {
-    const std::int64_t first = c * k, count = std::min(k, steps - first);
-    plain.Restore(checkpoints[c]);
-    segment.clear();
-    for (std::int64_t n = 0; n < count; ++n) {
-      segment.push_back(plain.Save());
+    const std::int64_t count = std::min(k, steps - c * k);
+    segment.assign(1, checkpoints[c]);
+    if (count > 1) plain.Restore(checkpoints[c]);
+    for (std::int64_t n = 1; n < count; ++n) {
       plain.Step();
+      segment.push_back(plain.Save());
     }
     for (std::int64_t n = count - 1; n >= 0; --n) {
-      Carry in = segment[n];
-      RecordInputs(&tape, &in);
+      const RecordedCarry in = RecordInputs(&tape, segment[n]);
       recorded.Restore(in);
       recorded_loss = Rev(0.0);
       recorded.Step();
-      const Carry out = recorded.Save();
+      const RecordedCarry out = recorded.Save();
       largest_record = std::max<std::int64_t>(largest_record, tape.size() - prefix);
       tape.AddAdjoint(recorded_loss, 1.0);
       AddAdjoints(&tape, out, q_bar, v_bar);
@@ -105,12 +121,11 @@ LossGradient AdjointGradient(const Model<double>& model, const ParameterSet& par
   for (const Rev& input : inputs) result.gradient.push_back(tape.Adjoint(input));
 
   if (report) {
-    const std::int64_t state_bytes = static_cast<std::int64_t>(nq + nv) * sizeof(Rev);
     report->steps = steps;
     report->interval = k;
     report->checkpoints = static_cast<std::int64_t>(checkpoints.size());
     report->largest_record = largest_record;
-    report->memory_bytes = (report->checkpoints + k) * state_bytes + largest_record * Tape::kBytesPerNode;
+    report->memory_bytes = (report->checkpoints + (k > 1 ? k : 0)) * state_bytes + largest_record * Tape::kBytesPerNode;
   }
   return result;
 }
@@ -120,12 +135,13 @@ LossGradient AdjointLossGradient(const Model<double>& model, const ParameterSet&
   RunOptions options;
   options.every = INT_MAX;  // no output rows are needed, only the stops
   options.stops = observations.times;
-  const SampleLoss loss = [&observations](const Model<Rev>& m, const Sample<Rev>& s) {
-    Rev sum(0.0);
-    ObservedResiduals(m, observations, s.stop, s, [&sum](size_t, const Rev& r) { sum += 0.5 * r * r; });
+  const auto loss = [&observations](const auto& m, const auto& s) {
+    using T = std::decay_t<decltype(s.energy)>;
+    T sum(0.0);
+    ObservedResiduals(m, observations, s.stop, s, [&sum](size_t, const T& r) { sum += 0.5 * r * r; });
     return sum;
   };
-  return AdjointGradient(model, parameters, options, loss, interval, report);
+  return AdjointGradient(model, parameters, options, {loss, loss}, interval, report);
 }
 
 }  // namespace tether

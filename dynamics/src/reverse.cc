@@ -1,14 +1,10 @@
 #include "tether/dynamics/reverse.h"
 
+#include <algorithm>
+
 namespace tether {
-namespace {
-thread_local Tape* active_tape = nullptr;
-}  // namespace
-
-Tape* ActiveTape() { return active_tape; }
-
-Tape::Tape() : previous_(active_tape) { active_tape = this; }
-Tape::~Tape() { active_tape = previous_; }
+Tape::Tape() : previous_(internal::active_tape) { internal::active_tape = this; }
+Tape::~Tape() { internal::active_tape = previous_; }
 
 Rev Tape::Variable(double value) { return Rev(value, Push(-1, 0.0, -1, 0.0)); }
 
@@ -20,6 +16,7 @@ int Tape::RecordExternal(int count, ExternalBackward backward) {
 }
 
 void Tape::Backward(int mark) {
+  adjoints_.resize(nodes_.size(), 0.0);
   for (int i = size() - 1; i >= mark; --i) {
     // an external operation's outputs are consecutive: at the last one every use of them has been swept
     while (!externals_.empty() && externals_.back().first + externals_.back().count - 1 == i) {
@@ -37,7 +34,7 @@ void Tape::Backward(int mark) {
 
 void Tape::Rewind(int mark) {
   nodes_.resize(mark);
-  adjoints_.resize(mark);
+  adjoints_.resize(std::min<size_t>(adjoints_.size(), mark));
   while (!externals_.empty() && externals_.back().first >= mark) externals_.pop_back();
 }
 

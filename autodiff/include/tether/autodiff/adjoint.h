@@ -9,16 +9,18 @@
 //   xbar_N = dl_N/dx_N,   xbar_n = dl_n/dx_n + (dPhi_n/dx_n)^T xbar_{n+1},
 //   pbar = sum_n (dl_n/dp + (dPhi_n/dp)^T xbar_{n+1}) + (dX0/dp)^T xbar_0,
 // each product with a transposed Jacobian taken by recording that one step in Rev arithmetic (reverse.h) and
-// sweeping the record back: the derivative of exactly the computation that was run, the KKT solves by one more
-// solve with the forward matrix (schur_solver.h), the projection by the derivative of its Gauss-Newton iterations
-// (as Jets differentiate them). Branches (rk45's accepted steps, where the Schur matrix is regularized, a joint
-// angle's branch) are plain data: the forward run in Rev arithmetic without records takes them, and a replay from
-// a checkpoint takes them again, value for value.
+// sweeping the record back at once: the derivative of exactly the computation that was run, the KKT solves by one
+// more solve with the forward matrix (schur_solver.h), the projection by the derivative of its Gauss-Newton
+// iterations (as Jets differentiate them). The run itself is in double; a step is replayed in Rev from the double
+// state it started from, and takes the same branches (rk45's accepted steps, where the Schur matrix is regularized,
+// a joint angle's branch) because Rev computes the same doubles: they are plain data, not differentiated.
 //
-// Checkpoints (the simpler rule the issue allows, not Griewank's binomial revolve): with N steps in the plan the
-// forward run keeps the state every K = ceil(sqrt(N)) steps; backwards, each segment is run again from its
-// checkpoint keeping its K states, then swept step by step. Memory: ceil(N / K) + K states (2 sqrt(N) of them)
-// and one step's record; time: about three runs' worth of steps plus the recorded sweeps.
+// Memory (the simpler rule the issue allows, not Griewank's binomial revolve), for a plan of N steps of states of
+// B bytes and a budget of kAdjointMemoryBudget bytes: every state is kept (K = 1) while N states fit; beyond, the
+// forward run keeps a checkpoint every K steps, the smallest K for which ceil(N / K) checkpoints and one segment of
+// K states fit, and backwards each segment is run again in double from its checkpoint, keeping its states; when
+// not even 2 sqrt(N) states fit, K = ceil(sqrt(N)), the fewest. Besides the states, one step's record is held.
+// Time: one double run, one more for the segments (none when K = 1), and one recorded replay and sweep per step.
 #pragma once
 
 #include <cstdint>
@@ -37,11 +39,23 @@ struct AdjointReport {
   std::int64_t memory_bytes = 0;    // states kept (checkpoints and one segment) and the largest record
 };
 
-// The loss of one stop sample, in Rev arithmetic (recorded when the sample is).
-using SampleLoss = std::function<Rev(const Model<Rev>&, const Sample<Rev>&)>;
+// The loss of one stop sample: in double for the forward run, and in Rev arithmetic for the recorded replay (the
+// same function twice, e.g. a generic lambda).
+struct SampleLoss {
+  std::function<double(const Model<double>&, const Sample<double>&)> plain;
+  std::function<Rev(const Model<Rev>&, const Sample<Rev>&)> recorded;
+};
+
+// States the adjoint may keep (checkpoints and one segment): every state of a run that fits, else checkpoints.
+inline constexpr std::int64_t kAdjointMemoryBudget = std::int64_t{256} << 20;  // 256 MiB
+
+// K, the steps between checkpoints: 1 (every state kept) when all `steps` states fit in the budget, else the
+// smallest K whose ceil(steps / K) checkpoints and K segment states fit, else ceil(sqrt(steps)), which keeps
+// fewest (2 sqrt(steps)).
+std::int64_t CheckpointInterval(std::int64_t steps, std::int64_t state_bytes, std::int64_t budget_bytes);
 
 // The loss sum over the stop samples of a run of `model` with `options`, and its gradient with respect to the
-// parameters. `interval` overrides K (0: ceil(sqrt(N))). Throws as Simulate does.
+// parameters. `interval` overrides K (0: CheckpointInterval within kAdjointMemoryBudget). Throws as Simulate does.
 LossGradient AdjointGradient(const Model<double>& model, const ParameterSet& parameters, const RunOptions& options,
                              const SampleLoss& loss, std::int64_t interval = 0, AdjointReport* report = nullptr);
 

@@ -26,8 +26,12 @@ namespace tether {
 
 class Tape;
 
+namespace internal {
+inline thread_local Tape* active_tape = nullptr;
+}  // namespace internal
+
 // The active tape of this thread (nullptr when none): where recorded operations go.
-Tape* ActiveTape();
+inline Tape* ActiveTape() { return internal::active_tape; }
 
 struct Rev {
   double a = 0.0;  // the value (named as Jet's)
@@ -68,10 +72,12 @@ class Tape {
   using ExternalBackward = std::function<void(const double* output_adjoints, Tape* tape)>;
   int RecordExternal(int count, ExternalBackward backward);
 
-  double Adjoint(const Rev& x) const { return x.index < 0 ? 0.0 : adjoints_[x.index]; }
+  double Adjoint(const Rev& x) const { return x.index < 0 || x.index >= static_cast<int>(adjoints_.size()) ? 0.0 : adjoints_[x.index]; }
   void AddAdjoint(const Rev& x, double value) { AddAdjoint(x.index, value); }
   void AddAdjoint(int node, double value) {
-    if (node >= 0) adjoints_[node] += value;
+    if (node < 0) return;
+    if (node >= static_cast<int>(adjoints_.size())) adjoints_.resize(nodes_.size(), 0.0);
+    adjoints_[node] += value;
   }
   // Sweeps nodes [mark, size) in reverse: the nodes below the mark keep what the sweep added to their adjoints,
   // so that a prefix (the initial state), swept last, collects over many pieces (the steps).
@@ -91,7 +97,6 @@ class Tape {
   };
   int Push(int p0, double d0, int p1, double d1) {
     nodes_.push_back({{p0, p1}, {d0, d1}});
-    adjoints_.push_back(0.0);
     return static_cast<int>(nodes_.size()) - 1;
   }
 
@@ -100,7 +105,7 @@ class Tape {
 
  private:
   std::vector<Node> nodes_;
-  std::vector<double> adjoints_;
+  std::vector<double> adjoints_;     // of the nodes [0, adjoints_.size()); the others' are zero
   std::vector<External> externals_;  // in the order recorded
   Tape* previous_ = nullptr;
 };
@@ -116,12 +121,15 @@ inline double Value(const Rev& x) { return x.a; }
 
 // y = f(x) with f(x) = value and f'(x) = partial (partial evaluated only when x is recorded)
 template <typename Partial>
-inline Rev Unary(const Rev& x, double value, Partial partial) {
-  return x.index < 0 ? Rev(value) : Rev(value, Rev::Record(x.index, partial()));
+__attribute__((always_inline)) inline Rev Unary(const Rev& x, double value, Partial partial) {
+  if (__builtin_expect(x.index < 0, 1)) return Rev(value);
+  return Rev(value, Rev::Record(x.index, partial()));
 }
 template <typename Partials>
-inline Rev Binary(const Rev& x, const Rev& y, double value, Partials partials) {
-  if (x.index < 0 && y.index < 0) return Rev(value);
+__attribute__((always_inline)) inline Rev Binary(const Rev& x, const Rev& y, double value, Partials partials) {
+  if (__builtin_expect((x.index & y.index) < 0, 1)) {  // both constants: both sign bits set
+    return Rev(value);
+  }
   const auto [dx, dy] = partials();
   return Rev(value, Rev::Record(x.index, dx, y.index, dy));
 }
