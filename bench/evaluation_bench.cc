@@ -53,8 +53,8 @@ void Part(benchmark::State& state, Mechanism mechanism, const std::string& part)
   Evaluated e(mechanism);
   Workspace<double>& ws = *e.workspace;
   SparseLdlt factor(ws.pattern);
-  factor.Factor(ws.schur);
-  VecX<double> x = ws.rhs, q = e.q, v = e.v;
+  factor.Factor(ws.kkt.schur);
+  VecX<double> x = ws.kkt.rhs, q = e.q, v = e.v;
   const std::function<void()> run = [&]() -> std::function<void()> {
     if (part == "frames") return [&] { UpdateFrames(e.model, e.q, e.v, true, &ws.frames); };
     if (part == "forces") {
@@ -67,7 +67,7 @@ void Part(benchmark::State& state, Mechanism mechanism, const std::string& part)
       return [&] { EvaluateConstraintRows(e.model, ws.constraints, ws.frames, e.q, e.v, true, &ws.rows); };
     }
     if (part == "assembly") return [&] { AssembleSchur(&ws); };
-    if (part == "factor") return [&] { benchmark::DoNotOptimize(factor.Factor(ws.schur)); };
+    if (part == "factor") return [&] { benchmark::DoNotOptimize(factor.Factor(ws.kkt.schur)); };
     if (part == "solve") return [&] { factor.SolveInPlace(&x); };
     if (part == "evaluation") return [&] { ComputeAcceleration(e.model, 0.0, e.q, e.v, &ws, &e.acceleration); };
     return [&] {  // rk4_step, always from the settled state

@@ -5,8 +5,7 @@
 #include <iostream>
 
 #include "scene_overrides.h"
-#include "tether/autodiff/adjoint.h"
-#include "tether/autodiff/residuals.h"
+#include "tether/autodiff/gradient_method.h"
 #include "tether/dynamics/errors.h"
 
 namespace tether::cli {
@@ -20,31 +19,27 @@ class GradientCommand final : public Command {
     app_->add_option("--data", data_path_, "observations: a trajectory CSV with t and any subset of columns")->required();
     app_->add_option("--param", pointers_, "a parameter, as a JSON Pointer into the scene (repeatable)")->required();
     app_->add_option("--method", method_,
-                     "adjoint (the discrete adjoint), jet (Jets through the KKT solves) or fd (central differences)");
+                     "auto (default: jet below " + std::to_string(kAdjointCrossover) +
+                         " parameters, adjoint from there), adjoint (the discrete adjoint), jet (Jets through the KKT "
+                         "solves) or fd (central differences)");
     overrides_.Register(app_);
   }
 
   CLI::App* app() const override { return app_; }
 
   int Run() override {
-    if (method_ != "jet" && method_ != "fd" && method_ != "adjoint") {
-      throw InputError("--method: unknown method '" + method_ + "' (expected adjoint, jet or fd)");
-    }
+    const GradientMethod requested = ParseGradientMethod(method_, "--method");
     Scene scene = ReadSceneFile(scene_path_);
     overrides_.Apply(&scene.model);
     const ParameterSet parameters(scene, pointers_);
     const Observations observations = ReadObservations(data_path_, scene.model);
 
     const auto start = std::chrono::steady_clock::now();
+    const GradientMethod method = ResolveGradientMethod(requested, parameters.size());
     LossGradient result;
+    AdjointReport adjoint;
     try {
-      if (method_ == "jet") {
-        result = JetLossGradient(scene.model, parameters, observations);
-      } else if (method_ == "adjoint") {
-        result = AdjointLossGradient(scene.model, parameters, observations);
-      } else {
-        result = CentralDifferenceLossGradient(scene.model, parameters, observations);
-      }
+      result = LossGradientBy(method, scene.model, parameters, observations, &adjoint);
     } catch (const InputError& e) {
       throw InputError(scene_path_ + ": " + e.what());
     } catch (const SimulationDiverged& e) {
@@ -60,13 +55,13 @@ class GradientCommand final : public Command {
       return 1;
     }
 
-    std::cout << GradientJson(parameters, scene.model, result, method_, seconds).dump(2) << std::endl;
+    std::cout << GradientJson(parameters, scene.model, result, method, seconds, adjoint).dump(2) << std::endl;
     return 0;
   }
 
  private:
   CLI::App* app_;
-  std::string scene_path_, data_path_, method_ = "jet";
+  std::string scene_path_, data_path_, method_ = "auto";
   std::vector<std::string> pointers_;
   SceneOverrides overrides_;
 };

@@ -48,6 +48,9 @@ class IdentifyCommand final : public Command {
     app_->add_option("--segments", segments_, "multiple shooting with K segments (default 1: single shooting)");
     app_->add_option("--loss", loss_, "robust loss: huber:DELTA or cauchy:DELTA (default: squares)");
     app_->add_option("--optimizer", optimizer_, "ceres (default) or nlopt:ALGORITHM");
+    app_->add_option("--method", method_,
+                     "derivatives for a gradient-based NLopt algorithm: auto (default: the adjoint from " +
+                         std::to_string(kAdjointCrossover) + " unknowns on), jet or adjoint");
     app_->add_option("--max-evaluations", max_evaluations_, "budget of residual evaluations for NLopt; Ceres gets half as many iterations (default 200)");
     app_->add_option("-o,--output", output_path_, "write the scene with the estimates in place");
     app_->add_option("--plot", plot_path_, "draw the data against the motion with the estimates (PNG or SVG)");
@@ -61,6 +64,7 @@ class IdentifyCommand final : public Command {
     IdentifySettings settings;
     settings.optimizer.name = optimizer_;
     CheckOptimizerName(optimizer_, "--optimizer");
+    settings.method = ParseGradientMethod(method_, "--method");
     if (!loss_.empty()) settings.optimizer.loss = ParseRobustLoss(loss_, "--loss");
     CheckCount(segments_, 1, kMaxSegments, "--segments");
     CheckCount(max_evaluations_, 2, kMaxEvaluations, "--max-evaluations");
@@ -121,7 +125,7 @@ class IdentifyCommand final : public Command {
  private:
   bool fit_;
   CLI::App* app_;
-  std::string scene_path_, output_path_, plot_path_, loss_, optimizer_ = "ceres";
+  std::string scene_path_, output_path_, plot_path_, loss_, optimizer_ = "ceres", method_ = "auto";
   std::vector<std::string> data_paths_, pointers_, bounds_;
   int segments_ = 1, max_evaluations_ = 200;
   double smooth_ = 0.0;

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "test_files.h"
+#include "tether/dynamics/errors.h"
 #include "tether/dynamics/scene_reader.h"
 #include "tether/dynamics/trajectory_csv.h"
 #include "tether/tuning/identification.h"
@@ -194,6 +195,111 @@ TEST(Fit, SmoothingMakesAnUnderdeterminedScheduleUniqueAndSmooth) {
   std::cout << "schedule roughness (sum of squared consecutive differences): plain " << rough_plain << " (largest step "
             << largest_step_plain << " N), smoothed " << rough_smooth << " (largest step " << largest_step_smooth
             << " N); start dependence without smoothing " << start_dependence << " N\n";
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// derivatives by the adjoint (identification.h: Derivatives)
+
+// A puck's 17-value x-force schedule fitted to x and vx at four times, with smoothing and a robust loss.
+struct ScheduleFit {
+  Scene scene;
+  Observations targets;
+  std::vector<std::string> pointers;
+};
+
+ScheduleFit SeventeenKnots(const TempFolder& folder) {
+  std::vector<double> times;
+  std::vector<std::vector<double>> truth, start;
+  for (int j = 0; j < 17; ++j) {
+    times.push_back(0.125 * j);
+    truth.push_back({1.0 + 0.5 * std::sin(2.0 * times.back()), 0.0});
+    start.push_back({j % 2 == 0 ? 0.0 : 2.0, 0.0});
+  }
+  json d = Puck(1.0, times, start);
+  d["simulation"] = Simulation("rk4", 2e-3, 2.0);
+  ScheduleFit f{ParseScene(d, "puck.json"), {}, SchedulePointers(17, 0)};
+  f.targets = Targets(Puck(1.0, times, truth), f.scene.model, {"puck.x", "puck.vx"}, {0.5, 1.0, 1.5, 2.0}, folder);
+  return f;
+}
+
+// The cost's gradient by the adjoint is J^T rho'(r^2) r by the Jets (1e-8 relative to the largest component),
+// robust loss, smoothing and log-space parameters (the mass) included.
+TEST(FitByAdjoint, TheCostGradientEqualsTheJets) {
+  TempFolder folder("tether_fit");
+  ScheduleFit f = SeventeenKnots(folder);
+  f.pointers.push_back("/bodies/0/mass");
+  const ParameterSet parameters(f.scene, f.pointers);
+  IdentifySettings settings;
+  settings.optimizer.loss = ParseRobustLoss("huber:0.05", "--loss");
+  settings.smooth = 1e-3;
+  const LossGradient jet = IdentifyCostGradient(f.scene.model, parameters, {f.targets}, settings, GradientMethod::kJet);
+  const LossGradient adjoint =
+      IdentifyCostGradient(f.scene.model, parameters, {f.targets}, settings, GradientMethod::kAdjoint);
+  EXPECT_NEAR(adjoint.loss, jet.loss, 1e-12 * jet.loss);
+  double scale = 0.0;
+  for (double g : jet.gradient) scale = std::max(scale, std::abs(g));
+  ASSERT_GT(scale, 0.0);
+  for (size_t j = 0; j < f.pointers.size(); ++j) {
+    EXPECT_NEAR(adjoint.gradient[j], jet.gradient[j], 1e-8 * scale) << f.pointers[j];
+  }
+}
+
+// L-BFGS on the adjoint's gradients reaches the minimum it reaches on the Jets' (unique, with the smoothing).
+TEST(FitByAdjoint, LbfgsReachesTheMinimumItReachesWithJets) {
+  TempFolder folder("tether_fit");
+  const ScheduleFit f = SeventeenKnots(folder);
+  IdentifySettings settings;
+  settings.optimizer.name = "nlopt:LD_LBFGS";
+  settings.optimizer.max_evaluations = 100;
+  settings.optimizer.loss = ParseRobustLoss("huber:0.05", "--loss");
+  settings.smooth = 1e-3;
+  const ParameterSet parameters(f.scene, f.pointers);
+  settings.method = GradientMethod::kJet;
+  const IdentifyResult jet = Identify(f.scene.model, parameters, {f.targets}, settings);
+  settings.method = GradientMethod::kAuto;  // 17 unknowns: at or above the crossover
+  const IdentifyResult adjoint = Identify(f.scene.model, parameters, {f.targets}, settings);
+  EXPECT_EQ(jet.gradient_method, "jet");
+  EXPECT_EQ(adjoint.gradient_method, "adjoint");
+  EXPECT_LT(adjoint.final_cost, 1e-3 * adjoint.initial_cost);
+  EXPECT_NEAR(adjoint.final_cost, jet.final_cost, 1e-6 * jet.final_cost);
+  for (size_t j = 0; j < f.pointers.size(); ++j) {
+    EXPECT_NEAR(adjoint.estimate[j], jet.estimate[j], 1e-4) << f.pointers[j];
+  }
+}
+
+TEST(FitByAdjoint, WhereTheAdjointCannotServeItIsRefusedOrLeftToJets) {
+  TempFolder folder("tether_fit");
+  const ScheduleFit f = SeventeenKnots(folder);
+  const ParameterSet parameters(f.scene, f.pointers);
+  IdentifySettings settings;
+  settings.optimizer.max_evaluations = 4;
+  auto message = [&](const IdentifySettings& s) -> std::string {
+    try {
+      Identify(f.scene.model, parameters, {f.targets}, s);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  settings.method = GradientMethod::kAdjoint;  // Levenberg-Marquardt needs the Jacobian
+  EXPECT_NE(message(settings).find("needs the residuals' Jacobian"), std::string::npos) << message(settings);
+  settings.optimizer.name = "nlopt:LN_BOBYQA";  // no derivatives at all
+  EXPECT_NE(message(settings).find("uses no derivatives"), std::string::npos) << message(settings);
+  settings.optimizer.name = "nlopt:LD_LBFGS";
+  settings.segments = 2;  // multiple shooting's start states
+  EXPECT_NE(message(settings).find("multiple shooting"), std::string::npos) << message(settings);
+  settings.method = GradientMethod::kCentral;
+  settings.segments = 1;
+  EXPECT_NE(message(settings).find("--method fd"), std::string::npos) << message(settings);
+  // auto: Jets for Levenberg-Marquardt and for multiple shooting, nothing for a derivative-free algorithm
+  settings.method = GradientMethod::kAuto;
+  settings.optimizer.name = "ceres";
+  EXPECT_EQ(Identify(f.scene.model, parameters, {f.targets}, settings).gradient_method, "jet");
+  settings.optimizer.name = "nlopt:LN_BOBYQA";
+  EXPECT_EQ(Identify(f.scene.model, parameters, {f.targets}, settings).gradient_method, "none");
+  settings.optimizer.name = "nlopt:LD_LBFGS";
+  settings.segments = 2;
+  EXPECT_EQ(Identify(f.scene.model, parameters, {f.targets}, settings).gradient_method, "jet");
 }
 
 }  // namespace

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "tether/autodiff/residuals.h"
+#include "tether/autodiff/gradient_method.h"
 #include "tether/dynamics/scene_reader.h"
 #include "tether/dynamics/trajectory_csv.h"
 #include "test_files.h"
@@ -79,7 +79,7 @@ TEST_F(GradientCliTest, PrintsLossGradientSecondsAndMethodAsTheLibraryComputesTh
   ASSERT_TRUE(out["gradient"].is_object()) << run.out;
   ASSERT_TRUE(out["seconds"].is_number()) << run.out;
   EXPECT_GE(out["seconds"].get<double>(), 0.0);
-  EXPECT_EQ(out["method"], "jet");  // the default
+  EXPECT_EQ(out["method"], "jet");  // auto, the default, with fewer parameters than kAdjointCrossover
   EXPECT_EQ(out["gradient"].size(), kParameters.size());
 
   // the library in process gives the same numbers (JSON prints doubles in round-trip form: 1e-15 relative)
@@ -114,6 +114,31 @@ TEST_F(GradientCliTest, CentralDifferencesAgreeWithJets) {
     // h^2 ~ 1e-10 relative plus round-off 1e-14 / 1e-5: 1e-6 of the largest component is ample
     EXPECT_NEAR(b["gradient"][p].get<double>(), a["gradient"][p].get<double>(), 1e-6 * scale) << p;
   }
+}
+
+// --method adjoint gives the Jets' numbers to 1e-8 (the same derivative taken in reverse); auto's choice by the
+// parameter count is checked on the library's rule (the pendulum has fewer parameters than the crossover).
+TEST_F(GradientCliTest, TheAdjointAgreesWithJetsAndAutoChoosesByTheParameterCount) {
+  WritePendulumProblem();
+  const Outcome jet = Tether("gradient '" + scene_ + "' --data '" + data_ + "'" + Params() + " --method jet");
+  const Outcome adjoint = Tether("gradient '" + scene_ + "' --data '" + data_ + "'" + Params() + " --method adjoint");
+  ASSERT_EQ(jet.status, 0) << jet.err;
+  ASSERT_EQ(adjoint.status, 0) << adjoint.err;
+  const nlohmann::json a = nlohmann::json::parse(jet.out), b = nlohmann::json::parse(adjoint.out);
+  EXPECT_EQ(b["method"], "adjoint");
+  // what it kept: 300 steps of 1 ms and one onto t = 0.1234, every state (they fit in the budget)
+  EXPECT_EQ(b["adjoint"]["steps"], 301) << adjoint.out;
+  EXPECT_EQ(b["adjoint"]["interval"], 1) << adjoint.out;
+  EXPECT_GT(b["adjoint"]["memory_bytes"].get<double>(), 0.0) << adjoint.out;
+  EXPECT_FALSE(a.contains("adjoint")) << jet.out;
+  EXPECT_NEAR(b["loss"].get<double>(), a["loss"].get<double>(), 1e-12 * a["loss"].get<double>());
+  for (const std::string& p : kParameters) {
+    const double g = a["gradient"][p].get<double>();
+    EXPECT_NEAR(b["gradient"][p].get<double>(), g, 1e-8 * std::abs(g)) << p;
+  }
+  EXPECT_EQ(ResolveGradientMethod(GradientMethod::kAuto, kAdjointCrossover - 1), GradientMethod::kJet);
+  EXPECT_EQ(ResolveGradientMethod(GradientMethod::kAuto, kAdjointCrossover), GradientMethod::kAdjoint);
+  EXPECT_EQ(ResolveGradientMethod(GradientMethod::kCentral, 1000), GradientMethod::kCentral);
 }
 
 TEST_F(GradientCliTest, MissingDataFlagExitsTwo) {

@@ -122,10 +122,10 @@ Solution LibrarySolve(Model<T> model, KktSolver kind, const VecX<T>& q, const Ve
   VecX<T> a(model.NumVelocities());
   EXPECT_TRUE(ComputeAcceleration(model, 0.0, q, v, &ws, &a));
   if (a_out != nullptr) *a_out = a;
-  if (lambda_out != nullptr) *lambda_out = ws.lambda;
-  Solution s{Eigen::VectorXd(a.size()), Eigen::VectorXd(ws.lambda.size())};
+  if (lambda_out != nullptr) *lambda_out = ws.kkt.lambda;
+  Solution s{Eigen::VectorXd(a.size()), Eigen::VectorXd(ws.kkt.lambda.size())};
   for (int i = 0; i < a.size(); ++i) s.acceleration[i] = Value(a[i]);
-  for (int i = 0; i < ws.lambda.size(); ++i) s.lambda[i] = Value(ws.lambda[i]);
+  for (int i = 0; i < ws.kkt.lambda.size(); ++i) s.lambda[i] = Value(ws.kkt.lambda[i]);
   return s;
 }
 

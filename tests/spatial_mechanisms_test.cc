@@ -244,7 +244,8 @@ TEST(Gradients, JetsMatchCentralDifferencesForEveryThreeDimensionalParameter) {
   for (int i = 0; i < parameters.size(); ++i) {
     EXPECT_NEAR(jet.gradient[i], fd.gradient[i], 1e-6 * std::max(1.0, std::abs(fd.gradient[i])))
         << parameters.pointers()[i];
-  }  ExpectAdjointEqualsJets(scene.model, parameters, observations, jet);
+  }
+  ExpectAdjointEqualsJets(scene.model, parameters, observations, jet);
 }
 
 TEST(Observations, ARecordedQuaternionOfEitherSignFitsTheSame) {

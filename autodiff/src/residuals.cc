@@ -90,20 +90,5 @@ LossGradient CentralDifferenceLossGradient(const Model<double>& model, const Par
 template VecX<double> ObservationResiduals<double>(const Model<double>&, const Observations&, const RunOptions&);
 template VecX<Jet> ObservationResiduals<Jet>(const Model<Jet>&, const Observations&, const RunOptions&);
 
-nlohmann::json GradientJson(const ParameterSet& parameters, const Model<double>& model, const LossGradient& result,
-                            const std::string& method, double seconds) {
-  nlohmann::json out;
-  out["loss"] = result.loss;
-  out["gradient"] = nlohmann::json::object();
-  out["parameters"] = nlohmann::json::object();
-  const std::vector<double> values = parameters.Values(model);
-  for (int i = 0; i < parameters.size(); ++i) {
-    out["gradient"][parameters.pointers()[i]] = result.gradient[i];
-    out["parameters"][parameters.pointers()[i]] = values[i];
-  }
-  out["method"] = method;
-  out["seconds"] = seconds;
-  return out;
-}
 
 }  // namespace tether

@@ -5,21 +5,21 @@
 namespace tether {
 namespace {
 
-// ws->rhs = J x for the rows in ws.
+// ws->kkt.rhs = J x for the rows in ws.
 template <typename T>
 void MultiplyJacobian(const Model<T>& model, const VecX<T>& x, Workspace<T>* ws) {
   for (size_t i = 0; i < ws->rows.size(); ++i) {
-    ws->rhs[i] = Dot(model, ws->rows[i].a, x) + Dot(model, ws->rows[i].b, x);
+    ws->kkt.rhs[i] = Dot(model, ws->rows[i].a, x) + Dot(model, ws->rows[i].b, x);
   }
 }
 
-// out = M^-1 J^T ws->lambda.
+// out = M^-1 J^T ws->kkt.lambda.
 template <typename T>
 void ApplyReaction(const Model<T>& model, Workspace<T>* ws, VecX<T>* out) {
   out->setZero();
   for (size_t i = 0; i < ws->rows.size(); ++i) {
-    AddScaled(model, ws->rows[i].a, ws->lambda[i], out);
-    AddScaled(model, ws->rows[i].b, ws->lambda[i], out);
+    AddScaled(model, ws->rows[i].a, ws->kkt.lambda[i], out);
+    AddScaled(model, ws->rows[i].b, ws->kkt.lambda[i], out);
   }
   ApplyInverseMass(model, ws->inverse_mass, *out, out);
 }
@@ -59,9 +59,9 @@ ProjectionResult ProjectPositions(const Model<T>& model, double tolerance, Works
     // S mu = C(q_k) - J d_k with d_k = q_k (-) q_t, then q_{k+1} = q_t (+) (-M^-1 J^T mu)
     Difference(model, ws->trial_q, *q, &ws->reaction);
     MultiplyJacobian(model, ws->reaction, ws);
-    for (size_t i = 0; i < ws->rows.size(); ++i) ws->rhs[i] = ws->rows[i].value - ws->rhs[i];
+    for (size_t i = 0; i < ws->rows.size(); ++i) ws->kkt.rhs[i] = ws->rows[i].value - ws->kkt.rhs[i];
     AssembleSchur(ws);
-    if (!ws->solver.Solve(ws->schur, ws->rhs, &ws->lambda)) break;
+    if (!ws->solver.Solve(ws->kkt.schur, ws->kkt.rhs, &ws->kkt.lambda)) break;
     ApplyReaction(model, ws, &ws->reaction);
     Integrate(model, ws->trial_q, ws->reaction, -1.0, q);
   }
@@ -90,16 +90,16 @@ ProjectionResult ProjectPositionsRobustly(const Model<T>& model, double toleranc
     // (S + mu diag S) nu = C(q_k), q_{k+1} = q_k (+) (-M^-1 J^T nu): accepted when |C|^2 decreases (mu / 3),
     // else mu * 4 and again from q_k
     AssembleSchur(ws);
-    const std::vector<T> schur = ws->schur;
+    const std::vector<T> schur = ws->kkt.schur;
     const std::vector<ConstraintRow<T>> rows = ws->rows;
     ws->trial_q = *q;
     bool decreased = false;
     while (!decreased && damping <= kLargestDamping) {
-      ws->schur = schur;
-      for (int d : ws->pattern.diagonal()) ws->schur[d] *= T(1.0 + damping);
-      for (size_t i = 0; i < rows.size(); ++i) ws->rhs[i] = rows[i].value;
+      ws->kkt.schur = schur;
+      for (int d : ws->pattern.diagonal()) ws->kkt.schur[d] *= T(1.0 + damping);
+      for (size_t i = 0; i < rows.size(); ++i) ws->kkt.rhs[i] = rows[i].value;
       ws->rows = rows;
-      if (!ws->solver.Solve(ws->schur, ws->rhs, &ws->lambda)) break;
+      if (!ws->solver.Solve(ws->kkt.schur, ws->kkt.rhs, &ws->kkt.lambda)) break;
       ApplyReaction(model, ws, &ws->reaction);
       Integrate(model, ws->trial_q, ws->reaction, -1.0, q);
       EvaluateRows(model, *q, unused_velocity, false, ws);
@@ -130,7 +130,7 @@ bool ProjectVelocities(const Model<T>& model, const VecX<T>& q, Workspace<T>* ws
   EvaluateRows(model, q, *v, false, ws);
   MultiplyJacobian(model, *v, ws);
   AssembleSchur(ws);
-  if (!ws->solver.Solve(ws->schur, ws->rhs, &ws->lambda)) return false;
+  if (!ws->solver.Solve(ws->kkt.schur, ws->kkt.rhs, &ws->kkt.lambda)) return false;
   ApplyReaction(model, ws, &ws->reaction);
   *v -= ws->reaction;
   return true;

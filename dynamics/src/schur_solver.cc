@@ -50,6 +50,12 @@ bool SchurSolver::FactorAsGiven(const std::vector<double>& values) {
   return true;
 }
 
+bool SchurSolver::SolveAsGiven(const std::vector<double>& values, Eigen::VectorXd* x) {
+  if (!FactorAsGiven(values)) return false;
+  SolveInPlace(x);
+  return true;
+}
+
 // pivot i belongs to row order[i] of S (the identity for the dense Cholesky)
 bool SchurSolver::WellConditioned(const std::vector<double>& values, bool note_near_singular) {
   const bool sparse = kind_ == KktSolver::kSparse;
@@ -145,8 +151,7 @@ bool SchurSolver::Solve<Rev>(const std::vector<Rev>& values, const VecX<Rev>& b,
                    value_nodes = std::move(value_nodes), rhs_nodes = std::move(rhs_nodes),
                    diagonal_factor](const double* x_bar, Tape* tape) {
     Eigen::VectorXd b_bar = Eigen::Map<const Eigen::VectorXd>(x_bar, n);
-    FactorAsGiven(factored);  // the matrix factored forward, which factored then
-    SolveInPlace(&b_bar);
+    SolveAsGiven(factored, &b_bar);  // the matrix factored forward, which factored then
     for (int i = 0; i < n; ++i) tape->AddAdjoint(rhs_nodes[i], b_bar[i]);
     const std::vector<int>& row = pattern_->row_index();
     const std::vector<int>& column = pattern_->column_index();

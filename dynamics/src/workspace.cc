@@ -21,13 +21,21 @@ InverseMass<T> BuildInverseMass(const Model<T>& model) {
 }
 
 template <typename T>
-void ApplyInverseMass(const Model<T>& model, const InverseMass<T>& inverse, const VecX<T>& x, VecX<T>* out) {
+KktSystem<T>::KktSystem(const SchurPattern& pattern, int nv)
+    : schur(pattern.nonzeros(), T(0.0)),
+      assembly_scratch(12 * static_cast<size_t>(pattern.largest_dense_count()), T(0.0)),
+      rhs(VecX<T>::Zero(pattern.size())),
+      lambda(VecX<T>::Zero(pattern.size())),
+      u_plus_alpha_v(VecX<T>::Zero(nv)) {}
+
+template <typename S, typename T>
+void ApplyInverseMass(const Model<S>& model, const InverseMass<T>& inverse, const VecX<T>& x, VecX<T>* out) {
   if (model.spatial_bodies.empty()) {  // M is diagonal
     out->noalias() = inverse.diagonal.cwiseProduct(x);
     return;
   }
   for (size_t i = 0; i < model.bodies.size(); ++i) {
-    const Body<T>& body = model.bodies[i];
+    const Body<S>& body = model.bodies[i];
     if (body.kind != BodyKind::kRigid3d) {
       for (int k = 0; k < body.v_size; ++k) (*out)[body.v_offset + k] = inverse.diagonal[body.v_offset + k] * x[body.v_offset + k];
       continue;
@@ -47,16 +55,11 @@ Workspace<T>::Workspace(const Model<T>& model, const VecX<T>& q_start, bool fact
       solver(pattern, model.simulation.solver, factor_jet_matrices),
       inverse_mass(BuildInverseMass(model)),
       rows(infos.size()),
-      schur(pattern.nonzeros(), T(0.0)),
-      assembly_scratch(12 * static_cast<size_t>(pattern.largest_dense_count()), T(0.0)) {
+      kkt(pattern, model.NumVelocities()) {
   const int nq = model.NumCoordinates(), nv = model.NumVelocities();
-  const int m = static_cast<int>(infos.size());
   frames.resize(model.bodies.size());
   force.setZero(nv);
   reaction.setZero(nv);
-  u_plus_alpha_v.setZero(nv);
-  rhs.setZero(m);
-  lambda.setZero(m);
   for (int s = 0; s < 7; ++s) {
     stage_q[s].setZero(nv);
     stage_v[s].setZero(nv);
@@ -73,7 +76,7 @@ Workspace<T>::Workspace(const Model<T>& model, const VecX<T>& q_start, bool fact
 template <typename T>
 void AssembleSchur(Workspace<T>* ws) {
   AssembleSchur(ws->layout, ws->pattern, ws->rows, ws->inverse_mass.diagonal, ws->inverse_mass.rotational,
-                &ws->assembly_scratch, &ws->schur);
+                &ws->kkt.assembly_scratch, &ws->kkt.schur);
 }
 
 template <typename T>
@@ -85,9 +88,13 @@ void EvaluateRows(const Model<T>& model, const VecX<T>& q, const VecX<T>& v, boo
 #define TETHER_INSTANTIATE_WORKSPACE(T)                                                                    \
   template struct Workspace<T>;                                                                           \
   template InverseMass<T> BuildInverseMass<T>(const Model<T>&);                                           \
-  template void ApplyInverseMass<T>(const Model<T>&, const InverseMass<T>&, const VecX<T>&, VecX<T>*);    \
+  template struct KktSystem<T>;                                                                            \
+  template void ApplyInverseMass<T, T>(const Model<T>&, const InverseMass<T>&, const VecX<T>&, VecX<T>*); \
   template void EvaluateRows<T>(const Model<T>&, const VecX<T>&, const VecX<T>&, bool, Workspace<T>*);        \
   template void AssembleSchur<T>(Workspace<T>*);
 TETHER_FOR_EACH_SCALAR(TETHER_INSTANTIATE_WORKSPACE)
+// the recorded KKT solve's values in double (kkt_adjoint.cc)
+template void ApplyInverseMass<Rev, double>(const Model<Rev>&, const InverseMass<double>&, const VecX<double>&,
+                                            VecX<double>*);
 
 }  // namespace tether

@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "tether/autodiff/residuals.h"
+#include "tether/autodiff/gradient_method.h"
 #include "tether/dynamics/errors.h"
 #include "tether/dynamics/interrupts.h"
 #include "tether/dynamics/request_limits.h"
@@ -135,15 +135,14 @@ Observations Data(const std::string& source, const std::vector<std::string>& nam
 std::string GradientOf(const Scene& scene, const std::vector<std::string>& names,
                        const py::array_t<double, py::array::c_style | py::array::forcecast>& values,
                        const std::vector<std::string>& pointers, const std::string& method) {
-  if (method != "jet" && method != "fd")
-    throw InputError("method: unknown method '" + method + "' (expected jet or fd)");
+  const GradientMethod requested = ParseGradientMethod(method, "method");
   const ParameterSet parameters(scene, pointers);
   const Observations observations = Data("data", names, values, scene.model);
   return OnScene(scene, [&] {
     const auto start = std::chrono::steady_clock::now();
-    const LossGradient result = method == "jet"
-                                    ? JetLossGradient(scene.model, parameters, observations)
-                                    : CentralDifferenceLossGradient(scene.model, parameters, observations);
+    const GradientMethod used = ResolveGradientMethod(requested, parameters.size());
+    AdjointReport adjoint;
+    const LossGradient result = LossGradientBy(used, scene.model, parameters, observations, &adjoint);
     bool finite = std::isfinite(result.loss);
     for (double g : result.gradient) finite = finite && std::isfinite(g);
     if (!finite) {  // a failure, never a result (the command line exits 1)
@@ -151,7 +150,7 @@ std::string GradientOf(const Scene& scene, const std::vector<std::string>& names
           "the loss or its gradient is not finite (an overflow in the simulation or its derivatives)", 0.0, -1);
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    return GradientJson(parameters, scene.model, result, method, seconds).dump();
+    return GradientJson(parameters, scene.model, result, used, seconds, adjoint).dump();
   });
 }
 
@@ -190,10 +189,11 @@ std::string IdentifyParameters(const Scene& scene, const std::vector<Dataset>& d
                                const std::vector<std::string>& pointers,
                                const std::vector<std::tuple<std::string, double, double>>& bounds, int segments,
                                const std::string& loss, const std::string& optimizer, int max_evaluations,
-                               double smooth) {
+                               double smooth, const std::string& method) {
   IdentifySettings settings;
   CheckOptimizerName(optimizer, "optimizer");
   settings.optimizer.name = optimizer;
+  settings.method = ParseGradientMethod(method, "method");
   if (!loss.empty()) settings.optimizer.loss = ParseRobustLoss(loss, "loss");
   CheckCount(segments, 1, kMaxSegments, "segments");
   CheckCount(max_evaluations, 2, kMaxEvaluations, "max_evaluations");

@@ -85,6 +85,24 @@ def test_fit_as_the_cli(tmp_path):
     assert got["final_cost"] == expected["final_cost"]
 
 
+def test_fit_by_the_adjoint_as_the_cli(tmp_path):
+    scene = tether.Scene.load(source("scenes", "pendulum.json")).set("/simulation/duration", 0.5)
+    scene_path = tmp_path / "pendulum.json"
+    scene_path.write_text(json.dumps(scene.to_dict()))
+    (tmp_path / "target.csv").write_text("t,bob.x\n0.5,0.6\n")
+    flags = ("--param", "/bodies/0/velocity/0", "--optimizer", "nlopt:LD_LBFGS", "--method", "adjoint")
+    expected = cli_json("fit", scene_path, "--data", tmp_path / "target.csv", *flags)
+    got = tether.fit(scene, {"t": [0.5], "bob.x": [0.6]}, ["/bodies/0/velocity/0"], optimizer="nlopt:LD_LBFGS",
+                     method="adjoint")
+    assert got["gradient_method"] == expected["gradient_method"] == "adjoint"
+    assert got["parameters"] == expected["parameters"]
+    assert got["final_cost"] < 1e-12
+    with pytest.raises(tether.InputError, match=r"method: unknown method 'reverse'"):
+        tether.fit(scene, {"t": [0.5], "bob.x": [0.6]}, ["/bodies/0/velocity/0"], method="reverse")
+    with pytest.raises(tether.InputError, match=r"--method adjoint: the adjoint gives the cost's gradient"):
+        tether.fit(scene, {"t": [0.5], "bob.x": [0.6]}, ["/bodies/0/velocity/0"], method="adjoint")
+
+
 def test_tune_and_check_as_the_cli():
     four_bar = source("scenes", "four_bar.json")
     expected = cli_json("tune", four_bar, "--max-evaluations", "20")

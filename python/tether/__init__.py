@@ -235,10 +235,12 @@ def _bounds(bounds):
     return out
 
 
-def gradient(scene, data, params, method="jet"):
+def gradient(scene, data, params, method="auto"):
     """The loss 1/2 sum (simulated - observed)^2 over the data and its gradient with respect to the parameters
     (JSON Pointers): {"loss", "gradient", "parameters", "method", "seconds"}, as `tether gradient` prints.
-    method: "jet" (forward mode through the KKT solves) or "fd" (central differences)."""
+    method: "auto" (Jets for few parameters, the adjoint for many), "jet" (forward mode through the KKT solves),
+    "adjoint" (reverse mode, the discrete adjoint) or "fd" (central differences); "method" in the result names the
+    one used."""
     names, values = _table(data, "data")
     return json.loads(_tether.gradient(_scene(scene), names, values, _pointers(params), method))
 
@@ -248,26 +250,28 @@ def tune(scene, objective="reference", optimizer="ceres", samples=1, max_evaluat
     return json.loads(_tether.tune(_scene(scene), objective, optimizer, samples, max_evaluations))
 
 
-def _estimate(scene, data, params, bounds, segments, loss, optimizer, max_evaluations, smooth):
+def _estimate(scene, data, params, bounds, segments, loss, optimizer, max_evaluations, smooth, method):
     result = json.loads(_tether.identify(_scene(scene), _datasets(data), _pointers(params), _bounds(bounds), segments,
-                                         loss or "", optimizer, max_evaluations, smooth))
+                                         loss or "", optimizer, max_evaluations, smooth, method))
     if result["failed"]:  # where the command line exits with status 1
         warnings.warn("the estimate failed: " + "; ".join(result["warnings"]), EstimateFailed, stacklevel=3)
     return result
 
 
-def identify(scene, data, params, bounds=None, segments=1, loss=None, optimizer="ceres", max_evaluations=200):
+def identify(scene, data, params, bounds=None, segments=1, loss=None, optimizer="ceres", max_evaluations=200,
+             method="auto"):
     """Estimates the parameters (JSON Pointers) from one recording or a list of them, as `tether identify` (its
     JSON: estimates, standard deviations, correlations, residuals, "failed"). bounds: {pointer: (lo, hi)}, either
-    may be None; loss: None, "huber:DELTA" or "cauchy:DELTA"."""
-    return _estimate(scene, data, params, bounds, segments, loss, optimizer, max_evaluations, 0.0)
+    may be None; loss: None, "huber:DELTA" or "cauchy:DELTA"; method: the derivatives a gradient-based NLopt
+    optimizer takes, "auto", "jet" or "adjoint" (as --method)."""
+    return _estimate(scene, data, params, bounds, segments, loss, optimizer, max_evaluations, 0.0, method)
 
 
 def fit(scene, data, params, bounds=None, segments=1, loss=None, optimizer="ceres", max_evaluations=200,
-        smooth=0.0):
+        smooth=0.0, method="auto"):
     """Fits initial conditions or schedules to targets, as `tether fit` (smooth: the weight of the penalty on
-    changes between schedule values)."""
-    return _estimate(scene, data, params, bounds, segments, loss, optimizer, max_evaluations, smooth)
+    changes between schedule values; method as for identify)."""
+    return _estimate(scene, data, params, bounds, segments, loss, optimizer, max_evaluations, smooth, method)
 
 
 def check(scene):

@@ -5,7 +5,9 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <type_traits>
 
+#include "tether/autodiff/adjoint.h"
 #include "tether/autodiff/residuals.h"
 #include "tether/dynamics/configuration_space.h"
 #include "tether/dynamics/errors.h"
@@ -112,6 +114,57 @@ class ShootingProblem {
     } catch (const InputError&) {  // a trial start state that cannot be assembled onto the constraints
       return false;
     }
+  }
+
+  // The cost 1/2 sum rho(r_i^2) at x over the data and smoothing residuals, and its gradient with respect to x,
+  // by the adjoint: single shooting, whose unknowns are the parameters. False where the run diverges.
+  bool CostGradient(const std::vector<double>& x, const RobustLoss& loss, double* cost,
+                    std::vector<double>* gradient) const {
+    Model<double> guess = TruncatedModel(model_, 0);
+    for (int i = 0; i < parameters_.size(); ++i) parameters_.Field(&guess, i) = ToParameter(i, x[i]);
+    RunOptions options;
+    options.every = std::numeric_limits<int>::max();
+    options.stops = {boundaries_.back()};
+    for (const Observations& r : recordings_) options.stops.insert(options.stops.end(), r.times.begin(), r.times.end());
+    std::sort(options.stops.begin(), options.stops.end());
+    options.stops.erase(std::unique(options.stops.begin(), options.stops.end()), options.stops.end());
+    const auto sample_loss = [&](const auto& model, const auto& sample) {
+      using T = std::decay_t<decltype(sample.energy)>;
+      T sum(0.0);
+      const double t = options.stops[sample.stop];
+      for (const Observations& r : recordings_) {
+        const auto row = std::lower_bound(r.times.begin(), r.times.end(), t);
+        if (row == r.times.end() || *row != t) continue;
+        ObservedResiduals(model, r, static_cast<size_t>(row - r.times.begin()), sample,
+                          [&](size_t, const T& value) { sum += 0.5 * RobustRho(loss, T(value * value)); });
+      }
+      return sum;
+    };
+    LossGradient data;
+    try {
+      data = AdjointGradient(guess, parameters_, options, {sample_loss, sample_loss});
+    } catch (const SimulationDiverged&) {
+      return false;
+    } catch (const InputError&) {
+      return false;
+    }
+    *cost = data.loss;
+    std::vector<double>& g = data.gradient;
+    const double weight = std::sqrt(settings_.smooth);
+    for (const auto& [a, b] : smooth_pairs_) {  // r = w (p_b - p_a)
+      const double pa = parameters_.Field(&guess, a), pb = parameters_.Field(&guess, b);
+      const double r = weight * (pb - pa);
+      double rho[2];
+      EvaluateLoss(loss, r * r, rho);
+      *cost += 0.5 * rho[0];
+      g[b] += rho[1] * r * weight;
+      g[a] -= rho[1] * r * weight;
+    }
+    gradient->resize(x.size());
+    for (int i = 0; i < parameters_.size(); ++i) {  // d p / d x: p for log p, 1 otherwise
+      (*gradient)[i] = g[i] * (log_space_[i] ? ToParameter(i, x[i]) : 1.0);
+    }
+    return true;
   }
 
   // The data residuals at x grouped per recording and column, for the report.
@@ -318,7 +371,67 @@ std::string Names(const ParameterSet& parameters, const Eigen::VectorXd& directi
   return names;
 }
 
+// The gradients the optimizer takes (identification.h: Derivatives): the adjoint's, or none (the residual
+// function's Jacobian by Jets, or no derivatives at all); *used names the method.
+CostGradientFunction CostGradientOf(const ShootingProblem& problem, const IdentifySettings& settings,
+                                    std::string* used) {
+  const std::string& optimizer = settings.optimizer.name;
+  const bool gradient_based = UsesGradients(optimizer);
+  if (settings.method == GradientMethod::kCentral) {
+    throw InputError("--method fd: identify and fit take derivatives by jet or adjoint (or auto)");
+  }
+  if (settings.method == GradientMethod::kAdjoint && !gradient_based) {
+    throw InputError("--method adjoint: the adjoint gives the cost's gradient, which only a gradient-based NLopt "
+                     "algorithm takes (nlopt:LD_LBFGS, nlopt:LD_MMA, ...); --optimizer " + optimizer +
+                     (optimizer == "ceres" ? " needs the residuals' Jacobian (Jets)" : " uses no derivatives"));
+  }
+  if (settings.method == GradientMethod::kAdjoint && problem.Segments() > 1) {
+    throw InputError("--method adjoint: multiple shooting (--segments) takes its derivatives by Jets");
+  }
+  const bool adjoint = gradient_based && problem.Segments() == 1 &&
+                       ResolveGradientMethod(settings.method, problem.Unknowns()) == GradientMethod::kAdjoint;
+  *used = adjoint ? "adjoint" : gradient_based || optimizer == "ceres" ? "jet" : "none";
+  if (!adjoint) return nullptr;
+  return [&problem, &settings](const std::vector<double>& x, double* cost, std::vector<double>* gradient) {
+    return problem.CostGradient(x, settings.optimizer.loss, cost, gradient);
+  };
+}
+
 }  // namespace
+
+LossGradient IdentifyCostGradient(const Model<double>& model, const ParameterSet& parameters,
+                                  const std::vector<Observations>& recordings, const IdentifySettings& settings,
+                                  GradientMethod method) {
+  IdentifySettings single = settings;
+  single.segments = 1;
+  const ShootingProblem problem(model, parameters, recordings, single);
+  const std::vector<double> x = problem.Start();
+  LossGradient result;
+  if (ResolveGradientMethod(method, parameters.size()) == GradientMethod::kAdjoint) {
+    if (!problem.CostGradient(x, settings.optimizer.loss, &result.loss, &result.gradient)) {
+      throw SimulationDiverged("the simulation diverges at the scene's parameters", 0.0, -1);
+    }
+  } else {
+    Eigen::VectorXd r;
+    Eigen::MatrixXd jacobian;
+    if (!problem.Evaluate(x, &r, &jacobian)) {
+      throw SimulationDiverged("the simulation diverges at the scene's parameters", 0.0, -1);
+    }
+    Eigen::VectorXd weight(r.size());  // d(1/2 rho(r_i^2))/dr_i = rho'(r_i^2) r_i
+    for (int i = 0; i < r.size(); ++i) {
+      double rho[2];
+      EvaluateLoss(settings.optimizer.loss, r[i] * r[i], rho);
+      result.loss += 0.5 * rho[0];
+      weight[i] = rho[1] * r[i];
+    }
+    const Eigen::VectorXd g = jacobian.transpose() * weight;
+    result.gradient.assign(g.data(), g.data() + g.size());
+  }
+  for (int i = 0; i < parameters.size(); ++i) {  // d/dp = d/dx dx/dp: 1/p for log p
+    if (problem.LogSpace(i)) result.gradient[i] /= problem.ToParameter(i, x[i]);
+  }
+  return result;
+}
 
 bool PositiveKind(FieldRef::Kind kind) {
   switch (kind) {
@@ -377,7 +490,8 @@ IdentifyResult Identify(const Model<double>& model, const ParameterSet& paramete
     throw InputError("the simulation diverges at the initial parameters; give a better initial guess or use --segments");
   }
   result.initial_cost = RobustCost(settings.optimizer.loss, r0);
-  result.optimizer = Minimize(residuals, start, lower, upper, settings.optimizer);
+  result.optimizer = Minimize(residuals, start, lower, upper, settings.optimizer,
+                              CostGradientOf(problem, settings, &result.gradient_method));
   const std::vector<double>& x = result.optimizer.x;
   for (int i = 0; i < p; ++i) result.estimate.push_back(problem.ToParameter(i, x[i]));
   Eigen::VectorXd r;

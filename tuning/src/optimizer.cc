@@ -14,11 +14,7 @@
 #include "tether/dynamics/interrupts.h"
 
 namespace tether {
-namespace {
 
-constexpr unsigned long kNloptSeed = 20261123;  // NLopt's random generator, seeded for repeatable runs
-
-// rho(s) and rho'(s) of a robust loss (the same functions as Ceres' HuberLoss and CauchyLoss).
 void EvaluateLoss(const RobustLoss& loss, double s, double rho[2]) {
   rho[0] = s;  // no robust loss: rho(s) = s
   rho[1] = 1.0;
@@ -32,6 +28,11 @@ void EvaluateLoss(const RobustLoss& loss, double s, double rho[2]) {
     rho[1] = 1.0 / (1.0 + s / b);
   }
 }
+
+namespace {
+
+constexpr unsigned long kNloptSeed = 20261123;  // NLopt's random generator, seeded for repeatable runs
+
 
 // The residual function as a Ceres cost: one parameter block holding x.
 class ResidualCost final : public ceres::CostFunction {
@@ -124,7 +125,8 @@ nlopt::algorithm LocalOptimizerFor(const std::string& algorithm) {
   return gradient_based ? nlopt::LD_LBFGS : nlopt::LN_BOBYQA;
 }
 
-OptimizerResult MinimizeWithNlopt(const ResidualFunction& residuals, const std::string& algorithm_name,
+OptimizerResult MinimizeWithNlopt(const ResidualFunction& residuals, const CostGradientFunction& cost_gradient,
+                                  double cost_scale, const std::string& algorithm_name,
                                   const std::vector<double>& start, const std::vector<double>& lower,
                                   const std::vector<double>& upper, const OptimizerSettings& settings) {
   const nlopt_algorithm algorithm = nlopt_algorithm_from_string(algorithm_name.c_str());
@@ -133,23 +135,38 @@ OptimizerResult MinimizeWithNlopt(const ResidualFunction& residuals, const std::
   // the best point seen: some algorithms (COBYLA in NLopt 2.7) return their last point instead
   struct Context {
     const ResidualFunction* residuals;
+    const CostGradientFunction* cost_gradient;
+    double cost_scale;
     const RobustLoss* loss;
     int* evaluations;
     std::vector<double> best_x;
     double best_value;
-  } context{&residuals, &settings.loss, &result.evaluations, start, INFINITY};
+  } context{&residuals, &cost_gradient, cost_scale, &settings.loss, &result.evaluations, start, INFINITY};
   auto objective = [](const std::vector<double>& x, std::vector<double>& gradient, void* data) -> double {
     Context& c = *static_cast<Context*>(data);
-    Eigen::VectorXd r;
-    Eigen::MatrixXd jacobian;
     ++*c.evaluations;
     const bool want_gradient = !gradient.empty();
+    double value = 0.0;
+    if (want_gradient && *c.cost_gradient) {  // the cost of the unscaled residuals: scaled as they are
+      if (!(*c.cost_gradient)(x, &value, &gradient)) {
+        std::fill(gradient.begin(), gradient.end(), 0.0);
+        return kInfeasibleValue;
+      }
+      value *= c.cost_scale;
+      for (double& g : gradient) g *= c.cost_scale;
+      if (value < c.best_value) {
+        c.best_value = value;
+        c.best_x = x;
+      }
+      return value;
+    }
+    Eigen::VectorXd r;
+    Eigen::MatrixXd jacobian;
     if (!(*c.residuals)(x, &r, want_gradient ? &jacobian : nullptr)) {
       std::fill(gradient.begin(), gradient.end(), 0.0);
       return kInfeasibleValue;
     }
     // f = 1/2 sum rho(r_i^2), df/dx = sum rho'(r_i^2) r_i dr_i/dx
-    double value = 0.0;
     Eigen::VectorXd weight(r.size());
     for (int i = 0; i < r.size(); ++i) {
       double rho[2];
@@ -283,9 +300,15 @@ void CheckOptimizerName(const std::string& name, const std::string& where) {
   }
 }
 
+bool UsesGradients(const std::string& optimizer_name) {
+  if (optimizer_name.rfind("nlopt:", 0) != 0) return false;
+  const std::string algorithm = optimizer_name.substr(6);
+  return algorithm.rfind("LD_", 0) == 0 || algorithm.rfind("GD_", 0) == 0 || algorithm.rfind("AUGLAG", 0) == 0;
+}
+
 OptimizerResult Minimize(const ResidualFunction& residuals, const std::vector<double>& start,
                          const std::vector<double>& lower, const std::vector<double>& upper,
-                         const OptimizerSettings& settings) {
+                         const OptimizerSettings& settings, const CostGradientFunction& cost_gradient) {
   CheckOptimizerName(settings.name, "optimizer");
   const auto begin = std::chrono::steady_clock::now();
   // Both back ends have absolute tolerances somewhere (Ceres' gradient tolerance, NLopt's stopping values), so
@@ -307,7 +330,8 @@ OptimizerResult Minimize(const ResidualFunction& residuals, const std::vector<do
   OptimizerResult result =
       settings.name == "ceres"
           ? MinimizeWithCeres(scaled, start, lower, upper, scaled_settings)
-          : MinimizeWithNlopt(scaled, settings.name.substr(6), start, lower, upper, scaled_settings);
+          : MinimizeWithNlopt(scaled, cost_gradient, scale * scale, settings.name.substr(6), start, lower, upper,
+                              scaled_settings);
   // the value at the returned point (Ceres' final cost can belong to the last trial instead)
   Eigen::VectorXd r;
   result.value = residuals(result.x, &r, nullptr) ? RobustCost(settings.loss, r) : result.value / (scale * scale);

@@ -69,6 +69,7 @@ nlohmann::json IdentifyJson(const ParameterSet& parameters, const IdentifyResult
   j["seconds"] = r.optimizer.seconds;
   j["optimizer"] = optimizer;
   j["optimizer_message"] = r.optimizer.message;
+  j["gradient_method"] = r.gradient_method;
   j["segments"] = segments;
   j["warnings"] = r.warnings;
   j["failed"] = r.failed;

@@ -44,9 +44,4 @@ LossGradient CentralDifferenceLossGradient(const Model<double>& model, const Par
                                            const Observations& observations);
 double CentralDifferenceStep(double value);
 
-// What `tether gradient` prints (and the Python module's gradient returns): {"loss", "gradient": {PTR: g},
-// "parameters": {PTR: value}, "method", "seconds"}.
-nlohmann::json GradientJson(const ParameterSet& parameters, const Model<double>& model, const LossGradient& result,
-                            const std::string& method, double seconds);
-
 }  // namespace tether

@@ -193,11 +193,12 @@ TETHER_HOT_INLINE BodyVector<T> PointGradient(const Model<T>& model, const BodyF
 }
 
 // g . x for the body's slice of a generalized vector x (velocities, accelerations, M^-1 f, ...).
-// (The kinds are tested in the order of how common they are in large systems: particles first.)
-template <typename T>
-TETHER_HOT_INLINE T Dot(const Model<T>& model, const BodyVector<T>& g, const VecX<T>& x) {
+// (The kinds are tested in the order of how common they are in large systems: particles first.) Here and below
+// the model gives the bodies' layout only: its scalar S may differ from the values' T.
+template <typename S, typename T>
+TETHER_HOT_INLINE T Dot(const Model<S>& model, const BodyVector<T>& g, const VecX<T>& x) {
   if (g.body == kWorld) return T(0.0);
-  const Body<T>& body = model.bodies[g.body];
+  const Body<S>& body = model.bodies[g.body];
   const T* x_b = x.data() + body.v_offset;
   T sum = g.translation[0] * x_b[0] + g.translation[1] * x_b[1];
   if (body.kind == BodyKind::kParticle) {
@@ -211,10 +212,10 @@ TETHER_HOT_INLINE T Dot(const Model<T>& model, const BodyVector<T>& g, const Vec
 }
 
 // x += scale * g on the body's slice.
-template <typename T>
-TETHER_HOT_INLINE void AddScaled(const Model<T>& model, const BodyVector<T>& g, const T& scale, VecX<T>* x) {
+template <typename S, typename T>
+TETHER_HOT_INLINE void AddScaled(const Model<S>& model, const BodyVector<T>& g, const T& scale, VecX<T>* x) {
   if (g.body == kWorld) return;
-  const Body<T>& body = model.bodies[g.body];
+  const Body<S>& body = model.bodies[g.body];
   T* x_b = x->data() + body.v_offset;
   x_b[0] += scale * g.translation[0];
   x_b[1] += scale * g.translation[1];
@@ -226,6 +227,28 @@ TETHER_HOT_INLINE void AddScaled(const Model<T>& model, const BodyVector<T>& g, 
     x_b[2] += scale * g.translation[2];
     for (int k = 0; k < 3; ++k) x_b[3 + k] += scale * g.rotation[k];
   }
+}
+
+// The body's slice of a generalized vector x as a block: Dot(model, g, x) = g . Slice(model, g.body, x) (the
+// components the body does not have are zero).
+template <typename S, typename T>
+BodyVector<T> Slice(const Model<S>& model, int body_index, const VecX<T>& x) {
+  BodyVector<T> g;
+  g.body = body_index;
+  if (body_index == kWorld) return g;
+  const Body<S>& body = model.bodies[body_index];
+  const T* x_b = x.data() + body.v_offset;
+  g.translation[0] = x_b[0];
+  g.translation[1] = x_b[1];
+  if (body.kind == BodyKind::kParticle) {
+    if (model.dimension == 3) g.translation[2] = x_b[2];
+  } else if (body.kind == BodyKind::kPlanar) {
+    g.rotation[2] = x_b[2];
+  } else {
+    g.translation[2] = x_b[2];
+    for (int k = 0; k < 3; ++k) g.rotation[k] = x_b[3 + k];
+  }
+  return g;
 }
 
 }  // namespace tether

@@ -136,10 +136,15 @@ __attribute__((always_inline)) inline Rev Binary(const Rev& x, const Rev& y, dou
 
 inline Rev operator+(const Rev& x) { return x; }
 inline Rev operator-(const Rev& x) { return Unary(x, -x.a, [] { return -1.0; }); }
+// x + c and x - c for a constant c take x's node: their derivative is x's, so their adjoint may be added to x's
+// directly (a node saved, e.g. for every point offset added to a particle's position).
 inline Rev operator+(const Rev& x, const Rev& y) {
-  return Binary(x, y, x.a + y.a, [] { return std::pair{1.0, 1.0}; });
+  if (y.index < 0) return Rev(x.a + y.a, x.index);
+  if (x.index < 0) return Rev(x.a + y.a, y.index);
+  return Rev(x.a + y.a, Rev::Record(x.index, 1.0, y.index, 1.0));
 }
 inline Rev operator-(const Rev& x, const Rev& y) {
+  if (y.index < 0) return Rev(x.a - y.a, x.index);
   return Binary(x, y, x.a - y.a, [] { return std::pair{1.0, -1.0}; });
 }
 inline Rev operator*(const Rev& x, const Rev& y) {
@@ -149,9 +154,9 @@ inline Rev operator/(const Rev& x, const Rev& y) {
   const double q = x.a / y.a;
   return Binary(x, y, q, [&] { return std::pair{1.0 / y.a, -q / y.a}; });
 }
-inline Rev operator+(const Rev& x, double y) { return Unary(x, x.a + y, [] { return 1.0; }); }
+inline Rev operator+(const Rev& x, double y) { return Rev(x.a + y, x.index); }
 inline Rev operator+(double x, const Rev& y) { return y + x; }
-inline Rev operator-(const Rev& x, double y) { return Unary(x, x.a - y, [] { return 1.0; }); }
+inline Rev operator-(const Rev& x, double y) { return Rev(x.a - y, x.index); }
 inline Rev operator-(double x, const Rev& y) { return Unary(y, x - y.a, [] { return -1.0; }); }
 inline Rev operator*(const Rev& x, double y) { return Unary(x, x.a * y, [y] { return y; }); }
 inline Rev operator*(double x, const Rev& y) { return y * x; }

@@ -75,6 +75,11 @@ class SchurSolver {
   template <typename T>
   bool Solve(const std::vector<T>& values, const VecX<T>& b, VecX<T>* x);
 
+  // x = A^-1 x for A given by its stored values and factored as given, with no regularization: an adjoint
+  // sweep's solve with a matrix that an earlier Solve factored (S, or S + eps D where it regularized). False when
+  // A does not factor.
+  bool SolveAsGiven(const std::vector<double>& values, Eigen::VectorXd* x);
+
  private:
   // Factors S, or S + eps D where S's rows are close to dependence (above); regularized_ says which.
   bool Factor(const std::vector<double>& values);

@@ -23,9 +23,21 @@ struct InverseMass {
 template <typename T>
 InverseMass<T> BuildInverseMass(const Model<T>& model);
 
-// *out = M^-1 x (v-shaped); out may alias x.
+// *out = M^-1 x (v-shaped); out may alias x. The model gives the bodies' layout only, so its scalar S may differ
+// from the values' T (the recorded KKT solve computes in double for a Model<Rev>).
+template <typename S, typename T>
+void ApplyInverseMass(const Model<S>& model, const InverseMass<T>& inverse, const VecX<T>& x, VecX<T>* out);
+
+// What one KKT solve computes into (ComputeAcceleration, the projection), sized once per run.
 template <typename T>
-void ApplyInverseMass(const Model<T>& model, const InverseMass<T>& inverse, const VecX<T>& x, VecX<T>* out);
+struct KktSystem {
+  KktSystem(const SchurPattern& pattern, int nv);
+
+  std::vector<T> schur;             // S at the last evaluation (pattern.nonzeros())
+  std::vector<T> assembly_scratch;  // AssembleSchur's dense products
+  VecX<T> rhs, lambda;              // Schur right-hand side and multipliers (size m)
+  VecX<T> u_plus_alpha_v;           // M^-1 f + alpha v: J of it serves the Schur right-hand side (size nv)
+};
 
 template <typename T>
 struct Workspace {
@@ -46,12 +58,9 @@ struct Workspace {
 
   BodyFrames<T> frames;                 // at the last evaluation
   std::vector<ConstraintRow<T>> rows;   // rows at the last evaluation
-  std::vector<T> schur;                 // S at the last evaluation (pattern.nonzeros())
-  std::vector<T> assembly_scratch;      // AssembleSchur's dense products
+  KktSystem<T> kkt;                     // S, its right-hand side and the multipliers at the last solve
   VecX<T> force;                        // generalized force f (size nv)
-  VecX<T> rhs, lambda;                  // Schur right-hand side and multipliers (size m)
   VecX<T> reaction;                     // M^-1 J^T lambda (size nv)
-  VecX<T> u_plus_alpha_v;               // M^-1 f + alpha v: J of it serves the Schur right-hand side (size nv)
 
   // integrator scratch: stage increments (v-shaped: Munthe-Kaas stage derivatives K and accelerations),
   // trial and next states
@@ -63,7 +72,7 @@ struct Workspace {
   bool rk45_first_stage_valid = false;  // first-same-as-last: stage 0 holds f at the current state
 };
 
-// ws->schur from ws->rows.
+// ws->kkt.schur from ws->rows.
 template <typename T>
 void AssembleSchur(Workspace<T>* ws);
 

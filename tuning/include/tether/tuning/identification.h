@@ -21,12 +21,20 @@
 // A parameter with no measurable effect at all (kNoEffect; a lone one has condition number 1) is reported and
 // treated the same way. Identify judges its own result (fit_judgement.h: residuals far above the noise the data
 // implies, multiple-shooting joins left open, an optimizer stopped by its budget) and marks a failed fit.
+//
+// Derivatives (settings.method, gradient_method.h): Ceres' Levenberg-Marquardt needs the Jacobian of the
+// residuals, which is formed by Jets (ceil(n / kJetStride) Jet runs, a column per unknown); the adjoint gives the
+// gradient of the cost, not the Jacobian (a Jacobian by reverse mode would cost one sweep per residual), so it
+// serves the gradient-based NLopt algorithms (LD_LBFGS, LD_MMA, LD_SLSQP, ...): there `auto` takes the adjoint
+// from kAdjointCrossover unknowns on. The adjoint covers single shooting (multiple shooting's start-state
+// unknowns take Jets). The uncertainty at the estimate always comes from the Jacobian by Jets, once.
 #pragma once
 
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "tether/autodiff/gradient_method.h"
 #include "tether/autodiff/observations.h"
 #include "tether/autodiff/parameters.h"
 #include "tether/tuning/optimizer.h"
@@ -40,6 +48,7 @@ inline constexpr double kNoEffect = 1e-9;
 
 struct IdentifySettings {
   OptimizerSettings optimizer;
+  GradientMethod method = GradientMethod::kAuto;  // how a gradient-based NLopt algorithm gets its gradients
   std::vector<std::pair<double, double>> bounds;  // per parameter, in its own units; empty: unbounded
   int segments = 1;                               // multiple shooting when > 1
   double smooth = 0.0;                            // weight W of the schedule smoothing residuals
@@ -58,6 +67,7 @@ struct IdentifyResult {
   double condition_number = 0.0;                              // of the scaled Jacobian (parameters)
   int residual_count = 0;
   OptimizerResult optimizer;
+  std::string gradient_method;  // "jet" or "adjoint": how the optimizer's derivatives were taken; "none" if none
   std::vector<std::string> warnings;
   std::vector<ResidualStatistics> residuals;
   bool failed = false;  // the estimate does not reproduce the data (fit_judgement.h): no uncertainty for it
@@ -67,6 +77,14 @@ struct IdentifyResult {
 // a global optimizer, a segment count that leaves a segment without observations).
 IdentifyResult Identify(const Model<double>& model, const ParameterSet& parameters,
                         const std::vector<Observations>& recordings, const IdentifySettings& settings);
+
+// The cost Identify minimizes, 1/2 sum rho(r_i^2) over the data (and smoothing) residuals of single shooting, at
+// the model's parameter values, and its gradient with respect to the parameters in their own units, by
+// `method` (jet: J^T rho'(r^2) r from the Jacobian by Jets; adjoint; auto by the count). A check of the adjoint
+// path, and the gradient a user's own optimizer may take.
+LossGradient IdentifyCostGradient(const Model<double>& model, const ParameterSet& parameters,
+                                  const std::vector<Observations>& recordings, const IdentifySettings& settings,
+                                  GradientMethod method);
 
 // True for the kinds optimized in log space.
 bool PositiveKind(FieldRef::Kind kind);

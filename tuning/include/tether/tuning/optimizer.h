@@ -24,6 +24,10 @@ inline constexpr double kInfeasibleValue = 1e10;
 // r at x; the Jacobian (rows of r by entries of x) too when jacobian is not null. False: infeasible.
 using ResidualFunction = std::function<bool(const std::vector<double>& x, Eigen::VectorXd* r, Eigen::MatrixXd* jacobian)>;
 
+// The cost 1/2 sum rho(r_i(x)^2) and its gradient at x computed at once (by the adjoint, adjoint.h), which the
+// gradient-based NLopt algorithms then take instead of J^T rho'(r^2) r. False: infeasible.
+using CostGradientFunction = std::function<bool(const std::vector<double>& x, double* cost, std::vector<double>* gradient)>;
+
 // A robust loss rho(s) of the squared residual s = r_i^2 (Ceres' convention): the cost is 1/2 sum rho(r_i^2).
 //   none    rho(s) = s
 //   huber   rho(s) = s for s <= d^2, 2 d sqrt(s) - d^2 beyond       (linear growth past |r| = d)
@@ -33,6 +37,20 @@ struct RobustLoss {
   Kind kind = Kind::kNone;
   double delta = 1.0;
 };
+
+// rho(s) and rho'(s) of a robust loss (the same functions as Ceres' HuberLoss and CauchyLoss).
+void EvaluateLoss(const RobustLoss& loss, double s, double rho[2]);
+
+// rho(s) in any scalar (the adjoint records the loss in Rev arithmetic).
+template <typename T>
+T RobustRho(const RobustLoss& loss, const T& s) {
+  using std::log;
+  using std::sqrt;
+  const double b = loss.delta * loss.delta;
+  if (loss.kind == RobustLoss::Kind::kHuber && s > b) return 2.0 * loss.delta * sqrt(s) - b;
+  if (loss.kind == RobustLoss::Kind::kCauchy) return b * log(1.0 + s / b);
+  return s;
+}
 
 // Parses "huber:DELTA" or "cauchy:DELTA" (DELTA > 0); throws InputError naming `flag`.
 RobustLoss ParseRobustLoss(const std::string& text, const std::string& flag);
@@ -53,10 +71,14 @@ struct OptimizerResult {
   bool hit_limit = false;  // stopped by its budget (Ceres' iterations, NLopt's evaluations), not by converging
 };
 
-// Throws InputError ("optimizer: ...") for an unknown optimizer name.
+// Throws InputError ("optimizer: ...") for an unknown optimizer name. With `cost_gradient`, a gradient-based
+// NLopt algorithm takes its gradients (and the costs that come with them) from it; the others ignore it.
 OptimizerResult Minimize(const ResidualFunction& residuals, const std::vector<double>& start,
                          const std::vector<double>& lower, const std::vector<double>& upper,
-                         const OptimizerSettings& settings);
+                         const OptimizerSettings& settings, const CostGradientFunction& cost_gradient = nullptr);
+
+// True for the NLopt algorithms that use gradients (LD_, GD_, and the MLSL and AUGLAG variants that run LD_LBFGS).
+bool UsesGradients(const std::string& optimizer_name);
 
 // Checks an optimizer name without running anything; throws InputError naming `where` (the command line's
 // "--optimizer", the Python module's "optimizer").
