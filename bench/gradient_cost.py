@@ -1,27 +1,39 @@
 #!/usr/bin/env python3
-"""Runs the gradient-cost benchmark (bench/gradient_bench.cc) and prints a Markdown table for the README.
+"""Runs the gradient-cost benchmark (bench/gradient_bench.cc) and prints Markdown tables for the README.
 
     python3 bench/gradient_cost.py [--binary build/bench/tether_bench] [--min-time 0.2] [--repetitions 3]
                                    [--save out.json | --json saved.json] [extra benchmark flags]
 
-Rows are the number of parameters P; for each chain size and method a cell gives the time of one gradient as a
-multiple of one plain double simulation of the same model and observations (the benchmark's
-`x_plain_simulation` counter, both timed as thread CPU time in the same process) and, in parentheses, the
-absolute CPU time of one gradient in ms. With repetitions, every figure is the median over them (the ratio and
-the time separately, so they need not divide exactly). Methods: Jets with the implicit-function KKT solve (the
-default), Jets factoring the Jet matrices (the test oracle), central differences. The default settings take
-about 2.5 minutes on two cores. Python 3 standard library only (with bench/bench_json.py, shared with
-studies/gradient_cost/run.py, which draws these figures).
+One table per model (the 20- and 200-particle chains and the 7-link 3D arm): rows are the number of parameters
+P; a cell gives the time of one gradient as a multiple of one plain double simulation of the same model and
+observations (the benchmark's `x_plain_simulation` counter, both timed as thread CPU time in the same process)
+and, in parentheses, the absolute CPU time of one gradient in ms; the adjoint's column also gives the memory it
+kept (states and the largest record). With repetitions, every figure is the median over them (the ratio and the
+time separately, so they need not divide exactly). Methods: Jets with the implicit-function KKT solve, Jets
+factoring the Jet matrices (the test oracle, up to P = 32), central differences, the discrete adjoint. Below the
+tables: per model, the cost of one Jet run (the median of multiple / ceil(P / 4) over P >= 4), the adjoint's
+median multiple, and the crossover they imply, the smallest P with ceil(P / 4) Jet runs dearer than the adjoint
+(gradient_method.h's kAdjointCrossover is the largest of them). The default settings take about 8 minutes on
+two cores. Python 3 standard library only (with bench/bench_json.py, shared with studies/gradient_cost/run.py,
+which draws these figures).
 """
 import argparse
+import math
 import re
+import statistics
 import sys
 
 import bench_json
 
-METHODS = [("implicit", "Jet, implicit"), ("jet_factor", "Jet, factor Jets"), ("central", "central diff.")]
+METHODS = [("implicit", "Jet, implicit"), ("jet_factor", "Jet, factor Jets"), ("central", "central diff."),
+           ("adjoint", "adjoint")]
 NAME = re.compile(r"^(Gradient/(\w+)|PlainSimulation)/n:(\d+)/P:(\d+)$")
-MIN_TIME, REPETITIONS = "0.2", 3  # the defaults: about 2.5 minutes on two cores
+MIN_TIME, REPETITIONS = "0.2", 3  # the defaults: about 8 minutes on two cores
+ARM = 7  # the benchmark's n for the 3D arm
+
+
+def model_name(n):
+    return "7-link 3D arm" if n == ARM else f"{n}-particle chain"
 
 
 def run(binary, min_time=MIN_TIME, repetitions=REPETITIONS, extra=()):
@@ -30,9 +42,9 @@ def run(binary, min_time=MIN_TIME, repetitions=REPETITIONS, extra=()):
 
 def parse(report):
     """The gradient benchmark's figures, as a dict: "cells" {(n, method, P): (multiple of a plain simulation,
-    ms per gradient)}, "plain" {n: ms per plain simulation}, "durations" {(n, method): simulated seconds},
-    "sizes" and "counts" (the chain sizes n and parameter counts P, sorted)."""
-    cells, plain, durations, sizes, counts = {}, {}, {}, set(), set()
+    ms per gradient)}, "memory" {(n, P): adjoint MiB}, "plain" {n: ms per plain simulation}, "durations"
+    {(n, method): simulated seconds}, "sizes" and "counts" (the models n and parameter counts P, sorted)."""
+    cells, memory, plain, durations, sizes, counts = {}, {}, {}, {}, set(), set()
     for b in bench_json.measurements(report):
         match = NAME.match(b["run_name"])
         if not match:
@@ -45,8 +57,21 @@ def parse(report):
         counts.add(p)
         durations[(n, method)] = b["duration_s"]
         cells[(n, method, p)] = (b["x_plain_simulation"], bench_json.cpu_milliseconds(b))
-    return {"cells": cells, "plain": plain, "durations": durations, "sizes": sorted(sizes),
-            "counts": sorted(counts)}
+        if "memory_mb" in b:
+            memory[(n, p)] = b["memory_mb"]
+    return {"cells": cells, "memory": memory, "plain": plain, "durations": durations,
+            "sizes": sorted(sizes, key=lambda n: (n == ARM, n)), "counts": sorted(counts)}
+
+
+def crossover(parsed, n):
+    """(one Jet run's multiple, the adjoint's median multiple, the smallest P at which the adjoint is cheaper)."""
+    cells, counts = parsed["cells"], parsed["counts"]
+    jet = [cells[(n, "implicit", p)][0] / math.ceil(p / 4) for p in counts if p >= 4 and (n, "implicit", p) in cells]
+    adjoint = [cells[(n, "adjoint", p)][0] for p in counts if (n, "adjoint", p) in cells]
+    if not jet or not adjoint:
+        return None
+    run, reverse = statistics.median(jet), statistics.median(adjoint)
+    return run, reverse, 4 * math.floor(reverse / run) + 1
 
 
 def milliseconds(value):
@@ -55,26 +80,35 @@ def milliseconds(value):
 
 def table(report):
     parsed = parse(report)
-    cells, plain, durations, sizes = parsed["cells"], parsed["plain"], parsed["durations"], parsed["sizes"]
-    header = ["P"] + [f"n={n} {label}" for n in sizes for _, label in METHODS]
-    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    for p in parsed["counts"]:
-        row = [str(p)]
-        for n in sizes:
+    cells, memory, plain, durations = parsed["cells"], parsed["memory"], parsed["plain"], parsed["durations"]
+    out = []
+    for n in parsed["sizes"]:
+        spans = sorted({durations[k] for k in durations if k[0] == n})
+        title = f"**{model_name(n)}**, " + ", ".join(f"{d:g}" for d in spans) + " s simulated"
+        if n in plain:
+            title += f"; one plain simulation takes {milliseconds(plain[n])} ms"
+        header = ["P"] + [label for _, label in METHODS]
+        lines = [title, "", "| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+        for p in parsed["counts"]:
+            row = [str(p)]
             for method, _ in METHODS:
                 cell = cells.get((n, method, p))
-                row.append("not run" if cell is None else f"{cell[0]:.1f}x ({milliseconds(cell[1])} ms)")
-        lines.append("| " + " | ".join(row) + " |")
+                text = "not run" if cell is None else f"{cell[0]:.1f}x ({milliseconds(cell[1])} ms)"
+                if method == "adjoint" and (n, p) in memory:
+                    text += f", {memory[(n, p)]:.2g} MiB"
+                row.append(text)
+            lines.append("| " + " | ".join(row) + " |")
+        out.append("\n".join(lines))
     notes = []
-    for n in sizes:
-        spans = sorted({durations[k] for k in durations if k[0] == n})
-        note = f"{n}-particle chain, " + ", ".join(f"{d:g}" for d in spans) + " s simulated"
-        if n in plain:
-            note += f": one plain simulation takes {milliseconds(plain[n])} ms"
-        notes.append(note)
-    notes.append("a Jet gradient is ceil(P / 4) Jet runs; central differences are 1 + 2P plain runs")
+    for n in parsed["sizes"]:
+        c = crossover(parsed, n)
+        if c:
+            notes.append(f"{model_name(n)}: a Jet run costs {c[0]:.2f} plain simulations, the adjoint {c[1]:.1f}; "
+                         f"the adjoint is the cheaper from P = {c[2]} on")
+    notes.append("a Jet gradient is ceil(P / 4) Jet runs; central differences are 1 + 2P plain runs; the adjoint "
+                 "is one plain run and one recorded replay")
     notes.append("host: " + bench_json.host(report))
-    return "\n".join(lines) + "\n\n" + "\n".join(f"- {note}" for note in notes)
+    return "\n\n".join(out) + "\n\n" + "\n".join(f"- {note}" for note in notes)
 
 
 def main(argv):

@@ -10,7 +10,7 @@ Rev Tape::Variable(double value) { return Rev(value, Push(-1, 0.0, -1, 0.0)); }
 
 int Tape::RecordExternal(int count, ExternalBackward backward) {
   const int first = size();
-  for (int k = 0; k < count; ++k) Push(-1, 0.0, -1, 0.0);
+  nodes_.resize(nodes_.size() + count, Node{{-1, -1}, {0.0, 0.0}});
   externals_.push_back({first, count, std::move(backward)});
   return first;
 }

@@ -3,6 +3,7 @@
 
 #include <Eigen/Geometry>  // cross products
 #include <cmath>
+#include <type_traits>
 
 #include "tether/dynamics/constraint_rows.h"
 #include "tether/dynamics/user_constraint.h"
@@ -34,6 +35,26 @@ template <typename T>
 Vec3<T> Unit(const Vec3<T>& x) {
   using std::sqrt;
   return x / sqrt(x.squaredNorm());
+}
+
+// A distance row: C = |p_b - p_a| - length, J = (-n, n) at the points (with their arms' rotational parts),
+// Jdot v = (|dv|^2 - (n . dv)^2) / |d| + n . (centripetal_b - centripetal_a).
+template <typename T>
+TETHER_HOT_INLINE void EvaluateDistanceRow(const Model<T>& model, const BodyFrames<T>& frames,
+                                           const DistancePrimitive<T>& c, const VecX<T>& q, const VecX<T>& v,
+                                           bool velocity_terms, ConstraintRow<T>* row) {
+  const bool vt = velocity_terms;
+  const PointMotion<T> pa = MovePoint(model, frames, c.a, q, v, vt), pb = MovePoint(model, frames, c.b, q, v, vt);
+  const Segment<T> segment = Between(pa, pb);
+  const Vec3<T>& n = segment.n;
+  row->value = segment.length - c.length;
+  row->a = PointGradient(model, frames, c.a.body, Vec3<T>(-n), pa);
+  row->b = PointGradient(model, frames, c.b.body, n, pb);
+  if (velocity_terms) {
+    const Vec3<T> dv = pb.velocity - pa.velocity;
+    const T along = n.dot(dv);
+    row->bias = (dv.squaredNorm() - along * along) * segment.inverse_length + n.dot(pb.centripetal - pa.centripetal);
+  }
 }
 
 // The angle rows that keep B's orientation relative to A as it is at configuration q.
@@ -226,19 +247,10 @@ TETHER_FLATTEN void EvaluateConstraintRows(const Model<T>& model, const Constrai
                                            bool velocity_terms, std::vector<ConstraintRow<T>>* rows) {
   ConstraintRow<T>* row = rows->data();
   const bool vt = velocity_terms;
-  for (const DistancePrimitive<T>& c : set.distances) {
-    const PointMotion<T> pa = MovePoint(model, frames, c.a, q, v, vt), pb = MovePoint(model, frames, c.b, q, v, vt);
-    const Segment<T> segment = Between(pa, pb);
-    const Vec3<T>& n = segment.n;
-    row->value = segment.length - c.length;
-    row->a = PointGradient(model, frames, c.a.body, Vec3<T>(-n), pa);
-    row->b = PointGradient(model, frames, c.b.body, n, pb);
-    if (velocity_terms) {
-      const Vec3<T> dv = pb.velocity - pa.velocity;
-      const T along = n.dot(dv);
-      row->bias = (dv.squaredNorm() - along * along) * segment.inverse_length + n.dot(pb.centripetal - pa.centripetal);
-    }
-    ++row;
+  if constexpr (std::is_same_v<T, Rev>) {  // recorded as one operation where it can be (distance_adjoint.cc)
+    row = RecordDistanceRows(model, set.distances, frames, q, v, vt, row);
+  } else {
+    for (const DistancePrimitive<T>& c : set.distances) internal::EvaluateDistanceRow(model, frames, c, q, v, vt, row++);
   }
   for (const PointPrimitive<T>& c : set.points) {
     const PointMotion<T> pa = MovePoint(model, frames, c.a, q, v, vt), pb = MovePoint(model, frames, c.b, q, v, vt);
