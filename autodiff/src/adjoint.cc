@@ -32,6 +32,14 @@ void ReadAdjoints(const Tape& tape, const RecordedCarry& carry, Eigen::VectorXd*
   for (int i = 0; i < carry.v.size(); ++i) (*v_bar)[i] = tape.Adjoint(carry.v[i]);
 }
 
+// What one kept state takes: the carry, its vectors' values and their heap blocks (glibc's chunk headers).
+std::int64_t StateBytes(const PlainCarry& carry) {
+  constexpr std::int64_t kHeapBlock = 16;
+  const std::int64_t values = carry.q.size() + carry.v.size() + static_cast<std::int64_t>(carry.coordinate_branches.size());
+  return static_cast<std::int64_t>(sizeof(PlainCarry)) + values * static_cast<std::int64_t>(sizeof(double)) +
+         3 * kHeapBlock;
+}
+
 }  // namespace
 
 std::int64_t CheckpointInterval(std::int64_t steps, std::int64_t state_bytes, std::int64_t budget_bytes) {
@@ -58,10 +66,11 @@ LossGradient AdjointGradient(const Model<double>& model, const ParameterSet& par
   });
   plain.Start();
   const int nq = model.NumCoordinates(), nv = model.NumVelocities();
-  const std::int64_t state_bytes = static_cast<std::int64_t>(nq + nv) * sizeof(double);
+  const std::int64_t state_bytes = StateBytes(plain.Save());
   const std::int64_t planned = StepCount(model.simulation) + static_cast<std::int64_t>(options.stops.size());
   const std::int64_t k = interval > 0 ? interval : CheckpointInterval(planned, state_bytes, kAdjointMemoryBudget);
   std::vector<PlainCarry> checkpoints;
+  checkpoints.reserve(static_cast<size_t>(planned / k + 2));
   std::int64_t steps = 0;
   for (; !plain.done(); ++steps) {
     if (steps % k == 0) checkpoints.push_back(plain.Save());
@@ -93,6 +102,7 @@ LossGradient AdjointGradient(const Model<double>& model, const ParameterSet& par
   // its steps recorded, in reverse, each swept back at once
   Eigen::VectorXd q_bar = Eigen::VectorXd::Zero(nq), v_bar = Eigen::VectorXd::Zero(nv);
   std::vector<PlainCarry> segment;
+  segment.reserve(static_cast<size_t>(k));
   for (std::int64_t c = static_cast<std::int64_t>(checkpoints.size()) - 1; c >= 0; --c) {
     const std::int64_t count = std::min(k, steps - c * k);
     segment.assign(1, checkpoints[c]);
