@@ -4,7 +4,7 @@ used, and what it cost against the plain simulation.
 
     python3 bench/adjoint_memory.py [--tether build/tether] [--steps 1000000]
 
-The scene: a planar chain of 10 particles (0.1 kg on 0.1 m links) hanging from the origin, its end pushed
+The scene: fit_knots.py's planar chain of 10 particles (0.1 kg on 0.1 m links) hanging from the origin, its end pushed
 sideways at 0.3 m/s, with light damping, rk4 at h = 1 ms for STEPS steps; the data are the end's position at
 four times, shifted by 1 cm. Runs `tether simulate` (the plain run) and `tether gradient --method adjoint` with
 three parameters, and prints the adjoint's report (steps, the checkpoint interval K, the states kept and the
@@ -20,19 +20,16 @@ import sys
 import tempfile
 import time
 
-LINKS, LINK, MASS = 10, 0.1, 0.1
-
+import fit_knots
+from fit_knots import LINKS
 
 def scene(duration):
-    bodies = [{"name": f"p{k}", "type": "particle", "mass": MASS, "position": [0.0, -LINK * (k + 1)]}
-              for k in range(LINKS)]
-    bodies[-1]["velocity"] = [0.3, 0.0]
-    constraints = [{"type": "distance", "bodies": ["world" if k == 0 else f"p{k - 1}", f"p{k}"], "length": LINK}
-                   for k in range(LINKS)]
-    return {"dimension": 2, "bodies": bodies, "constraints": constraints,
-            "effects": [{"type": "gravity", "acceleration": [0.0, -9.81]}, {"type": "damping", "coefficient": 0.05}],
-            "simulation": {"integrator": "rk4", "step": 1e-3, "duration": duration},
-            "stabilization": {"method": "baumgarte", "alpha": 20.0, "beta": 100.0}}
+    """fit_knots.py's chain without its force schedule, its end pushed sideways, lightly damped."""
+    document = fit_knots.scene([0.0, 0.0], 2)
+    document["effects"] = [document["effects"][0], {"type": "damping", "coefficient": 0.05}]
+    document["bodies"][-1]["velocity"] = [0.3, 0.0]
+    document["simulation"]["duration"] = duration
+    return document
 
 
 def main(argv):

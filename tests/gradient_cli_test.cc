@@ -58,6 +58,14 @@ class GradientCliTest : public ::testing::Test {
     data_ = Write("obs.csv", csv.str());
   }
 
+  // `tether gradient` on the pendulum problem with --method `method`: its JSON, or null (and a failure) when it
+  // does not exit 0.
+  nlohmann::json GradientBy(const std::string& method) const {
+    const Outcome run = Tether("gradient '" + scene_ + "' --data '" + data_ + "'" + Params() + " --method " + method);
+    EXPECT_EQ(run.status, 0) << method << ": " << run.err;
+    return run.status == 0 ? nlohmann::json::parse(run.out) : nlohmann::json();
+  }
+
   std::string Params(const std::vector<std::string>& pointers = kParameters) const {
     std::string out;
     for (const std::string& p : pointers) out += " --param " + p;
@@ -98,11 +106,8 @@ TEST_F(GradientCliTest, PrintsLossGradientSecondsAndMethodAsTheLibraryComputesTh
 
 TEST_F(GradientCliTest, CentralDifferencesAgreeWithJets) {
   WritePendulumProblem();
-  const Outcome jet = Tether("gradient '" + scene_ + "' --data '" + data_ + "'" + Params() + " --method jet");
-  const Outcome fd = Tether("gradient '" + scene_ + "' --data '" + data_ + "'" + Params() + " --method fd");
-  ASSERT_EQ(jet.status, 0) << jet.err;
-  ASSERT_EQ(fd.status, 0) << fd.err;
-  const nlohmann::json a = nlohmann::json::parse(jet.out), b = nlohmann::json::parse(fd.out);
+  const nlohmann::json a = GradientBy("jet"), b = GradientBy("fd");
+  ASSERT_FALSE(a.is_null() || b.is_null());
   EXPECT_EQ(a["method"], "jet");
   EXPECT_EQ(b["method"], "fd");
   // the same loss: both evaluate it with a double-valued run (Jet value parts equal it to round-off)
@@ -120,17 +125,14 @@ TEST_F(GradientCliTest, CentralDifferencesAgreeWithJets) {
 // parameter count is checked on the library's rule (the pendulum has fewer parameters than the crossover).
 TEST_F(GradientCliTest, TheAdjointAgreesWithJetsAndAutoChoosesByTheParameterCount) {
   WritePendulumProblem();
-  const Outcome jet = Tether("gradient '" + scene_ + "' --data '" + data_ + "'" + Params() + " --method jet");
-  const Outcome adjoint = Tether("gradient '" + scene_ + "' --data '" + data_ + "'" + Params() + " --method adjoint");
-  ASSERT_EQ(jet.status, 0) << jet.err;
-  ASSERT_EQ(adjoint.status, 0) << adjoint.err;
-  const nlohmann::json a = nlohmann::json::parse(jet.out), b = nlohmann::json::parse(adjoint.out);
+  const nlohmann::json a = GradientBy("jet"), b = GradientBy("adjoint");
+  ASSERT_FALSE(a.is_null() || b.is_null());
   EXPECT_EQ(b["method"], "adjoint");
   // what it kept: 300 steps of 1 ms and one onto t = 0.1234, every state (they fit in the budget)
-  EXPECT_EQ(b["adjoint"]["steps"], 301) << adjoint.out;
-  EXPECT_EQ(b["adjoint"]["interval"], 1) << adjoint.out;
-  EXPECT_GT(b["adjoint"]["memory_bytes"].get<double>(), 0.0) << adjoint.out;
-  EXPECT_FALSE(a.contains("adjoint")) << jet.out;
+  EXPECT_EQ(b["adjoint"]["steps"], 301) << b;
+  EXPECT_EQ(b["adjoint"]["interval"], 1) << b;
+  EXPECT_GT(b["adjoint"]["memory_bytes"].get<double>(), 0.0) << b;
+  EXPECT_FALSE(a.contains("adjoint")) << a;
   EXPECT_NEAR(b["loss"].get<double>(), a["loss"].get<double>(), 1e-12 * a["loss"].get<double>());
   for (const std::string& p : kParameters) {
     const double g = a["gradient"][p].get<double>();

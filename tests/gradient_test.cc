@@ -386,15 +386,34 @@ GradientScene Make(SceneKind kind) {
 }
 
 using Combination = std::tuple<SceneKind, Integrator, Stabilization>;
+
+// Every scene kind with every integrator and stabilization.
+auto AllCombinations() {
+  return ::testing::Combine(::testing::Values(SceneKind::kParticles, SceneKind::kRigidPins, SceneKind::kSlider,
+                                              SceneKind::kSprings, SceneKind::kDamping),
+                            ::testing::Values(Integrator::kEuler, Integrator::kSymplecticEuler, Integrator::kRk4,
+                                              Integrator::kRk45),
+                            ::testing::Values(Stabilization::kNone, Stabilization::kBaumgarte,
+                                              Stabilization::kProjection));
+}
+
+// A combination's scene (*scene) configured, its observations written to `csv` and read back, its parameters
+// in *pointers.
+Problem CombinationProblem(const Combination& combination, const ScratchFile& csv, GradientScene* scene,
+                           std::vector<std::string>* pointers) {
+  const auto [kind, integrator, stabilization] = combination;
+  *scene = Make(kind);
+  const json document = Configured(*scene, integrator, stabilization, pointers);
+  return MakeProblem(document, *pointers, scene->columns, csv.path());
+}
+
 class JetGradient : public ::testing::TestWithParam<Combination> {};
 
 TEST_P(JetGradient, MatchesRichardsonCentralDifferences) {
-  const auto [kind, integrator, stabilization] = GetParam();
-  const GradientScene scene = Make(kind);
+  GradientScene scene;
   std::vector<std::string> pointers;
-  const json document = Configured(scene, integrator, stabilization, &pointers);
   ScratchFile csv("observations.csv");
-  const Problem p = MakeProblem(document, pointers, scene.columns, csv.path());
+  const Problem p = CombinationProblem(GetParam(), csv, &scene, &pointers);
   ASSERT_EQ(p.observations.times, kTimes);
   ASSERT_EQ(p.observations.CellCount(), static_cast<int>(kTimes.size() * scene.columns.size()) - 1);  // one gap
 
@@ -429,14 +448,7 @@ std::string CombinationName(const ::testing::TestParamInfo<Combination>& info) {
          stabilizations[static_cast<int>(stabilization)];
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    AllScenesIntegratorsAndStabilizations, JetGradient,
-    ::testing::Combine(::testing::Values(SceneKind::kParticles, SceneKind::kRigidPins, SceneKind::kSlider,
-                                         SceneKind::kSprings, SceneKind::kDamping),
-                       ::testing::Values(Integrator::kEuler, Integrator::kSymplecticEuler, Integrator::kRk4,
-                                         Integrator::kRk45),
-                       ::testing::Values(Stabilization::kNone, Stabilization::kBaumgarte, Stabilization::kProjection)),
-    CombinationName);
+INSTANTIATE_TEST_SUITE_P(AllScenesIntegratorsAndStabilizations, JetGradient, AllCombinations(), CombinationName);
 
 
 // ---------------------------------------------------------------------------------------------------------------
@@ -449,12 +461,10 @@ constexpr double kAdjointAgreement = 1e-8;
 class AdjointGradient : public ::testing::TestWithParam<Combination> {};
 
 TEST_P(AdjointGradient, EqualsJets) {
-  const auto [kind, integrator, stabilization] = GetParam();
-  const GradientScene scene = Make(kind);
+  GradientScene scene;
   std::vector<std::string> pointers;
-  const json document = Configured(scene, integrator, stabilization, &pointers);
   ScratchFile csv("observations.csv");
-  const Problem p = MakeProblem(document, pointers, scene.columns, csv.path());
+  const Problem p = CombinationProblem(GetParam(), csv, &scene, &pointers);
   const LossGradient jet = JetLossGradient(p.scene.model, p.parameters, p.observations);
   AdjointReport report;
   const LossGradient adjoint = AdjointLossGradient(p.scene.model, p.parameters, p.observations, 0, &report);
@@ -474,14 +484,8 @@ TEST_P(AdjointGradient, EqualsJets) {
   EXPECT_GT(report.largest_record, 0);
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    AllScenesIntegratorsAndStabilizations, AdjointGradient,
-    ::testing::Combine(::testing::Values(SceneKind::kParticles, SceneKind::kRigidPins, SceneKind::kSlider,
-                                         SceneKind::kSprings, SceneKind::kDamping),
-                       ::testing::Values(Integrator::kEuler, Integrator::kSymplecticEuler, Integrator::kRk4,
-                                         Integrator::kRk45),
-                       ::testing::Values(Stabilization::kNone, Stabilization::kBaumgarte, Stabilization::kProjection)),
-    CombinationName);
+INSTANTIATE_TEST_SUITE_P(AllScenesIntegratorsAndStabilizations, AdjointGradient, AllCombinations(),
+                         CombinationName);
 
 // Checkpoints change only what is recomputed: every state kept (K = 1, the default here), checkpoints every
 // ceil(sqrt(152)) = 13 steps, and a single checkpoint (K = all steps) give the same numbers.
