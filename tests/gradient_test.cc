@@ -513,6 +513,44 @@ TEST(AdjointCheckpoints, CheckpointedEqualsStored) {
   EXPECT_EQ(checkpointed.loss, stored.loss);
 }
 
+// Distance rows between particles go through their own recorded operation (distance_adjoint.cc), and a rod
+// named twice makes every Schur matrix singular, so that the solver regularizes it (kkt_adjoint.cc's
+// regularized term): a three-particle chain hanging from two world points, its first rod duplicated, every
+// point a constant so that all rows take that path. Adjoint and Jets agree as everywhere else.
+TEST(AdjointGradient, ParticleRodsAndARedundantRodEqualJets) {
+  json d = {{"dimension", 2},
+            {"bodies",
+             {{{"name", "a"}, {"type", "particle"}, {"mass", 1.0}, {"position", {0.6, -0.8}}, {"velocity", {0.4, 0.3}}},
+              {{"name", "b"}, {"type", "particle"}, {"mass", 0.5}, {"position", {1.2, -1.6}}},
+              {{"name", "c"}, {"type", "particle"}, {"mass", 0.8}, {"position", {1.9, -1.2}}}}},
+            {"constraints",
+             {{{"type", "distance"}, {"bodies", {"world", "a"}}, {"length", 1.0}},
+              {{"type", "distance"}, {"bodies", {"world", "a"}}, {"length", 1.0}},
+              {{"type", "distance"}, {"bodies", {"a", "b"}}, {"length", 1.0}},
+              {{"type", "distance"}, {"bodies", {"b", "c"}}, {"length", (V(1.9, -1.2) - V(1.2, -1.6)).norm()}}}},
+            {"effects", {{{"type", "gravity"}, {"acceleration", {0.0, -9.81}}}}}};
+  const std::vector<std::string> pointers = {"/bodies/0/mass", "/bodies/2/mass", "/constraints/2/length",
+                                             "/constraints/3/length", "/bodies/0/velocity/0",
+                                             "/effects/0/acceleration/1"};
+  for (const Integrator integrator : {Integrator::kRk4, Integrator::kRk45}) {
+    for (const Stabilization stabilization : {Stabilization::kBaumgarte, Stabilization::kProjection}) {
+      std::vector<std::string> unused;
+      const json document = Configured({"RedundantRod", d, pointers, {}}, integrator, stabilization, &unused);
+      ScratchFile csv("observations.csv");
+      const Problem p = MakeProblem(document, pointers, {"b.x", "c.y", "c.vx"}, csv.path());
+      const LossGradient jet = JetLossGradient(p.scene.model, p.parameters, p.observations);
+      const LossGradient adjoint = AdjointLossGradient(p.scene.model, p.parameters, p.observations);
+      const double scale = Largest(jet.gradient);
+      ASSERT_GT(scale, 0.0);
+      for (size_t i = 0; i < pointers.size(); ++i) {
+        EXPECT_NEAR(adjoint.gradient[i], jet.gradient[i],
+                    kAdjointAgreement * std::max(1e-3 * scale, std::abs(jet.gradient[i])))
+            << pointers[i] << " " << IntegratorName(integrator) << " " << StabilizationName(stabilization);
+      }
+    }
+  }
+}
+
 // The memory rule: every state while they fit, then the smallest K with N / K + K states fitting, then sqrt(N).
 TEST(AdjointCheckpoints, IntervalKeepsWithinTheBudget) {
   EXPECT_EQ(CheckpointInterval(1000, 8, 8000), 1);          // 1000 states fit

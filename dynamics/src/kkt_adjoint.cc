@@ -61,11 +61,10 @@ void AddAdjoints(Tape* tape, const std::array<int, 6>& nodes, const BodyVector<d
 
 // What the backward sweep needs of one evaluation: the forward values, and the nodes they came from.
 struct KktRecord {
-  const Model<Rev>* model;
-  const SchurPattern* pattern;
-  SchurSolver* solver;
+  const Model<Rev>* model;  // the bodies' layout
+  SchurSolver* solver;       // refactors S for the backward solve
   std::vector<ConstraintRow<double>> rows;
-  std::vector<std::array<int, 2>> row_nodes;            // value, bias
+  std::vector<std::array<int, 2>> row_nodes;                   // value, bias
   std::vector<std::array<std::array<int, 6>, 2>> block_nodes;  // J_i on its first and second body
   InverseMass<double> inverse_mass;
   VecX<int> diagonal_nodes;
@@ -181,7 +180,6 @@ bool SolveKkt<Rev>(const Model<Rev>& model, const VecX<Rev>& v, Workspace<Rev>* 
   auto record = std::make_shared<KktRecord>();
   KktRecord& r = *record;
   r.model = &model;
-  r.pattern = &ws->pattern;
   r.solver = &ws->solver;
   bool recorded = ws->alpha.index >= 0 || ws->beta.index >= 0;
   const size_t m = ws->rows.size();
