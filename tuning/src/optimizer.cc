@@ -33,7 +33,6 @@ namespace {
 
 constexpr unsigned long kNloptSeed = 20261123;  // NLopt's random generator, seeded for repeatable runs
 
-
 // The residual function as a Ceres cost: one parameter block holding x.
 class ResidualCost final : public ceres::CostFunction {
  public:
@@ -125,6 +124,47 @@ nlopt::algorithm LocalOptimizerFor(const std::string& algorithm) {
   return gradient_based ? nlopt::LD_LBFGS : nlopt::LN_BOBYQA;
 }
 
+// What NLopt's objective works from, and the best point it has seen (some algorithms, COBYLA in NLopt 2.7, return
+// their last point instead).
+struct NloptContext {
+  const ResidualFunction* residuals;
+  const CostGradientFunction* cost_gradient;
+  double cost_scale;  // of the scaled residuals' cost to the cost_gradient's
+  const RobustLoss* loss;
+  int* evaluations;
+  std::vector<double> best_x;
+  double best_value;
+};
+
+// f = 1/2 sum rho(r_i^2) and, when asked, df/dx = sum rho'(r_i^2) r_i dr_i/dx from the residuals' Jacobian.
+bool CostFromResiduals(const NloptContext& c, const std::vector<double>& x, double* value,
+                       std::vector<double>* gradient) {
+  Eigen::VectorXd r;
+  Eigen::MatrixXd jacobian;
+  if (!(*c.residuals)(x, &r, gradient ? &jacobian : nullptr)) return false;
+  Eigen::VectorXd weight(r.size());
+  for (int i = 0; i < r.size(); ++i) {
+    double rho[2];
+    EvaluateLoss(*c.loss, r[i] * r[i], rho);
+    *value += 0.5 * rho[0];
+    weight[i] = rho[1] * r[i];
+  }
+  if (gradient) {
+    const Eigen::VectorXd g = jacobian.transpose() * weight;
+    for (size_t i = 0; i < gradient->size(); ++i) (*gradient)[i] = g[static_cast<int>(i)];
+  }
+  return true;
+}
+
+// f and df/dx from the cost-gradient function (the adjoint), scaled as the residuals are.
+bool CostFromGradientFunction(const NloptContext& c, const std::vector<double>& x, double* value,
+                              std::vector<double>* gradient) {
+  if (!(*c.cost_gradient)(x, value, gradient)) return false;
+  *value *= c.cost_scale;
+  for (double& g : *gradient) g *= c.cost_scale;
+  return true;
+}
+
 OptimizerResult MinimizeWithNlopt(const ResidualFunction& residuals, const CostGradientFunction& cost_gradient,
                                   double cost_scale, const std::string& algorithm_name,
                                   const std::vector<double>& start, const std::vector<double>& lower,
@@ -132,51 +172,16 @@ OptimizerResult MinimizeWithNlopt(const ResidualFunction& residuals, const CostG
   const nlopt_algorithm algorithm = nlopt_algorithm_from_string(algorithm_name.c_str());
   OptimizerResult result;
   nlopt::opt opt(static_cast<nlopt::algorithm>(algorithm), static_cast<unsigned>(start.size()));
-  // the best point seen: some algorithms (COBYLA in NLopt 2.7) return their last point instead
-  struct Context {
-    const ResidualFunction* residuals;
-    const CostGradientFunction* cost_gradient;
-    double cost_scale;
-    const RobustLoss* loss;
-    int* evaluations;
-    std::vector<double> best_x;
-    double best_value;
-  } context{&residuals, &cost_gradient, cost_scale, &settings.loss, &result.evaluations, start, INFINITY};
+  NloptContext context{&residuals, &cost_gradient, cost_scale, &settings.loss, &result.evaluations, start, INFINITY};
   auto objective = [](const std::vector<double>& x, std::vector<double>& gradient, void* data) -> double {
-    Context& c = *static_cast<Context*>(data);
+    NloptContext& c = *static_cast<NloptContext*>(data);
     ++*c.evaluations;
     const bool want_gradient = !gradient.empty();
     double value = 0.0;
-    if (want_gradient && *c.cost_gradient) {  // the cost of the unscaled residuals: scaled as they are
-      if (!(*c.cost_gradient)(x, &value, &gradient)) {
-        std::fill(gradient.begin(), gradient.end(), 0.0);
-        return kInfeasibleValue;
-      }
-      value *= c.cost_scale;
-      for (double& g : gradient) g *= c.cost_scale;
-      if (value < c.best_value) {
-        c.best_value = value;
-        c.best_x = x;
-      }
-      return value;
-    }
-    Eigen::VectorXd r;
-    Eigen::MatrixXd jacobian;
-    if (!(*c.residuals)(x, &r, want_gradient ? &jacobian : nullptr)) {
+    if (!(want_gradient && *c.cost_gradient ? CostFromGradientFunction(c, x, &value, &gradient)
+                                             : CostFromResiduals(c, x, &value, want_gradient ? &gradient : nullptr))) {
       std::fill(gradient.begin(), gradient.end(), 0.0);
       return kInfeasibleValue;
-    }
-    // f = 1/2 sum rho(r_i^2), df/dx = sum rho'(r_i^2) r_i dr_i/dx
-    Eigen::VectorXd weight(r.size());
-    for (int i = 0; i < r.size(); ++i) {
-      double rho[2];
-      EvaluateLoss(*c.loss, r[i] * r[i], rho);
-      value += 0.5 * rho[0];
-      weight[i] = rho[1] * r[i];
-    }
-    if (want_gradient) {
-      const Eigen::VectorXd g = jacobian.transpose() * weight;
-      for (size_t i = 0; i < gradient.size(); ++i) gradient[i] = g[static_cast<int>(i)];
     }
     if (value < c.best_value) {
       c.best_value = value;
