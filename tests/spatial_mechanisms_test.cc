@@ -281,5 +281,62 @@ TEST(Observations, ARecordedQuaternionOfEitherSignFitsTheSame) {
   EXPECT_LT(residuals.lpNorm<Eigen::Infinity>(), 1e-15);
 }
 
+// Point and angle rows of every kind of side (the world, a particle, 3D bodies with and without principal axes
+// along their body axes) and every angle primitive (a universal's angle, a weld's frozen orientation, a
+// hinge's common axis), through their recorded operations: the adjoint equals the Jets.
+constexpr char kJointZoo[] = R"({"dimension": 3,
+  "bodies": [
+    {"name": "cross", "type": "rigid", "mass": 0.9, "inertia": [0.02, 0.03, 0.025], "position": [0, 0, -0.2],
+     "angular_velocity": [0.4, -0.3, 0.2]},
+    {"name": "block", "type": "rigid", "mass": 0.6,
+     "inertia": [[0.006, 0.0004, 0.0001], [0.0004, 0.008, 0.0003], [0.0001, 0.0003, 0.009]],
+     "position": [0, 0, -0.5]},
+    {"name": "flap", "type": "rigid", "mass": 0.3, "inertia": [0.002, 0.003, 0.004], "position": [0.2, 0, -0.5],
+     "angular_velocity": [0, 0, 0.5]},
+    {"name": "bob", "type": "particle", "mass": 0.4, "position": [0, 0.1, -0.8], "velocity": [0.2, 0, 0]}],
+  "constraints": [
+    {"type": "universal", "bodies": ["world", "cross"], "points": [[0, 0, 0], [0, 0, 0.2]],
+     "axes": [[1, 0, 0], [0, 1, 0]]},
+    {"type": "weld", "bodies": ["cross", "block"], "points": [[0, 0, -0.15], [0, 0, 0.15]]},
+    {"type": "hinge", "bodies": ["block", "flap"], "points": [[0.1, 0, 0], [-0.1, 0, 0]], "axis": [0, 0.2, 1]},
+    {"type": "pin", "bodies": ["block", "bob"], "points": [[0, 0.1, -0.3], [0, 0, 0]]}],
+  "effects": [{"type": "gravity", "acceleration": [0, 0, -9.81]}],
+  "stabilization": {"method": "baumgarte", "alpha": 20, "beta": 100},
+  "simulation": {"integrator": "rk4", "step": 2e-3, "duration": 0.3}})";
+
+TEST(Gradients, AdjointMatchesJetsThroughPointAndAngleRowsOfEveryKind) {
+  const Scene scene = ParseScene(ParseJsonText(kJointZoo, "zoo.json"), "zoo.json");
+  const std::string path = ::testing::TempDir() + "zoo_data.csv";
+  {
+    std::istringstream in(testing::TrajectoryCsvAt(scene.model, {0.1, 0.2, 0.3}));
+    std::ofstream out(path);
+    std::string line;
+    std::getline(in, line);
+    out << "t,bob.x,bob.y,flap.qz,cross.wx\n";
+    const std::vector<TrajectoryColumn> columns = TrajectoryColumns(scene.model);
+    while (std::getline(in, line)) {
+      const std::vector<double> cells = Cells(line);
+      auto at = [&](const std::string& name) {
+        for (size_t i = 0; i < columns.size(); ++i) {
+          if (columns[i].name == name) return cells[i];
+        }
+        return std::numeric_limits<double>::quiet_NaN();
+      };
+      out << at("t") << "," << at("bob.x") + 0.01 << "," << at("bob.y") - 0.01 << "," << at("flap.qz") + 0.02 << ","
+          << at("cross.wx") - 0.05 << "\n";
+    }
+  }
+  const Observations observations = ReadObservations(path, scene.model);
+  const ParameterSet parameters(
+      scene, {"/bodies/0/inertia/1", "/bodies/1/inertia/0/1", "/bodies/3/mass", "/bodies/0/angular_velocity/0",
+              "/bodies/3/velocity/0", "/constraints/0/axes/0/1", "/constraints/0/points/1/2",
+              "/constraints/1/points/0/2", "/constraints/2/axis/1", "/constraints/2/points/1/0",
+              "/constraints/3/points/0/1", "/constraints/3/points/1/0"});
+  const LossGradient jet = JetLossGradient(scene.model, parameters, observations);
+  ASSERT_GT(jet.loss, 0.0);
+  for (int i = 0; i < parameters.size(); ++i) EXPECT_TRUE(std::isfinite(jet.gradient[i])) << parameters.pointers()[i];
+  ExpectAdjointEqualsJets(scene.model, parameters, observations, jet);
+}
+
 }  // namespace
 }  // namespace tether

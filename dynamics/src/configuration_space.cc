@@ -1,5 +1,6 @@
 #include "tether/dynamics/configuration_space.h"
 
+#include "tether/dynamics/elementwise.h"
 #include "tether/dynamics/rotation.h"
 
 namespace tether {
@@ -14,12 +15,8 @@ Vec4<T> PrincipalAxes(const Body<T>& body) {
 
 template <typename T>
 TETHER_FLATTEN void Integrate(const Model<T>& model, const VecX<T>& q, const VecX<T>& v, double h, VecX<T>* out) {
-  if (model.spatial_bodies.empty()) {  // q and v share one layout
-    if (h == 1.0) {
-      out->noalias() = q + v;
-    } else {
-      out->noalias() = q + h * v;
-    }
+  if (model.spatial_bodies.empty()) {  // q and v share one layout (h = 1: h v is v exactly)
+    Elementwise(out, [h](const auto& x, const auto& y) { return x + h * y; }, q, v);
     return;
   }
   for (const Body<T>& body : model.bodies) {

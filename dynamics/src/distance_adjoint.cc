@@ -60,14 +60,51 @@ void AddAdjoints(Tape* tape, const std::array<int, 3>& nodes, const Vec3<double>
 
 constexpr int kOutputs = 8;  // C, Jdot v, J_a's translation (3), J_b's translation (3)
 
+// One evaluation's rows done here, and the forward's scratch (reused with the record, Tape::Reusable).
+struct DistanceRecord {
+  std::vector<DistanceRow> rows;
+  bool velocity_terms = false;
+  std::vector<ConstraintRow<Rev>*> outputs;
+  std::vector<double> values;  // kOutputs per row
+
+  void Backward(const double* adjoint, Tape* tape) const;
+};
+
+void DistanceRecord::Backward(const double* adjoint, Tape* tape) const {
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const DistanceRow& r = rows[i];
+    const double* out = adjoint + kOutputs * i;
+    const double c_bar = out[0], bias_bar = velocity_terms ? out[1] : 0.0;
+    const Vec3<double> a_bar(out[2], out[3], out[4]), b_bar(out[5], out[6], out[7]);
+    Vec3<double> n_bar = b_bar - a_bar;
+    double length_bar = c_bar;
+    if (bias_bar != 0.0) {
+      n_bar -= 2.0 * bias_bar * r.along * r.inverse_length * r.dv;
+      const Vec3<double> dv_bar = 2.0 * bias_bar * r.inverse_length * (r.dv - r.along * r.n);
+      length_bar -= bias_bar * r.s * r.inverse_length * r.inverse_length;
+      AddAdjoints(tape, r.velocity_b, dv_bar);
+      AddAdjoints(tape, r.velocity_a, -dv_bar);
+    }
+    const Vec3<double> d_bar = (n_bar - r.n * r.n.dot(n_bar)) * r.inverse_length + length_bar * r.n;
+    AddAdjoints(tape, r.position_b, d_bar);
+    AddAdjoints(tape, r.position_a, -d_bar);
+    tape->AddAdjoint(r.length, -c_bar);
+  }
+}
+
 }  // namespace
 
 ConstraintRow<Rev>* RecordDistanceRows(const Model<Rev>& model, const std::vector<DistancePrimitive<Rev>>& distances,
                                        const BodyFrames<Rev>& frames, const VecX<Rev>& q, const VecX<Rev>& v,
                                        bool velocity_terms, ConstraintRow<Rev>* rows) {
-  auto record = std::make_shared<std::vector<DistanceRow>>();
-  std::vector<ConstraintRow<Rev>*> outputs;
-  std::vector<double> values;
+  Tape* tape = ActiveTape();
+  const std::shared_ptr<DistanceRecord> record = tape ? tape->Reusable<DistanceRecord>() : std::make_shared<DistanceRecord>();
+  record->velocity_terms = velocity_terms;
+  record->rows.clear();
+  record->outputs.clear();
+  record->values.clear();
+  std::vector<ConstraintRow<Rev>*>& outputs = record->outputs;
+  std::vector<double>& values = record->values;
   const Vec3<Rev> still = Zero3<Rev>();
   for (size_t i = 0; i < distances.size(); ++i) {
     const DistancePrimitive<Rev>& c = distances[i];
@@ -104,10 +141,10 @@ ConstraintRow<Rev>* RecordDistanceRows(const Model<Rev>& model, const std::vecto
     row->a.rotation = row->b.rotation = Zero3<Rev>();
     outputs.push_back(row);
     values.insert(values.end(), {length - c.length.a, bias, -r.n[0], -r.n[1], -r.n[2], r.n[0], r.n[1], r.n[2]});
-    record->push_back(r);
+    record->rows.push_back(r);
   }
   bool recorded = false;  // a run with nothing recorded (no active tape) gets constants
-  for (const DistanceRow& r : *record) {
+  for (const DistanceRow& r : record->rows) {
     for (const std::array<int, 3>* nodes : {&r.position_a, &r.position_b, &r.velocity_a, &r.velocity_b}) {
       for (int node : *nodes) recorded = recorded || node >= 0;
     }
@@ -115,29 +152,9 @@ ConstraintRow<Rev>* RecordDistanceRows(const Model<Rev>& model, const std::vecto
   }
   if (outputs.empty()) return rows + distances.size();
 
-  auto backward = [record, velocity_terms](const double* adjoint, Tape* tape) {
-    for (size_t i = 0; i < record->size(); ++i) {
-      const DistanceRow& r = (*record)[i];
-      const double* out = adjoint + kOutputs * i;
-      const double c_bar = out[0], bias_bar = velocity_terms ? out[1] : 0.0;
-      const Vec3<double> a_bar(out[2], out[3], out[4]), b_bar(out[5], out[6], out[7]);
-      Vec3<double> n_bar = b_bar - a_bar;
-      double length_bar = c_bar;
-      if (bias_bar != 0.0) {
-        n_bar -= 2.0 * bias_bar * r.along * r.inverse_length * r.dv;
-        const Vec3<double> dv_bar = 2.0 * bias_bar * r.inverse_length * (r.dv - r.along * r.n);
-        length_bar -= bias_bar * r.s * r.inverse_length * r.inverse_length;
-        AddAdjoints(tape, r.velocity_b, dv_bar);
-        AddAdjoints(tape, r.velocity_a, -dv_bar);
-      }
-      const Vec3<double> d_bar = (n_bar - r.n * r.n.dot(n_bar)) * r.inverse_length + length_bar * r.n;
-      AddAdjoints(tape, r.position_b, d_bar);
-      AddAdjoints(tape, r.position_a, -d_bar);
-      tape->AddAdjoint(r.length, -c_bar);
-    }
-  };
-  const int first =
-      recorded ? ActiveTape()->RecordExternal(kOutputs * static_cast<int>(outputs.size()), std::move(backward)) : 0;
+  const int first = recorded ? tape->RecordExternal(kOutputs * static_cast<int>(outputs.size()),
+                                                   [record](const double* adjoint, Tape* t) { record->Backward(adjoint, t); })
+                             : 0;
   for (size_t i = 0; i < outputs.size(); ++i) {
     ConstraintRow<Rev>* row = outputs[i];
     const double* value = values.data() + kOutputs * i;

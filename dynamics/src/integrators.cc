@@ -5,10 +5,20 @@
 
 #include "tether/dynamics/configuration_space.h"
 #include "tether/dynamics/constrained_dynamics.h"
+#include "tether/dynamics/elementwise.h"
 #include "tether/dynamics/projection.h"
 
 namespace tether {
 namespace {
+
+// x + c y, for Elementwise
+struct AddScaledBy {
+  double c;
+  template <typename T>
+  T operator()(const T& x, const T& y) const {
+    return x + c * y;
+  }
+};
 
 template <typename T>
 StepStatus Euler(const Model<T>& model, double t, double h, Workspace<T>* ws, VecX<T>* q, VecX<T>* v) {
@@ -16,7 +26,7 @@ StepStatus Euler(const Model<T>& model, double t, double h, Workspace<T>* ws, Ve
   if (!ComputeAcceleration(model, t, *q, *v, ws, &a)) return StepStatus::kSolveFailed;
   Integrate(model, *q, *v, h, &ws->next_q);
   q->swap(ws->next_q);
-  *v += h * a;
+  Elementwise(v, AddScaledBy{h}, *v, a);
   return StepStatus::kOk;
 }
 
@@ -24,7 +34,7 @@ template <typename T>
 StepStatus SymplecticEuler(const Model<T>& model, double t, double h, Workspace<T>* ws, VecX<T>* q, VecX<T>* v) {
   VecX<T>& a = ws->stage_v[0];
   if (!ComputeAcceleration(model, t, *q, *v, ws, &a)) return StepStatus::kSolveFailed;
-  *v += h * a;
+  Elementwise(v, AddScaledBy{h}, *v, a);
   Integrate(model, *q, *v, h, &ws->next_q);
   q->swap(ws->next_q);
   return StepStatus::kOk;
@@ -63,15 +73,22 @@ StepStatus Rk4(const Model<T>& model, double t, double h, Workspace<T>* ws, VecX
       if (spatial) ws->theta.setZero();
     } else {
       Integrate(model, *q, kq[s - 1], c[s] * h, &ws->trial_q);
-      ws->trial_v = *v + (c[s] * h) * kv[s - 1];
-      if (spatial) ws->theta = (c[s] * h) * kq[s - 1];
+      Elementwise(&ws->trial_v, AddScaledBy{c[s] * h}, *v, kv[s - 1]);
+      if (spatial) Elementwise(&ws->theta, [ch = c[s] * h](const auto& k) { return ch * k; }, kq[s - 1]);
     }
     if (!StageAt(model, t + c[s] * h, ws, &kq[s], &kv[s])) return StepStatus::kSolveFailed;
   }
-  ws->theta = (h / 6.0) * (kq[0] + 2.0 * kq[1] + 2.0 * kq[2] + kq[3]);
+  const double sixth = h / 6.0;
+  const auto increment = [sixth](const auto& k0, const auto& k1, const auto& k2, const auto& k3) {
+    return sixth * (k0 + 2.0 * k1 + 2.0 * k2 + k3);
+  };
+  Elementwise(&ws->theta, increment, kq[0], kq[1], kq[2], kq[3]);
   Integrate(model, *q, ws->theta, 1.0, &ws->next_q);
   q->swap(ws->next_q);
-  *v += (h / 6.0) * (kv[0] + 2.0 * kv[1] + 2.0 * kv[2] + kv[3]);
+  const auto step = [&increment](const auto& x, const auto& k0, const auto& k1, const auto& k2, const auto& k3) {
+    return x + increment(k0, k1, k2, k3);
+  };
+  Elementwise(v, step, *v, kv[0], kv[1], kv[2], kv[3]);
   return StepStatus::kOk;
 }
 
@@ -114,8 +131,8 @@ double DormandPrinceTrial(const Model<T>& model, double t, double h, double tole
     ws->trial_v = v;
     for (int j = 0; j < s; ++j) {
       if (kA[s][j] == 0.0) continue;
-      ws->theta += (h * kA[s][j]) * kq[j];
-      ws->trial_v += (h * kA[s][j]) * kv[j];
+      Elementwise(&ws->theta, AddScaledBy{h * kA[s][j]}, ws->theta, kq[j]);
+      Elementwise(&ws->trial_v, AddScaledBy{h * kA[s][j]}, ws->trial_v, kv[j]);
     }
     if (!Stage(model, t + kC[s] * h, q, ws, &kq[s], &kv[s])) return INFINITY;
   }

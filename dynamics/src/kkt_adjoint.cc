@@ -3,7 +3,7 @@
 // Forward, in double, what KktAcceleration computes for a double run (the same code: the same values):
 //   u = M^-1 f,  w = u + alpha v,  rhs_i = J_i w + bias_i + beta C_i,  S lambda = rhs,  S = J M^-1 J^T,
 //   y = f - J^T lambda,  a = M^-1 y.
-// Backward, from abar, in double, with one more solve by the matrix factored forward (S is symmetric):
+// Backward, from abar, in double, with one more solve by the forward factorization, kept (S is symmetric):
 //   g = M^-1 abar,  lambdabar = -J g,  rbar = S^-1 lambdabar,  JTr = J^T rbar,  h = g + M^-1 JTr,
 //   fbar      += h
 //   vbar      += alpha JTr,   alphabar += JTr . v,   betabar += rbar . C
@@ -20,6 +20,7 @@
 // The rows, forces and inverse mass stay recorded, and carry these adjoints on to q, v and the parameters.
 #include <array>
 #include <memory>
+#include <optional>
 
 #include "tether/dynamics/constrained_dynamics.h"
 
@@ -62,21 +63,25 @@ void AddAdjoints(Tape* tape, const std::array<int, 6>& nodes, const BodyVector<d
 // What the backward sweep needs of one evaluation: the forward values, and the nodes they came from.
 struct KktRecord {
   const Model<Rev>* model;  // the bodies' layout
-  SchurSolver* solver;       // refactors S for the backward solve
+  SchurSolver* solver;       // solves with the forward factorization in the backward sweep
   std::vector<ConstraintRow<double>> rows;
   std::vector<std::array<int, 2>> row_nodes;                   // value, bias
   std::vector<std::array<std::array<int, 6>, 2>> block_nodes;  // J_i on its first and second body
   InverseMass<double> inverse_mass;
   VecX<int> diagonal_nodes;
   std::vector<Mat3<int>> rotational_nodes;
-  VecX<double> f, v, y, a, lambda;
+  std::optional<KktSystem<double>> system;  // the solve's S and multipliers lambda
+  VecX<double> f, v, y, a;
   VecX<int> f_nodes, v_nodes;
   double alpha = 0.0, beta = 0.0;
   int alpha_node = -1, beta_node = -1;
-  std::vector<double> factored;  // S as factored: regularized or not
+  SchurSolver::Factorization factorization;  // of S as solved forward: regularized or not
   bool regularized = false;
+  struct {
+    VecX<double> g, r_bar, jt_r, jt_lambda, h, a_plus_alpha_v;
+  } scratch;  // the backward sweep's vectors, allocated once per reused record
 
-  void Backward(const double* a_bar_data, Tape* tape) const;
+  void Backward(const double* a_bar_data, Tape* tape);
 };
 
 // (M^-1)bar from out = M^-1 x with outbar: the diagonal's entries and the 3D bodies' blocks, by body.
@@ -115,26 +120,29 @@ void AddAssemblyAdjoint(const KktRecord& r, double scale, const VecX<double>& s,
   }
 }
 
-void KktRecord::Backward(const double* a_bar_data, Tape* tape) const {
+void KktRecord::Backward(const double* a_bar_data, Tape* tape) {
   const Model<Rev>& m = *model;
   const int nv = static_cast<int>(f.size()), rows_count = static_cast<int>(rows.size());
   const Eigen::Map<const VecX<double>> a_bar(a_bar_data, nv);
-  VecX<double> g(nv), lambda_bar(rows_count);
-  ApplyInverseMass(m, inverse_mass, VecX<double>(a_bar), &g);
-  for (int i = 0; i < rows_count; ++i) lambda_bar[i] = -(Dot(m, rows[i].a, g) + Dot(m, rows[i].b, g));
-  VecX<double> r_bar = lambda_bar;
-  solver->SolveAsGiven(factored, &r_bar);
-  VecX<double> jt_r = VecX<double>::Zero(nv), jt_lambda = VecX<double>::Zero(nv);
+  const VecX<double>& lambda = system->lambda;
+  auto& [g, r_bar, jt_r, jt_lambda, h, a_plus_alpha_v] = scratch;
+  h = a_bar;
+  g.resize(nv);
+  ApplyInverseMass(m, inverse_mass, h, &g);
+  r_bar.resize(rows_count);
+  for (int i = 0; i < rows_count; ++i) r_bar[i] = -(Dot(m, rows[i].a, g) + Dot(m, rows[i].b, g));  // lambdabar
+  solver->SolveWith(factorization, &r_bar);
+  jt_r.setZero(nv);
+  jt_lambda.setZero(nv);
   for (int i = 0; i < rows_count; ++i) {
     AddScaled(m, rows[i].a, r_bar[i], &jt_r);
     AddScaled(m, rows[i].b, r_bar[i], &jt_r);
     AddScaled(m, rows[i].a, lambda[i], &jt_lambda);
     AddScaled(m, rows[i].b, lambda[i], &jt_lambda);
   }
-  VecX<double> h(nv);
   ApplyInverseMass(m, inverse_mass, jt_r, &h);
   h += g;
-  const VecX<double> a_plus_alpha_v = a + alpha * v;
+  a_plus_alpha_v = a + alpha * v;
 
   for (int i = 0; i < nv; ++i) {
     tape->AddAdjoint(f_nodes[i], h[i]);
@@ -177,7 +185,8 @@ void KktRecord::Backward(const double* a_bar_data, Tape* tape) const {
 
 template <>
 bool SolveKkt<Rev>(const Model<Rev>& model, const VecX<Rev>& v, Workspace<Rev>* ws, VecX<Rev>* a) {
-  auto record = std::make_shared<KktRecord>();
+  Tape* tape = ActiveTape();
+  const std::shared_ptr<KktRecord> record = tape ? tape->Reusable<KktRecord>() : std::make_shared<KktRecord>();
   KktRecord& r = *record;
   r.model = &model;
   r.solver = &ws->solver;
@@ -198,16 +207,16 @@ bool SolveKkt<Rev>(const Model<Rev>& model, const VecX<Rev>& v, Workspace<Rev>* 
   }
   r.inverse_mass.diagonal = Values(ws->inverse_mass.diagonal);
   r.diagonal_nodes = Nodes(ws->inverse_mass.diagonal);
-  for (const Mat3<Rev>& block : ws->inverse_mass.rotational) {
-    Mat3<double> values;
-    Mat3<int> nodes;
+  const size_t bodies = ws->inverse_mass.rotational.size();
+  r.inverse_mass.rotational.resize(bodies);
+  r.rotational_nodes.resize(bodies);
+  for (size_t b = 0; b < bodies; ++b) {
+    const Mat3<Rev>& block = ws->inverse_mass.rotational[b];
     for (int k = 0; k < 9; ++k) {
-      values(k) = block(k).a;
-      nodes(k) = block(k).index;
-      recorded = recorded || nodes(k) >= 0;
+      r.inverse_mass.rotational[b](k) = block(k).a;
+      r.rotational_nodes[b](k) = block(k).index;
+      recorded = recorded || block(k).index >= 0;
     }
-    r.inverse_mass.rotational.push_back(values);
-    r.rotational_nodes.push_back(nodes);
   }
   r.f = Values(ws->force);
   r.f_nodes = Nodes(ws->force);
@@ -220,20 +229,21 @@ bool SolveKkt<Rev>(const Model<Rev>& model, const VecX<Rev>& v, Workspace<Rev>* 
   r.alpha_node = ws->alpha.index;
   r.beta_node = ws->beta.index;
 
-  KktSystem<double> system(ws->pattern, static_cast<int>(r.f.size()));
+  if (!r.system || r.system->u_plus_alpha_v.size() != r.f.size() ||
+      r.system->schur.size() != static_cast<size_t>(ws->pattern.nonzeros())) {
+    r.system.emplace(ws->pattern, static_cast<int>(r.f.size()));
+  }
   r.y = r.f;
   r.a.resize(r.f.size());
   const bool solved = KktAcceleration(model, ws->layout, ws->pattern, &ws->solver, r.rows, r.inverse_mass, r.v,
-                                      r.alpha, r.beta, &r.y, &system, &r.a);
+                                      r.alpha, r.beta, &r.y, &*r.system, &r.a);
   if (!solved || !recorded) {
     for (int i = 0; i < a->size(); ++i) (*a)[i] = Rev(r.a[i]);
     return solved;
   }
-  r.lambda = system.lambda;
   r.regularized = ws->solver.starts_regularized();
-  r.factored = system.schur;
-  if (r.regularized) Regularize(ws->pattern, &r.factored);
-  const int first = ActiveTape()->RecordExternal(
+  ws->solver.SaveFactorization(&r.factorization);
+  const int first = tape->RecordExternal(
       static_cast<int>(r.a.size()), [record](const double* a_bar, Tape* tape) { record->Backward(a_bar, tape); });
   for (int i = 0; i < a->size(); ++i) (*a)[i] = Rev(r.a[i], first + i);
   return true;

@@ -17,18 +17,24 @@ int Tape::RecordExternal(int count, ExternalBackward backward) {
 
 void Tape::Backward(int mark) {
   adjoints_.resize(nodes_.size(), 0.0);
-  for (int i = size() - 1; i >= mark; --i) {
-    // an external operation's outputs are consecutive: at the last one every use of them has been swept
-    while (!externals_.empty() && externals_.back().first + externals_.back().count - 1 == i) {
-      External external = std::move(externals_.back());
-      externals_.pop_back();
-      external.backward(adjoints_.data() + external.first, this);
+  int i = size() - 1;
+  while (i >= mark) {
+    // the nodes down to the last output of the next external operation, or to the mark
+    const int external_end = externals_.empty() ? -1 : externals_.back().first + externals_.back().count - 1;
+    for (; i > external_end && i >= mark; --i) {
+      const double adjoint = adjoints_[i];
+      if (adjoint == 0.0) continue;
+      const Node& node = nodes_[i];
+      if (node.parent[0] >= 0) adjoints_[node.parent[0]] += node.partial[0] * adjoint;
+      if (node.parent[1] >= 0) adjoints_[node.parent[1]] += node.partial[1] * adjoint;
     }
-    const double adjoint = adjoints_[i];
-    if (adjoint == 0.0) continue;
-    const Node& node = nodes_[i];
-    if (node.parent[0] >= 0) adjoints_[node.parent[0]] += node.partial[0] * adjoint;
-    if (node.parent[1] >= 0) adjoints_[node.parent[1]] += node.partial[1] * adjoint;
+    if (i < mark) break;
+    // an external operation's outputs are consecutive and have no parents: at the last one every use of them
+    // has been swept, and its backward takes their adjoints on to its inputs
+    External external = std::move(externals_.back());
+    externals_.pop_back();
+    external.backward(adjoints_.data() + external.first, this);
+    i = external.first - 1;
   }
 }
 

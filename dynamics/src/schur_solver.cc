@@ -50,10 +50,20 @@ bool SchurSolver::FactorAsGiven(const std::vector<double>& values) {
   return true;
 }
 
-bool SchurSolver::SolveAsGiven(const std::vector<double>& values, Eigen::VectorXd* x) {
-  if (!FactorAsGiven(values)) return false;
-  SolveInPlace(x);
-  return true;
+void SchurSolver::SaveFactorization(Factorization* factorization) const {
+  if (kind_ == KktSolver::kDense) {
+    factorization->dense = dense_factor_;
+  } else {
+    sparse_factor_.Save(&factorization->sparse);
+  }
+}
+
+void SchurSolver::SolveWith(const Factorization& factorization, Eigen::VectorXd* x) {
+  if (kind_ == KktSolver::kDense) {
+    factorization.dense.solveInPlace(*x);
+  } else {
+    sparse_factor_.SolveInPlace(factorization.sparse, x);
+  }
 }
 
 // pivot i belongs to row order[i] of S (the identity for the dense Cholesky)
@@ -147,11 +157,13 @@ bool SchurSolver::Solve<Rev>(const std::vector<Rev>& values, const VecX<Rev>& b,
   for (size_t k = 0; k < values.size(); ++k) value_nodes[k] = values[k].index;
   for (int i = 0; i < n; ++i) rhs_nodes[i] = b[i].index;
   const double diagonal_factor = regularized_ ? 1.0 + kSchurRegularization : 1.0;
-  auto backward = [this, n, factored = regularized_ ? regularized_values_ : value_part_, solution = x0_,
+  auto factorization = std::make_shared<Factorization>();
+  SaveFactorization(factorization.get());
+  auto backward = [this, n, factorization, solution = x0_,
                    value_nodes = std::move(value_nodes), rhs_nodes = std::move(rhs_nodes),
                    diagonal_factor](const double* x_bar, Tape* tape) {
     Eigen::VectorXd b_bar = Eigen::Map<const Eigen::VectorXd>(x_bar, n);
-    SolveAsGiven(factored, &b_bar);  // the matrix factored forward, which factored then
+    SolveWith(*factorization, &b_bar);  // the matrix factored forward
     for (int i = 0; i < n; ++i) tape->AddAdjoint(rhs_nodes[i], b_bar[i]);
     const std::vector<int>& row = pattern_->row_index();
     const std::vector<int>& column = pattern_->column_index();

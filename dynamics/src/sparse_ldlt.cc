@@ -207,15 +207,24 @@ bool SparseLdlt::Factor(const std::vector<double>& values) {
   return true;
 }
 
-void SparseLdlt::SolveInPlace(Eigen::VectorXd* x) {
+void SparseLdlt::SolveInPlace(Eigen::VectorXd* x) { Substitute(lower_value_.data(), inverse_d_.data(), x); }
+
+void SparseLdlt::Save(Numeric* numeric) const {
+  numeric->lower.assign(lower_value_.begin(), lower_value_.begin() + nonzeros());
+  numeric->inverse_d = inverse_d_;
+}
+
+void SparseLdlt::SolveInPlace(const Numeric& numeric, Eigen::VectorXd* x) {
+  Substitute(numeric.lower.data(), numeric.inverse_d.data(), x);
+}
+
+void SparseLdlt::Substitute(const double* __restrict lower, const double* __restrict inverse_d, Eigen::VectorXd* x) {
   const int n = size();
   double* __restrict t = work_.data();
   double* __restrict b = x->data();
-  const double* __restrict lower = lower_value_.data();
   const int* __restrict lower_row = lower_row_.data();
   const int* __restrict start = column_start_.data();
   const int* __restrict order = order_.data();
-  const double* __restrict inverse_d = inverse_d_.data();
   for (int k = 0; k < n; ++k) t[k] = b[order[k]];
   for (int j = 0; j < n; ++j) {  // L z = P b
     const double tj = t[j];

@@ -57,6 +57,52 @@ TETHER_HOT_INLINE void EvaluateDistanceRow(const Model<T>& model, const BodyFram
   }
 }
 
+// A point primitive's rows (one per axis): C_k = e_k . (p_b - p_a), J = (-e_k, e_k) at the points,
+// Jdot v = e_k . (centripetal_b - centripetal_a). Returns the row after them.
+template <typename T>
+TETHER_HOT_INLINE ConstraintRow<T>* EvaluatePointRows(const Model<T>& model, const BodyFrames<T>& frames,
+                                                      const PointPrimitive<T>& c, const VecX<T>& q, const VecX<T>& v,
+                                                      bool velocity_terms, ConstraintRow<T>* row) {
+  const bool vt = velocity_terms;
+  const PointMotion<T> pa = MovePoint(model, frames, c.a, q, v, vt), pb = MovePoint(model, frames, c.b, q, v, vt);
+  for (int k = 0; k < model.dimension; ++k, ++row) {
+    const Vec3<T> e = Vec3<T>::Unit(k);
+    row->value = pb.position[k] - pa.position[k];
+    row->a = PointGradient(model, frames, c.a.body, Vec3<T>(-e), pa);
+    row->b = PointGradient(model, frames, c.b.body, e, pb);
+    if (velocity_terms) row->bias = pb.centripetal[k] - pa.centripetal[k];
+  }
+  return row;
+}
+
+template <typename T>
+const BodyFrame<T>* FrameOf(const Model<T>& model, const BodyFrames<T>& frames, int body);
+template <typename T>
+BodyVector<T> Turning(const Model<T>& model, const BodyFrames<T>& frames, int body, const Vec3<T>& g_W);
+
+// An angle primitive's rows: C_k = u_k . w_k - c_k with u_k = R_WA u_k^A, w_k = R_WB w_k^B,
+// J = (u x w, -(u x w)) on the rotations, Jdot v = (w_A - w_B) . ((w_A x u) x w + u x (w_B x w)).
+template <typename T>
+TETHER_HOT_INLINE ConstraintRow<T>* EvaluateAngleRows(const Model<T>& model, const BodyFrames<T>& frames,
+                                                      const AnglePrimitive<T>& c, bool velocity_terms,
+                                                      ConstraintRow<T>* row) {
+  const BodyFrame<T>* frame_a = FrameOf(model, frames, c.body_a);
+  const BodyFrame<T>* frame_b = FrameOf(model, frames, c.body_b);
+  const Vec3<T> zero = Zero3<T>();
+  const Vec3<T>& w_A = frame_a && velocity_terms ? frame_a->w_W : zero;
+  const Vec3<T>& w_B = frame_b && velocity_terms ? frame_b->w_W : zero;
+  for (int k = 0; k < c.rows; ++k, ++row) {
+    const Vec3<T> u = frame_a ? Vec3<T>(frame_a->R_WB * c.u[k]) : c.u[k];
+    const Vec3<T> w = frame_b ? Vec3<T>(frame_b->R_WB * c.w[k]) : c.w[k];
+    const Vec3<T> normal = u.cross(w);
+    row->value = u.dot(w) - c.c[k];
+    row->a = Turning(model, frames, c.body_a, normal);
+    row->b = Turning(model, frames, c.body_b, Vec3<T>(-normal));
+    if (velocity_terms) row->bias = (w_A - w_B).dot(Vec3<T>(w_A.cross(u).cross(w) + u.cross(w_B.cross(w))));
+  }
+  return row;
+}
+
 // The angle rows that keep B's orientation relative to A as it is at configuration q.
 template <typename T>
 AnglePrimitive<T> FrozenOrientation(const Model<T>& model, const Joint<T>& joint, const VecX<T>& q) {
@@ -252,15 +298,10 @@ TETHER_FLATTEN void EvaluateConstraintRows(const Model<T>& model, const Constrai
   } else {
     for (const DistancePrimitive<T>& c : set.distances) internal::EvaluateDistanceRow(model, frames, c, q, v, vt, row++);
   }
-  for (const PointPrimitive<T>& c : set.points) {
-    const PointMotion<T> pa = MovePoint(model, frames, c.a, q, v, vt), pb = MovePoint(model, frames, c.b, q, v, vt);
-    for (int k = 0; k < model.dimension; ++k, ++row) {
-      const Vec3<T> e = Vec3<T>::Unit(k);
-      row->value = pb.position[k] - pa.position[k];
-      row->a = PointGradient(model, frames, c.a.body, Vec3<T>(-e), pa);
-      row->b = PointGradient(model, frames, c.b.body, e, pb);
-      if (velocity_terms) row->bias = pb.centripetal[k] - pa.centripetal[k];
-    }
+  if constexpr (std::is_same_v<T, Rev>) {  // in 3D as one operation (rigid_rows_adjoint.cc)
+    row = RecordPointRows(model, set.points, frames, q, v, vt, row);
+  } else {
+    for (const PointPrimitive<T>& c : set.points) row = internal::EvaluatePointRows(model, frames, c, q, v, vt, row);
   }
   for (const LinePrimitive<T>& c : set.lines) {
     const PointMotion<T> pa = MovePoint(model, frames, c.a, q, v, vt), pb = MovePoint(model, frames, c.b, q, v, vt);
@@ -280,21 +321,10 @@ TETHER_FLATTEN void EvaluateConstraintRows(const Model<T>& model, const Constrai
       }
     }
   }
-  for (const AnglePrimitive<T>& c : set.angles) {
-    const BodyFrame<T>* frame_a = internal::FrameOf(model, frames, c.body_a);
-    const BodyFrame<T>* frame_b = internal::FrameOf(model, frames, c.body_b);
-    const Vec3<T> zero = Zero3<T>();
-    const Vec3<T>& w_A = frame_a && velocity_terms ? frame_a->w_W : zero;
-    const Vec3<T>& w_B = frame_b && velocity_terms ? frame_b->w_W : zero;
-    for (int k = 0; k < c.rows; ++k, ++row) {
-      const Vec3<T> u = frame_a ? Vec3<T>(frame_a->R_WB * c.u[k]) : c.u[k];
-      const Vec3<T> w = frame_b ? Vec3<T>(frame_b->R_WB * c.w[k]) : c.w[k];
-      const Vec3<T> normal = u.cross(w);
-      row->value = u.dot(w) - c.c[k];
-      row->a = internal::Turning(model, frames, c.body_a, normal);
-      row->b = internal::Turning(model, frames, c.body_b, Vec3<T>(-normal));
-      if (velocity_terms) row->bias = (w_A - w_B).dot(Vec3<T>(w_A.cross(u).cross(w) + u.cross(w_B.cross(w))));
-    }
+  if constexpr (std::is_same_v<T, Rev>) {
+    row = RecordAngleRows(model, set.angles, frames, vt, row);
+  } else {
+    for (const AnglePrimitive<T>& c : set.angles) row = internal::EvaluateAngleRows(model, frames, c, vt, row);
   }
   UserRow<T> out[kMaxUserRows];
   for (const UserConstraintInstance& c : model.user_constraints) {

@@ -232,7 +232,7 @@ TETHER_HOT_INLINE void AddScaled(const Model<S>& model, const BodyVector<T>& g, 
 // The body's slice of a generalized vector x as a block: Dot(model, g, x) = g . Slice(model, g.body, x) (the
 // components the body does not have are zero).
 template <typename S, typename T>
-BodyVector<T> Slice(const Model<S>& model, int body_index, const VecX<T>& x) {
+TETHER_HOT_INLINE BodyVector<T> Slice(const Model<S>& model, int body_index, const VecX<T>& x) {
   BodyVector<T> g;
   g.body = body_index;
   if (body_index == kWorld) return g;

@@ -17,6 +17,9 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <memory>
+#include <typeindex>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -79,6 +82,18 @@ class Tape {
     if (node >= static_cast<int>(adjoints_.size())) adjoints_.resize(nodes_.size(), 0.0);
     adjoints_[node] += value;
   }
+  // A record of type Record for an external operation (default-constructed the first time): one that no recorded
+  // operation holds any more (swept or dropped), so that its buffers serve again instead of being allocated per
+  // evaluation. The tape keeps them until it is destroyed.
+  template <typename Record>
+  std::shared_ptr<Record> Reusable() {
+    std::vector<std::shared_ptr<void>>& pool = pools_[std::type_index(typeid(Record))];
+    for (const std::shared_ptr<void>& record : pool) {
+      if (record.use_count() == 1) return std::static_pointer_cast<Record>(record);
+    }
+    return std::static_pointer_cast<Record>(pool.emplace_back(std::make_shared<Record>()));
+  }
+
   // Sweeps nodes [mark, size) in reverse: the nodes below the mark keep what the sweep added to their adjoints,
   // so that a prefix (the initial state), swept last, collects over many pieces (the steps).
   void Backward(int mark);
@@ -107,6 +122,7 @@ class Tape {
   std::vector<Node> nodes_;
   std::vector<double> adjoints_;     // of the nodes [0, adjoints_.size()); the others' are zero
   std::vector<External> externals_;  // in the order recorded
+  std::unordered_map<std::type_index, std::vector<std::shared_ptr<void>>> pools_;  // Reusable's records, by type
   Tape* previous_ = nullptr;
 };
 

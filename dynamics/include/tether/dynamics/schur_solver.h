@@ -75,10 +75,15 @@ class SchurSolver {
   template <typename T>
   bool Solve(const std::vector<T>& values, const VecX<T>& b, VecX<T>* x);
 
-  // x = A^-1 x for A given by its stored values and factored as given, with no regularization: an adjoint
-  // sweep's solve with a matrix that an earlier Solve factored (S, or S + eps D where it regularized). False when
-  // A does not factor.
-  bool SolveAsGiven(const std::vector<double>& values, Eigen::VectorXd* x);
+  // The factorization the last Solve used (of S, or of S + eps D where it regularized), kept to solve with again
+  // after later ones: an adjoint sweep's solve with a recorded evaluation's matrix (S is symmetric).
+  struct Factorization {
+    SparseLdlt::Numeric sparse;
+    Eigen::LLT<Eigen::MatrixXd> dense;
+  };
+  void SaveFactorization(Factorization* factorization) const;
+  // x = A^-1 x with a saved factorization of A.
+  void SolveWith(const Factorization& factorization, Eigen::VectorXd* x);
 
  private:
   // Factors S, or S + eps D where S's rows are close to dependence (above); regularized_ says which.

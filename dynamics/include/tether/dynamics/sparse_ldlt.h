@@ -44,6 +44,15 @@ class SparseLdlt {
   // x = S^-1 x with the last successful factorization.
   void SolveInPlace(Eigen::VectorXd* x);
 
+  // A factorization's numeric part (L below its diagonal, D^-1), kept to solve with after later ones.
+  struct Numeric {
+    std::vector<double> lower;
+    Eigen::VectorXd inverse_d;
+  };
+  void Save(Numeric* numeric) const;
+  // x = S^-1 x with a saved factorization (of a matrix of this pattern).
+  void SolveInPlace(const Numeric& numeric, Eigen::VectorXd* x);
+
   int size() const { return static_cast<int>(d_.size()); }
   int nonzeros() const { return static_cast<int>(lower_row_.size()); }  // of L below its diagonal
   const Eigen::VectorXd& pivots() const { return d_; }                  // D, in elimination order
@@ -55,6 +64,8 @@ class SparseLdlt {
   // For the ordering chosen: where S's values land, the fill-in, every column's updates (their number is the
   // factorization's work, so they are listed only for the order kept), and the numeric storage.
   void PlanNumericPhase(const SchurPattern& pattern);
+  // The two triangular solves with L's values `lower` and D^-1 `inverse_d`.
+  void Substitute(const double* lower, const double* inverse_d, Eigen::VectorXd* x);
 
   Eigen::VectorXi order_;           // elimination order: new index -> S's row
   std::vector<int> column_start_;   // L by columns: rows lower_row_ and values lower_value_
