@@ -3,7 +3,7 @@
 namespace tether {
 
 #define TETHER_INSTANTIATE_EFFECTS(T)                                                                           \
-  template Mat3<T> PrincipalInertia<T>(const Body<T>&);                                                        \
+  template Mat3<T> PrincipalInertia<T>(const Mat3<T>&, const Vec4<double>&);                                  \
   template void AccumulateForces<T>(const Model<T>&, const JointCoordinates<T>&, const BodyFrames<T>&, double, \
                                     const VecX<T>&, const VecX<T>&, VecX<T>*);                                 \
   template T Energy<T>(const Model<T>&, const JointCoordinates<T>&, const BodyFrames<T>&, const VecX<T>&,      \

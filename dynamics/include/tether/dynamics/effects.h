@@ -21,9 +21,17 @@
 
 namespace tether {
 
-// I_P of a 3D rigid body (kg m^2, principal axes).
+// I_P of a 3D rigid body (kg m^2, principal axes): R_BP^T I_B R_BP, I_B symmetric with its products of
+// inertia in the upper triangle of `inertia_tensor` (parameters.h).
 template <typename T>
-Mat3<T> PrincipalInertia(const Body<T>& body);
+Mat3<T> PrincipalInertia(const Mat3<T>& inertia_tensor, const Vec4<double>& principal_axes);
+template <typename T>
+Mat3<T> PrincipalInertia(const Body<T>& body) {
+  return PrincipalInertia(body.inertia_tensor, body.principal_axes);
+}
+
+// Rev: f_P -= w_P x (I_P w_P) on every 3D body, each body's torque one recorded operation (gyroscopic_adjoint.cc).
+void RecordGyroscopicTorques(const Model<Rev>& model, const VecX<Rev>& v, VecX<Rev>* f);
 
 // f += the generalized force at time t and state (q, v); frames updated there with velocities.
 template <typename T>

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cmath>
+#include <type_traits>
 
 #include "tether/dynamics/effects.h"
 #include "tether/dynamics/schedule.h"
@@ -9,13 +10,13 @@
 namespace tether {
 
 template <typename T>
-Mat3<T> PrincipalInertia(const Body<T>& body) {
-  Mat3<T> symmetric = body.inertia_tensor;  // the upper triangle holds the products of inertia (parameters.h)
+Mat3<T> PrincipalInertia(const Mat3<T>& inertia_tensor, const Vec4<double>& principal_axes) {
+  Mat3<T> symmetric = inertia_tensor;  // the upper triangle holds the products of inertia (parameters.h)
   symmetric(1, 0) = symmetric(0, 1);
   symmetric(2, 0) = symmetric(0, 2);
   symmetric(2, 1) = symmetric(1, 2);
-  if (body.principal_axes == Vec4<double>(1, 0, 0, 0)) return symmetric;
-  const Mat3<T> R_BP = RotationMatrix(Vec4<T>(body.principal_axes.template cast<T>()));
+  if (principal_axes == Vec4<double>(1, 0, 0, 0)) return symmetric;
+  const Mat3<T> R_BP = RotationMatrix(Vec4<T>(principal_axes.template cast<T>()));
   return R_BP.transpose() * symmetric * R_BP;
 }
 
@@ -74,10 +75,14 @@ TETHER_FLATTEN void AccumulateForces(const Model<T>& model, const JointCoordinat
     AddScaled(model, row.a, value, f);
     AddScaled(model, row.b, value, f);
   }
-  for (int index : model.spatial_bodies) {
-    const Body<T>& body = model.bodies[index];
-    const Vec3<T> w_P = v.template segment<3>(body.v_offset + 3);
-    f->template segment<3>(body.v_offset + 3) -= w_P.cross(Vec3<T>(PrincipalInertia(body) * w_P));
+  if constexpr (std::is_same_v<T, Rev>) {
+    RecordGyroscopicTorques(model, v, f);
+  } else {
+    for (int index : model.spatial_bodies) {
+      const Body<T>& body = model.bodies[index];
+      const Vec3<T> w_P = v.template segment<3>(body.v_offset + 3);
+      f->template segment<3>(body.v_offset + 3) -= w_P.cross(Vec3<T>(PrincipalInertia(body) * w_P));
+    }
   }
 }
 

@@ -126,8 +126,8 @@ class Tape {
   Tape* previous_ = nullptr;
 };
 
-inline int Rev::Record(int parent, double partial) { return ActiveTape()->Push(parent, partial, -1, 0.0); }
-inline int Rev::Record(int parent0, double partial0, int parent1, double partial1) {
+__attribute__((always_inline)) inline int Rev::Record(int parent, double partial) { return ActiveTape()->Push(parent, partial, -1, 0.0); }
+__attribute__((always_inline)) inline int Rev::Record(int parent0, double partial0, int parent1, double partial1) {
   if (parent0 < 0) return ActiveTape()->Push(parent1, partial1, -1, 0.0);
   if (parent1 < 0) return ActiveTape()->Push(parent0, partial0, -1, 0.0);
   return ActiveTape()->Push(parent0, partial0, parent1, partial1);
