@@ -106,13 +106,14 @@ ConstraintRow<Rev>* RecordDistanceRows(const Model<Rev>& model, const std::vecto
   std::vector<ConstraintRow<Rev>*>& outputs = record->outputs;
   std::vector<double>& values = record->values;
   const Vec3<Rev> still = Zero3<Rev>();
+  bool recorded = false;  // a run with nothing recorded (no active tape) gets constants
   for (size_t i = 0; i < distances.size(); ++i) {
     const DistancePrimitive<Rev>& c = distances[i];
     if (!BetweenParticles(model, c)) {
       internal::EvaluateDistanceRow(model, frames, c, q, v, velocity_terms, rows + i);
       continue;
     }
-    DistanceRow r;
+    DistanceRow& r = record->rows.emplace_back();
     const int qa = c.a.body == kWorld ? 0 : model.bodies[c.a.body].q_offset;
     const int qb = c.b.body == kWorld ? 0 : model.bodies[c.b.body].q_offset;
     const Vec3<double> pa = Gather(model, c.a.body, q, qa, c.a.local, &r.position_a);
@@ -141,12 +142,8 @@ ConstraintRow<Rev>* RecordDistanceRows(const Model<Rev>& model, const std::vecto
     row->a.rotation = row->b.rotation = Zero3<Rev>();
     outputs.push_back(row);
     values.insert(values.end(), {length - c.length.a, bias, -r.n[0], -r.n[1], -r.n[2], r.n[0], r.n[1], r.n[2]});
-    record->rows.push_back(r);
-  }
-  bool recorded = false;  // a run with nothing recorded (no active tape) gets constants
-  for (const DistanceRow& r : record->rows) {
     for (const std::array<int, 3>* nodes : {&r.position_a, &r.position_b, &r.velocity_a, &r.velocity_b}) {
-      for (int node : *nodes) recorded = recorded || node >= 0;
+      recorded = recorded || (*nodes)[0] >= 0 || (*nodes)[1] >= 0 || (*nodes)[2] >= 0;
     }
     recorded = recorded || r.length >= 0;
   }
