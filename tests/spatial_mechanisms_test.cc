@@ -283,7 +283,8 @@ TEST(Observations, ARecordedQuaternionOfEitherSignFitsTheSame) {
 
 // Point and angle rows of every kind of side (the world, a particle, 3D bodies with and without principal axes
 // along their body axes) and every angle primitive (a universal's angle, a weld's frozen orientation, a
-// hinge's common axis), through their recorded operations: the adjoint equals the Jets.
+// hinge's common axis), and a motor between two 3D bodies, through their recorded operations: the adjoint equals
+// the Jets.
 constexpr char kJointZoo[] = R"({"dimension": 3,
   "bodies": [
     {"name": "cross", "type": "rigid", "mass": 0.9, "inertia": [0.02, 0.03, 0.025], "position": [0, 0, -0.2],
@@ -298,9 +299,11 @@ constexpr char kJointZoo[] = R"({"dimension": 3,
     {"type": "universal", "bodies": ["world", "cross"], "points": [[0, 0, 0], [0, 0, 0.2]],
      "axes": [[1, 0, 0], [0, 1, 0]]},
     {"type": "weld", "bodies": ["cross", "block"], "points": [[0, 0, -0.15], [0, 0, 0.15]]},
-    {"type": "hinge", "bodies": ["block", "flap"], "points": [[0.1, 0, 0], [-0.1, 0, 0]], "axis": [0, 0.2, 1]},
+    {"type": "hinge", "name": "flap_hinge", "bodies": ["block", "flap"], "points": [[0.1, 0, 0], [-0.1, 0, 0]],
+     "axis": [0, 0.2, 1]},
     {"type": "pin", "bodies": ["block", "bob"], "points": [[0, 0.1, -0.3], [0, 0, 0]]}],
-  "effects": [{"type": "gravity", "acceleration": [0, 0, -9.81]}],
+  "effects": [{"type": "gravity", "acceleration": [0, 0, -9.81]},
+              {"type": "joint_torque", "joint": "flap_hinge", "value": 0.05}],
   "stabilization": {"method": "baumgarte", "alpha": 20, "beta": 100},
   "simulation": {"integrator": "rk4", "step": 2e-3, "duration": 0.3}})";
 
@@ -331,7 +334,7 @@ TEST(Gradients, AdjointMatchesJetsThroughPointAndAngleRowsOfEveryKind) {
       scene, {"/bodies/0/inertia/1", "/bodies/1/inertia/0/1", "/bodies/3/mass", "/bodies/0/angular_velocity/0",
               "/bodies/3/velocity/0", "/constraints/0/axes/0/1", "/constraints/0/points/1/2",
               "/constraints/1/points/0/2", "/constraints/2/axis/1", "/constraints/2/points/1/0",
-              "/constraints/3/points/0/1", "/constraints/3/points/1/0"});
+              "/constraints/3/points/0/1", "/constraints/3/points/1/0", "/effects/1/value"});
   const LossGradient jet = JetLossGradient(scene.model, parameters, observations);
   ASSERT_GT(jet.loss, 0.0);
   for (int i = 0; i < parameters.size(); ++i) EXPECT_TRUE(std::isfinite(jet.gradient[i])) << parameters.pointers()[i];

@@ -16,7 +16,7 @@ namespace tether {
 
 enum class GradientMethod { kAuto, kJet, kAdjoint, kCentral };
 
-inline constexpr int kAdjointCrossover = 13;
+inline constexpr int kAdjointCrossover = 5;
 
 // "auto", "jet", "adjoint" or "fd"; throws InputError naming `where` (a flag, a keyword argument) otherwise.
 GradientMethod ParseGradientMethod(const std::string& text, const std::string& where);

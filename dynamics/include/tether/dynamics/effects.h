@@ -30,6 +30,11 @@ Mat3<T> PrincipalInertia(const Body<T>& body) {
   return PrincipalInertia(body.inertia_tensor, body.principal_axes);
 }
 
+// Rev: a torque `value` on coordinate k when it is a 3D joint's angle, f += value dtheta'/dv, as one recorded
+// operation (joint_torque_adjoint.cc); false, and nothing done, for the other coordinates.
+bool RecordAngleTorque(const Model<Rev>& model, const JointCoordinates<Rev>& coordinates, int k,
+                       const BodyFrames<Rev>& frames, const Rev& value, VecX<Rev>* f);
+
 // Rev: f_P -= w_P x (I_P w_P) on every 3D body, each body's torque one recorded operation (gyroscopic_adjoint.cc).
 void RecordGyroscopicTorques(const Model<Rev>& model, const VecX<Rev>& v, VecX<Rev>* f);
 

@@ -63,8 +63,11 @@ TETHER_FLATTEN void AccumulateForces(const Model<T>& model, const JointCoordinat
   }
   for (const JointTorqueEffect<T>& e : model.joint_torques) {
     const int k = coordinates.Find(e.joint, e.coordinate);
-    const CoordinateRow<T> row = EvaluateCoordinate(model, coordinates, k, frames, q, v, false);
     const T value = e.schedule.empty() ? e.value : Sample(e.schedule, t);
+    if constexpr (std::is_same_v<T, Rev>) {
+      if (RecordAngleTorque(model, coordinates, k, frames, value, f)) continue;
+    }
+    const CoordinateRow<T> row = EvaluateCoordinate(model, coordinates, k, frames, q, v, false);
     AddScaled(model, row.a, value, f);
     AddScaled(model, row.b, value, f);
   }
