@@ -16,6 +16,8 @@
 #include <limits>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "test_scenes.h"
 #include "tether/autodiff/adjoint.h"
@@ -45,6 +47,34 @@ std::vector<double> Cells(const std::string& line) {
   std::stringstream in(line);
   for (std::string cell; std::getline(in, cell, ',');) cells.push_back(std::stod(cell));
   return cells;
+}
+
+// The run's own columns at `times`, each shifted by its amount, written as a data file named `file` in the test
+// folder: observations off the run, so that the loss and its gradient are not zero. Returns the file's path.
+std::string ShiftedData(const Scene& scene, const std::vector<double>& times,
+                        const std::vector<std::pair<std::string, double>>& shifts, const std::string& file) {
+  const std::string path = ::testing::TempDir() + file;
+  std::istringstream in(testing::TrajectoryCsvAt(scene.model, times));
+  std::ofstream out(path);
+  std::string line;
+  std::getline(in, line);
+  out << "t";
+  for (const auto& [name, shift] : shifts) out << "," << name;
+  out << "\n";
+  const std::vector<TrajectoryColumn> columns = TrajectoryColumns(scene.model);
+  while (std::getline(in, line)) {
+    const std::vector<double> cells = Cells(line);
+    auto at = [&](const std::string& name) {
+      for (size_t i = 0; i < columns.size(); ++i) {
+        if (columns[i].name == name) return cells[i];
+      }
+      return std::numeric_limits<double>::quiet_NaN();
+    };
+    out << at("t");
+    for (const auto& [name, shift] : shifts) out << "," << at(name) + shift;
+    out << "\n";
+  }
+  return path;
 }
 
 // The orthogonal Bricard linkage on the edges of a unit cube, (0,0,0) -> (1,0,0) -> (1,1,0) -> (1,1,1) ->
@@ -143,25 +173,7 @@ TEST(DegreesOfFreedom, ADoubleHingeLeavesTwo) {
 
 TEST(Gradients, JetsMatchCentralDifferencesThroughADoubleHinge) {
   const Scene scene = ParseScene(ParseJsonText(kAnkle, "ankle.json"), "ankle.json");
-  // observe the toe shifted from where the run puts it, so that the loss and its gradient are not zero
-  const std::string data = testing::TrajectoryCsvAt(scene.model, {0.3, 0.6});
-  const std::string path = ::testing::TempDir() + "ankle_data.csv";
-  {
-    std::istringstream in(data);
-    std::ofstream out(path);
-    std::string line;
-    std::getline(in, line);
-    const std::vector<TrajectoryColumn> columns = TrajectoryColumns(scene.model);
-    out << "t,toe.x,toe.z\n";
-    while (std::getline(in, line)) {
-      const std::vector<double> cells = Cells(line);
-      for (size_t i = 0; i < columns.size(); ++i) {
-        if (columns[i].name == "t") out << cells[i];
-        if (columns[i].name == "toe.x" || columns[i].name == "toe.z") out << "," << cells[i] + 0.01;
-      }
-      out << "\n";
-    }
-  }
+  const std::string path = ShiftedData(scene, {0.3, 0.6}, {{"toe.x", 0.01}, {"toe.z", 0.01}}, "ankle_data.csv");
   const Observations observations = ReadObservations(path, scene.model);
   const ParameterSet parameters(scene, {"/constraints/0/axes/0/2", "/constraints/0/axes/1/1",
                                         "/constraints/0/points/0/0", "/constraints/0/points/1/2", "/bodies/0/mass",
@@ -209,28 +221,10 @@ TEST(Gradients, JetsMatchCentralDifferencesForEveryThreeDimensionalParameter) {
   std::snprintf(orientation, sizeof orientation, "[%.17g, %.17g, %.17g, %.17g]", q[0], q[1], q[2], q[3]);
   text.replace(text.find("[0.99, 0.1, 0.05, 0.0]"), std::string("[0.99, 0.1, 0.05, 0.0]").size(), orientation);
   const Scene scene = ParseScene(ParseJsonText(text, "arm.json"), "arm.json");
-  const std::string data = testing::TrajectoryCsvAt(scene.model, {0.2, 0.4, 0.6});
-  // observe a shifted copy of the run's own columns, so that the loss and its gradient are not zero
-  const std::string path = ::testing::TempDir() + "arm_data.csv";
-  {
-    std::istringstream in(data);
-    std::ofstream out(path);
-    std::string line;
-    std::getline(in, line);
-    out << "t,lower.qx,elbow.angle,hand.x,hand.z,upper.wz,energy\n";
-    const std::vector<TrajectoryColumn> columns = TrajectoryColumns(scene.model);
-    while (std::getline(in, line)) {
-      const std::vector<double> cells = Cells(line);
-      auto at = [&](const std::string& name) {
-        for (size_t i = 0; i < columns.size(); ++i) {
-          if (columns[i].name == name) return cells[i];
-        }
-        return std::numeric_limits<double>::quiet_NaN();
-      };
-      out << at("t") << "," << at("lower.qx") + 0.01 << "," << at("elbow.angle") - 0.02 << "," << at("hand.x") + 0.01
-          << "," << at("hand.z") - 0.01 << "," << at("upper.wz") + 0.05 << "," << at("energy") + 0.1 << "\n";
-    }
-  }
+  const std::string path = ShiftedData(scene, {0.2, 0.4, 0.6},
+                                       {{"lower.qx", 0.01}, {"elbow.angle", -0.02}, {"hand.x", 0.01},
+                                        {"hand.z", -0.01}, {"upper.wz", 0.05}, {"energy", 0.1}},
+                                       "arm_data.csv");
   const Observations observations = ReadObservations(path, scene.model);
   const ParameterSet parameters(
       scene, {"/bodies/0/inertia/1", "/bodies/1/inertia/0/1", "/bodies/1/inertia/2/2", "/bodies/1/orientation/1",
@@ -309,26 +303,9 @@ constexpr char kJointZoo[] = R"({"dimension": 3,
 
 TEST(Gradients, AdjointMatchesJetsThroughPointAndAngleRowsOfEveryKind) {
   const Scene scene = ParseScene(ParseJsonText(kJointZoo, "zoo.json"), "zoo.json");
-  const std::string path = ::testing::TempDir() + "zoo_data.csv";
-  {
-    std::istringstream in(testing::TrajectoryCsvAt(scene.model, {0.1, 0.2, 0.3}));
-    std::ofstream out(path);
-    std::string line;
-    std::getline(in, line);
-    out << "t,bob.x,bob.y,flap.qz,cross.wx\n";
-    const std::vector<TrajectoryColumn> columns = TrajectoryColumns(scene.model);
-    while (std::getline(in, line)) {
-      const std::vector<double> cells = Cells(line);
-      auto at = [&](const std::string& name) {
-        for (size_t i = 0; i < columns.size(); ++i) {
-          if (columns[i].name == name) return cells[i];
-        }
-        return std::numeric_limits<double>::quiet_NaN();
-      };
-      out << at("t") << "," << at("bob.x") + 0.01 << "," << at("bob.y") - 0.01 << "," << at("flap.qz") + 0.02 << ","
-          << at("cross.wx") - 0.05 << "\n";
-    }
-  }
+  const std::string path =
+      ShiftedData(scene, {0.1, 0.2, 0.3}, {{"bob.x", 0.01}, {"bob.y", -0.01}, {"flap.qz", 0.02}, {"cross.wx", -0.05}},
+                  "zoo_data.csv");
   const Observations observations = ReadObservations(path, scene.model);
   const ParameterSet parameters(
       scene, {"/bodies/0/inertia/1", "/bodies/1/inertia/0/1", "/bodies/3/mass", "/bodies/0/angular_velocity/0",

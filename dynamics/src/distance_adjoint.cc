@@ -98,7 +98,8 @@ ConstraintRow<Rev>* RecordDistanceRows(const Model<Rev>& model, const std::vecto
                                        const BodyFrames<Rev>& frames, const VecX<Rev>& q, const VecX<Rev>& v,
                                        bool velocity_terms, ConstraintRow<Rev>* rows) {
   Tape* tape = ActiveTape();
-  const std::shared_ptr<DistanceRecord> record = tape ? tape->Reusable<DistanceRecord>() : std::make_shared<DistanceRecord>();
+  const std::shared_ptr<DistanceRecord> record =
+      tape ? tape->Reusable<DistanceRecord>() : std::make_shared<DistanceRecord>();
   record->velocity_terms = velocity_terms;
   record->rows.clear();
   record->outputs.clear();
@@ -149,9 +150,10 @@ ConstraintRow<Rev>* RecordDistanceRows(const Model<Rev>& model, const std::vecto
   }
   if (outputs.empty()) return rows + distances.size();
 
-  const int first = recorded ? tape->RecordExternal(kOutputs * static_cast<int>(outputs.size()),
-                                                   [record](const double* adjoint, Tape* t) { record->Backward(adjoint, t); })
-                             : 0;
+  const int first =
+      recorded ? tape->RecordExternal(kOutputs * static_cast<int>(outputs.size()),
+                                      [record](const double* adjoint, Tape* t) { record->Backward(adjoint, t); })
+               : 0;
   for (size_t i = 0; i < outputs.size(); ++i) {
     ConstraintRow<Rev>* row = outputs[i];
     const double* value = values.data() + kOutputs * i;

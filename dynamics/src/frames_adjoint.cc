@@ -26,7 +26,7 @@ struct BodyRecord {
   std::array<int, 4> orientation_nodes;
   std::array<int, 3> velocity_nodes;
   Vec4<double> orientation;
-  Vec3<double> velocity;  // v_P
+  Vec3<double> velocity;    // v_P
   Mat3<double> R_WP, axes;  // axes: P
   bool principal = true;
 };
@@ -50,14 +50,13 @@ struct FramesRecord {
       R_WB_bar += b.principal ? R_WP_bar : Mat3<double>(R_WP_bar * b.axes.transpose());
       const Mat3<double>& B = R_WB_bar;
       const double w = b.orientation[0], x = b.orientation[1], y = b.orientation[2], z = b.orientation[3];
-      const double bar[4] = {
-          2.0 * (-z * B(0, 1) + y * B(0, 2) + z * B(1, 0) - x * B(1, 2) - y * B(2, 0) + x * B(2, 1)),
-          2.0 * (y * B(0, 1) + z * B(0, 2) + y * B(1, 0) - 2.0 * x * B(1, 1) - w * B(1, 2) + z * B(2, 0) +
-                 w * B(2, 1) - 2.0 * x * B(2, 2)),
-          2.0 * (-2.0 * y * B(0, 0) + x * B(0, 1) + w * B(0, 2) + x * B(1, 0) + z * B(1, 2) - w * B(2, 0) +
-                 z * B(2, 1) - 2.0 * y * B(2, 2)),
-          2.0 * (-2.0 * z * B(0, 0) - w * B(0, 1) + x * B(0, 2) + w * B(1, 0) - 2.0 * z * B(1, 1) + y * B(1, 2) +
-                 x * B(2, 0) + y * B(2, 1))};
+      const double bar[4] = {2.0 * (-z * B(0, 1) + y * B(0, 2) + z * B(1, 0) - x * B(1, 2) - y * B(2, 0) + x * B(2, 1)),
+                             2.0 * (y * B(0, 1) + z * B(0, 2) + y * B(1, 0) - 2.0 * x * B(1, 1) - w * B(1, 2) +
+                                    z * B(2, 0) + w * B(2, 1) - 2.0 * x * B(2, 2)),
+                             2.0 * (-2.0 * y * B(0, 0) + x * B(0, 1) + w * B(0, 2) + x * B(1, 0) + z * B(1, 2) -
+                                    w * B(2, 0) + z * B(2, 1) - 2.0 * y * B(2, 2)),
+                             2.0 * (-2.0 * z * B(0, 0) - w * B(0, 1) + x * B(0, 2) + w * B(1, 0) - 2.0 * z * B(1, 1) +
+                                    y * B(1, 2) + x * B(2, 0) + y * B(2, 1))};
       for (int k = 0; k < 4; ++k) tape->AddAdjoint(b.orientation_nodes[k], bar[k]);
     }
   }
@@ -102,9 +101,9 @@ void RecordSpatialFrames(const Model<Rev>& model, const VecX<Rev>& q, const VecX
     if (velocities) w_W[i] = b.R_WP * b.velocity;
   }
   const int count = kOutputs * static_cast<int>(model.spatial_bodies.size());
-  const int first = recorded ? tape->RecordExternal(count, [record](const double* adjoint, Tape* t) {
-    record->Backward(adjoint, t);
-  }) : -1;
+  const int first =
+      recorded ? tape->RecordExternal(count, [record](const double* adjoint, Tape* t) { record->Backward(adjoint, t); })
+               : -1;
   for (size_t i = 0; i < model.spatial_bodies.size(); ++i) {
     BodyFrame<Rev>& f = (*frames)[model.spatial_bodies[i]];
     const BodyRecord& b = record->bodies[i];

@@ -62,9 +62,8 @@ void RecordGyroscopicTorques(const Model<Rev>& model, const VecX<Rev>& v, VecX<R
     r.I = PrincipalInertia(tensor, body.principal_axes);
     r.y = r.I * r.w;
     const Vec3<double> g = r.w.cross(r.y);
-    const int first = recorded ? tape->RecordExternal(3, [record](const double* g_bar, Tape* t) {
-      record->Backward(g_bar, t);
-    }) : -1;
+    const int first =
+        recorded ? tape->RecordExternal(3, [record](const double* g_bar, Tape* t) { record->Backward(g_bar, t); }) : -1;
     for (int k = 0; k < 3; ++k) (*f)[body.v_offset + 3 + k] -= first < 0 ? Rev(g[k]) : Rev(g[k], first + k);
   }
 }

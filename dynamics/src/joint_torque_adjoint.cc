@@ -102,9 +102,8 @@ bool RecordAngleTorque(const Model<Rev>& model, const JointCoordinates<Rev>& coo
   r.axis_W = r.R_WA * r.axis;
   r.g_a = r.a.framed ? TransposeTimes(r.a.R_WP, Vec3<double>(-r.axis_W)) : Vec3<double>::Zero();
   r.g_b = r.b.framed ? TransposeTimes(r.b.R_WP, r.axis_W) : Vec3<double>::Zero();
-  const int first = recorded ? tape->RecordExternal(6, [record](const double* t_bar, Tape* t) {
-    record->Backward(t_bar, t);
-  }) : -1;
+  const int first =
+      recorded ? tape->RecordExternal(6, [record](const double* t_bar, Tape* t) { record->Backward(t_bar, t); }) : -1;
   const std::array<const TorqueSide*, 2> sides{&r.a, &r.b};
   for (int side = 0; side < 2; ++side) {
     if (!sides[side]->framed) continue;

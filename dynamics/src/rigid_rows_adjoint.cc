@@ -185,7 +185,7 @@ struct PointRecord {
 struct AngleEntry {
   Side a, b;
   Vec3<double> u_local, w_local, u, w;  // u^A, w^B and their world images
-  std::array<int, 3> u_nodes, w_nodes;   // of u^A and w^B
+  std::array<int, 3> u_nodes, w_nodes;  // of u^A and w^B
   int c_node = -1;
 };
 
@@ -265,8 +265,8 @@ bool AllSpatial(const Model<Rev>& model, const std::vector<Primitive>& primitive
 
 // Whether a recorded operation's inputs include a recorded node.
 bool Recorded(const Side& side) {
-  return (side.R_WB_nodes.array() >= 0).any() || (side.R_WP_nodes.array() >= 0).any() ||
-         side.w_nodes[0] >= 0 || side.w_nodes[1] >= 0 || side.w_nodes[2] >= 0;
+  return (side.R_WB_nodes.array() >= 0).any() || (side.R_WP_nodes.array() >= 0).any() || side.w_nodes[0] >= 0 ||
+         side.w_nodes[1] >= 0 || side.w_nodes[2] >= 0;
 }
 bool Recorded(const std::array<int, 3>& nodes) { return nodes[0] >= 0 || nodes[1] >= 0 || nodes[2] >= 0; }
 
@@ -290,7 +290,8 @@ ConstraintRow<Rev>* RecordPointRows(const Model<Rev>& model, const std::vector<P
                                     const BodyFrames<Rev>& frames, const VecX<Rev>& q, const VecX<Rev>& v,
                                     bool velocity_terms, ConstraintRow<Rev>* rows) {
   if (!AllSpatial(model, points, [](const PointPrimitive<Rev>& c) { return std::array<int, 2>{c.a.body, c.b.body}; })) {
-    for (const PointPrimitive<Rev>& c : points) rows = internal::EvaluatePointRows(model, frames, c, q, v, velocity_terms, rows);
+    for (const PointPrimitive<Rev>& c : points)
+      rows = internal::EvaluatePointRows(model, frames, c, q, v, velocity_terms, rows);
     return rows;
   }
   Tape* tape = ActiveTape();
@@ -322,9 +323,9 @@ ConstraintRow<Rev>* RecordPointRows(const Model<Rev>& model, const std::vector<P
     }
   }
   const int count = kOutputs * 3 * static_cast<int>(points.size());
-  const int first = recorded ? tape->RecordExternal(count, [record](const double* adjoint, Tape* t) {
-    record->Backward(adjoint, t);
-  }) : -1;
+  const int first =
+      recorded ? tape->RecordExternal(count, [record](const double* adjoint, Tape* t) { record->Backward(adjoint, t); })
+               : -1;
   for (size_t i = 0; i < points.size(); ++i) {
     for (int k = 0; k < 3; ++k, ++rows) {
       const int offset = kOutputs * (3 * static_cast<int>(i) + k);
@@ -340,7 +341,8 @@ ConstraintRow<Rev>* RecordPointRows(const Model<Rev>& model, const std::vector<P
 ConstraintRow<Rev>* RecordAngleRows(const Model<Rev>& model, const std::vector<AnglePrimitive<Rev>>& angles,
                                     const BodyFrames<Rev>& frames, bool velocity_terms, ConstraintRow<Rev>* rows) {
   if (!AllSpatial(model, angles, [](const AnglePrimitive<Rev>& c) { return std::array<int, 2>{c.body_a, c.body_b}; })) {
-    for (const AnglePrimitive<Rev>& c : angles) rows = internal::EvaluateAngleRows(model, frames, c, velocity_terms, rows);
+    for (const AnglePrimitive<Rev>& c : angles)
+      rows = internal::EvaluateAngleRows(model, frames, c, velocity_terms, rows);
     return rows;
   }
   Tape* tape = ActiveTape();
@@ -367,9 +369,10 @@ ConstraintRow<Rev>* RecordAngleRows(const Model<Rev>& model, const std::vector<A
     }
   }
   const int count = static_cast<int>(values.size());
-  const int first = recorded && count > 0 ? tape->RecordExternal(count, [record](const double* adjoint, Tape* t) {
-    record->Backward(adjoint, t);
-  }) : -1;
+  const int first =
+      recorded && count > 0
+          ? tape->RecordExternal(count, [record](const double* adjoint, Tape* t) { record->Backward(adjoint, t); })
+          : -1;
   const Vec3<double> none = Vec3<double>::Zero();
   size_t i = 0;
   for (const AnglePrimitive<Rev>& c : angles) {

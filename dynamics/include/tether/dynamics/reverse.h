@@ -126,7 +126,9 @@ class Tape {
   Tape* previous_ = nullptr;
 };
 
-__attribute__((always_inline)) inline int Rev::Record(int parent, double partial) { return ActiveTape()->Push(parent, partial, -1, 0.0); }
+__attribute__((always_inline)) inline int Rev::Record(int parent, double partial) {
+  return ActiveTape()->Push(parent, partial, -1, 0.0);
+}
 __attribute__((always_inline)) inline int Rev::Record(int parent0, double partial0, int parent1, double partial1) {
   if (parent0 < 0) return ActiveTape()->Push(parent1, partial1, -1, 0.0);
   if (parent1 < 0) return ActiveTape()->Push(parent0, partial0, -1, 0.0);
