@@ -79,13 +79,12 @@ class IdentifyCommand final : public Command {
     Scene scene = ReadSceneFile(scene_path_);
     overrides_.Apply(&scene.model);
     const ParameterSet parameters(scene, pointers_);
-    settings.bounds.assign(parameters.size(), {-std::numeric_limits<double>::max(), std::numeric_limits<double>::max()});
+    std::vector<ParameterBound> bounds;
     for (const std::string& text : bounds_) {
       const auto [pointer, lo, hi] = ParseBound(text);
-      const auto it = std::find(pointers_.begin(), pointers_.end(), pointer);
-      if (it == pointers_.end()) throw InputError("--bound: '" + pointer + "' is not one of the --param pointers");
-      settings.bounds[it - pointers_.begin()] = {lo, hi};
+      bounds.push_back({pointer, lo, hi});
     }
+    settings.bounds = BoundsFor(parameters, bounds, "--bound");
     std::vector<Observations> recordings;
     for (const std::string& path : data_paths_) recordings.push_back(ReadObservations(path, scene.model));
     std::unique_ptr<AtomicOutputFile> out;

@@ -17,6 +17,7 @@
 #include <cmath>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <random>
 #include <sstream>
 #include <string>
@@ -644,6 +645,29 @@ TEST(Identification, UnknownOptimizerNames) {
   EXPECT_NO_THROW(CheckOptimizerName("nlopt:LN_BOBYQA", "--optimizer"));
   EXPECT_THROW(CheckOptimizerName("nlopt:NOPE", "--optimizer"), InputError);
   EXPECT_THROW(CheckOptimizerName("simplex", "--optimizer"), InputError);
+}
+
+// Bounds on a wildcard apply to every element of its array, an element's own bound wins, and a bound on a
+// pointer that is not a parameter is refused.
+TEST(Identification, BoundsOnAnArrayAndOnItsElements) {
+  const Scene scene = ParseScene(ParseJsonText(R"({"dimension": 2,
+    "bodies": [{"name": "p", "type": "particle", "mass": 1.0, "position": [0, -1]}],
+    "effects": [{"type": "force", "body": "p", "schedule": {"times": [0, 1, 2], "values": [[0, 0], [1, 0], [2, 0]]}}],
+    "simulation": {"duration": 2.0}})", "bounds.json"), "bounds.json");
+  const ParameterSet parameters(scene, {"/bodies/0/mass", "/effects/0/schedule/values/1/*"});
+  constexpr double kFree = std::numeric_limits<double>::max();
+  const std::vector<std::pair<double, double>> bounds = BoundsFor(
+      parameters, {{"/effects/0/schedule/values/1/0", -1.0, 1.0}, {"/effects/0/schedule/values/1/*", -5.0, 5.0}}, "--bound");
+  EXPECT_EQ(bounds, (std::vector<std::pair<double, double>>{{-kFree, kFree}, {-1.0, 1.0}, {-5.0, 5.0}}));
+  for (const std::string& pointer : {"/bodies/0/position/0", "/effects/0/schedule/values/*", "/effects/0/schedule/values/2/*"}) {
+    try {
+      BoundsFor(parameters, {{pointer, 0.0, 1.0}}, "--bound");
+      ADD_FAILURE() << pointer << " was accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("--bound: '" + pointer + "' is not one of the parameters"), std::string::npos)
+          << e.what();
+    }
+  }
 }
 
 }  // namespace

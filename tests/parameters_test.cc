@@ -254,6 +254,25 @@ TEST(Parameters, ParameterNamedTwiceIsRefused) {
   ExpectRefused({"/bodies/0/mass", "/effects/2/stiffness", "/bodies/0/mass"}, "/bodies/0/mass", "named twice");
 }
 
+TEST(Parameters, AWildcardStandsForEveryElementOfItsArray) {
+  const Scene scene = TestScene();
+  const ParameterSet parameters(scene, {"/bodies/0/mass", "/effects/6/schedule/values/*", "/effects/4/schedule/values/2/*"});
+  EXPECT_EQ(parameters.pointers(),
+            (std::vector<std::string>{"/bodies/0/mass", "/effects/6/schedule/values/0", "/effects/6/schedule/values/1",
+                                      "/effects/4/schedule/values/2/0", "/effects/4/schedule/values/2/1"}));
+  EXPECT_EQ(parameters.Values(scene.model), (std::vector<double>{scene.model.bodies[0].mass, 0.1, 0.2, 5.0, 6.0}));
+}
+
+TEST(Parameters, AWildcardOnAnythingButANonEmptyArrayIsRefused) {
+  ExpectRefused({"/bodies/0/mass/*"}, "/bodies/0/mass/*", "not a non-empty array");
+  ExpectRefused({"/effects/9/schedule/values/*"}, "/effects/9/schedule/values/*", "not a non-empty array");
+  ExpectRefused({"/*"}, "/*", "the document is not a non-empty array");
+  // an element that is itself an array is named with its own index
+  ExpectRefused({"/effects/4/schedule/values/*"}, "/effects/4/schedule/values/0", "names an array, not a number");
+  ExpectRefused({"/effects/6/schedule/values/*", "/effects/6/schedule/values/1"}, "/effects/6/schedule/values/1",
+                "named twice");
+}
+
 TEST(Parameters, EmptySetResolvesNothing) {
   const Scene scene = TestScene();
   const ParameterSet parameters(scene, {});

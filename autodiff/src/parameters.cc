@@ -193,10 +193,35 @@ auto& FieldOf(M* m, const FieldRef& f) {
   return m->stabilization.beta;  // unreachable: the switch covers every kind
 }
 
+// The pointers with every one that ends in "/*" replaced by the pointers of its array's elements, in order.
+std::vector<std::string> Expanded(const Scene& scene, const std::vector<std::string>& pointers) {
+  std::vector<std::string> out;
+  for (const std::string& pointer : pointers) {
+    const bool wildcard = pointer.size() >= 2 && pointer.compare(pointer.size() - 2, 2, "/*") == 0;
+    if (!wildcard) {
+      out.push_back(pointer);
+      continue;
+    }
+    const std::string array = pointer.substr(0, pointer.size() - 2);
+    const json* elements = nullptr;
+    try {
+      elements = &scene.document.at(json::json_pointer(array));
+    } catch (const json::exception&) {
+      elements = nullptr;  // a malformed or missing prefix: refused below
+    }
+    if (!elements || !elements->is_array() || elements->empty()) {
+      throw InputError(scene.path + ": " + pointer + ": '/*' stands for the elements of an array, and " +
+                       (array.empty() ? std::string("the document") : array) + " is not a non-empty array");
+    }
+    for (size_t k = 0; k < elements->size(); ++k) out.push_back(array + "/" + std::to_string(k));
+  }
+  return out;
+}
+
 }  // namespace
 
-ParameterSet::ParameterSet(const Scene& scene, const std::vector<std::string>& pointers) {
-  for (const std::string& pointer : pointers) {
+ParameterSet::ParameterSet(const Scene& scene, const std::vector<std::string>& given) {
+  for (const std::string& pointer : Expanded(scene, given)) {
     const FieldRef field = Resolver(scene, pointer).Resolve();
     for (size_t k = 0; k < fields_.size(); ++k) {  // the same field twice, by the same pointer or its mirror
       const FieldRef& seen = fields_[k];

@@ -124,8 +124,8 @@ PointSide MoveSide(const Model<Rev>& model, const BodyFrames<Rev>& frames, const
   return s;
 }
 
-// The adjoints of one point's p, centripetal and rotational parts g_k (sign s applied by the caller in
-// `direction`) taken back to its inputs.
+// The adjoints of one point's p, centripetal, arm (from the rotational parts g_k) and R_WP, the side's sign
+// already applied; FinishPointSide takes them back to the point's inputs.
 struct PointSideAdjoint {
   Vec3<double> position = Vec3<double>::Zero(), centripetal = Vec3<double>::Zero(), arm = Vec3<double>::Zero();
   Mat3<double> R_WP = Mat3<double>::Zero();

@@ -202,13 +202,12 @@ std::string IdentifyParameters(const Scene& scene, const std::vector<Dataset>& d
   settings.smooth = smooth;
   settings.optimizer.max_evaluations = max_evaluations;
   const ParameterSet parameters(scene, pointers);
-  settings.bounds.assign(parameters.size(), {-std::numeric_limits<double>::max(), std::numeric_limits<double>::max()});
+  std::vector<ParameterBound> checked;
   for (const auto& [pointer, lo, hi] : bounds) {
-    const auto it = std::find(pointers.begin(), pointers.end(), pointer);
-    if (it == pointers.end()) throw InputError("bounds: '" + pointer + "' is not one of the parameters");
     if (!(lo < hi)) throw InputError("bounds: '" + pointer + "': the lower bound must be below the upper");
-    settings.bounds[it - pointers.begin()] = {lo, hi};
+    checked.push_back({pointer, lo, hi});
   }
+  settings.bounds = BoundsFor(parameters, checked, "bounds");
   std::vector<Observations> recordings;
   for (const Dataset& d : datasets) recordings.push_back(Data(d.source, d.names, d.values, scene.model));
   return OnScene(scene, [&] {

@@ -612,4 +612,29 @@ IdentifyResult Identify(const Model<double>& model, const ParameterSet& paramete
   return result;
 }
 
+std::vector<std::pair<double, double>> BoundsFor(const ParameterSet& parameters,
+                                                 const std::vector<ParameterBound>& bounds, const std::string& where) {
+  constexpr double kLargest = std::numeric_limits<double>::max();
+  std::vector<std::pair<double, double>> out(parameters.size(), {-kLargest, kLargest});
+  const std::vector<std::string>& pointers = parameters.pointers();
+  for (const bool wildcards : {true, false}) {
+    for (const ParameterBound& b : bounds) {
+      const bool wildcard = b.pointer.size() >= 2 && b.pointer.compare(b.pointer.size() - 2, 2, "/*") == 0;
+      if (wildcard != wildcards) continue;
+      const std::string prefix = wildcard ? b.pointer.substr(0, b.pointer.size() - 1) : b.pointer;  // ".../"
+      bool matched = false;
+      for (size_t i = 0; i < pointers.size(); ++i) {
+        const bool match = wildcard ? pointers[i].compare(0, prefix.size(), prefix) == 0 &&
+                                          pointers[i].find('/', prefix.size()) == std::string::npos
+                                    : pointers[i] == b.pointer;
+        if (!match) continue;
+        out[i] = {b.lower, b.upper};
+        matched = true;
+      }
+      if (!matched) throw InputError(where + ": '" + b.pointer + "' is not one of the parameters");
+    }
+  }
+  return out;
+}
+
 }  // namespace tether

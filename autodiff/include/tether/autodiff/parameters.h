@@ -40,7 +40,9 @@ struct FieldRef {
 class ParameterSet {
  public:
   ParameterSet() = default;
-  // Resolves every pointer against the scene. Throws InputError naming the file and the pointer.
+  // Resolves every pointer against the scene; one that ends in "/*" stands for every element of the array it
+  // ends in (/effects/2/schedule/values/* is /effects/2/schedule/values/0, /1, ...), and pointers() lists them so.
+  // Throws InputError naming the file and the pointer.
   ParameterSet(const Scene& scene, const std::vector<std::string>& pointers);
 
   int size() const { return static_cast<int>(pointers_.size()); }

@@ -54,6 +54,18 @@ struct IdentifySettings {
   double smooth = 0.0;                            // weight W of the schedule smoothing residuals
 };
 
+// A bound on one parameter, or, for a pointer ending in "/*", on every parameter of that array.
+struct ParameterBound {
+  std::string pointer;
+  double lower, upper;  // lower < upper
+};
+
+// IdentifySettings::bounds for `parameters`: unbounded, then each wildcard bound on its array's parameters, then
+// each parameter's own bound (an element's own bound wins over its array's). `where` names the flag or argument
+// in the InputError thrown for a bound that matches no parameter.
+std::vector<std::pair<double, double>> BoundsFor(const ParameterSet& parameters,
+                                                 const std::vector<ParameterBound>& bounds, const std::string& where);
+
 struct ResidualStatistics {
   std::string file, column;
   int count = 0;
