@@ -125,3 +125,15 @@ def test_a_scene_that_cannot_be_assembled_is_named(tmp_path):
         scene.simulate(duration=0.01)
     with pytest.raises(tether.InputError, match=r"^moved_pin: .*"):
         tether.gradient(scene, {"t": [0.01], "crank0.x": [0.0]}, "/bodies/0/mass")
+
+
+def test_a_wildcard_names_every_element_of_an_array(pendulum, observed):
+    data, _ = observed
+    scene = scene_with_velocity(pendulum)
+    explicit = ["/bodies/0/velocity/0", "/bodies/0/velocity/1"]
+    got = tether.gradient(scene, data, ["/bodies/0/velocity/*"])
+    want = tether.gradient(scene, data, explicit)
+    assert list(got["gradient"]) == explicit
+    assert got["gradient"] == want["gradient"] and got["loss"] == want["loss"]
+    with pytest.raises(tether.InputError, match=r"/bodies/0/mass/\*: '/\*' stands for the elements of an array"):
+        tether.gradient(scene, data, ["/bodies/0/mass/*"])
