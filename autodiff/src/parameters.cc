@@ -197,8 +197,7 @@ auto& FieldOf(M* m, const FieldRef& f) {
 std::vector<std::string> Expanded(const Scene& scene, const std::vector<std::string>& pointers) {
   std::vector<std::string> out;
   for (const std::string& pointer : pointers) {
-    const bool wildcard = pointer.size() >= 2 && pointer.compare(pointer.size() - 2, 2, "/*") == 0;
-    if (!wildcard) {
+    if (!EndsInWildcard(pointer)) {
       out.push_back(pointer);
       continue;
     }
@@ -219,6 +218,10 @@ std::vector<std::string> Expanded(const Scene& scene, const std::vector<std::str
 }
 
 }  // namespace
+
+bool EndsInWildcard(const std::string& pointer) {
+  return pointer.size() >= 2 && pointer.compare(pointer.size() - 2, 2, "/*") == 0;
+}
 
 ParameterSet::ParameterSet(const Scene& scene, const std::vector<std::string>& given) {
   for (const std::string& pointer : Expanded(scene, given)) {

@@ -16,6 +16,7 @@
 #include <memory>
 
 #include "tether/dynamics/constraint_rows_impl.h"
+#include "tether/dynamics/recorded_blocks.h"
 
 namespace tether {
 namespace {
@@ -52,10 +53,6 @@ Vec3<double> Gather(const Model<Rev>& model, int body, const VecX<Rev>& x, int o
   Vec3<double> p = Translation(model.dimension, values);  // as MovePoint: the translation, then the offset
   p += Vec3<double>(offset[0].a, offset[1].a, offset[2].a);
   return p;
-}
-
-void AddAdjoints(Tape* tape, const std::array<int, 3>& nodes, const Vec3<double>& adjoint) {
-  for (int k = 0; k < 3; ++k) tape->AddAdjoint(nodes[k], adjoint[k]);
 }
 
 constexpr int kOutputs = 8;  // C, Jdot v, J_a's translation (3), J_b's translation (3)

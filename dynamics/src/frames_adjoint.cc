@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "tether/dynamics/kinematics.h"
+#include "tether/dynamics/recorded_blocks.h"
 
 namespace tether {
 namespace {
@@ -23,8 +24,8 @@ namespace {
 constexpr int kOutputs = 21;  // per body: R_WB (9), R_WP (9), w_W (3), column-major
 
 struct BodyRecord {
-  std::array<int, 4> orientation_nodes;
-  std::array<int, 3> velocity_nodes;
+  Vec4<int> orientation_nodes;
+  Vec3<int> velocity_nodes;
   Vec4<double> orientation;
   Vec3<double> velocity;    // v_P
   Mat3<double> R_WP, axes;  // axes: P
@@ -44,20 +45,19 @@ struct FramesRecord {
       if (velocities) {
         const Vec3<double> w_bar(out[18], out[19], out[20]);
         R_WP_bar += w_bar * b.velocity.transpose();
-        const Vec3<double> v_bar = b.R_WP.transpose() * w_bar;
-        for (int k = 0; k < 3; ++k) tape->AddAdjoint(b.velocity_nodes[k], v_bar[k]);
+        AddAdjoints(tape, b.velocity_nodes, b.R_WP.transpose() * w_bar);
       }
       R_WB_bar += b.principal ? R_WP_bar : Mat3<double>(R_WP_bar * b.axes.transpose());
       const Mat3<double>& B = R_WB_bar;
       const double w = b.orientation[0], x = b.orientation[1], y = b.orientation[2], z = b.orientation[3];
-      const double bar[4] = {2.0 * (-z * B(0, 1) + y * B(0, 2) + z * B(1, 0) - x * B(1, 2) - y * B(2, 0) + x * B(2, 1)),
+      const Vec4<double> bar(2.0 * (-z * B(0, 1) + y * B(0, 2) + z * B(1, 0) - x * B(1, 2) - y * B(2, 0) + x * B(2, 1)),
                              2.0 * (y * B(0, 1) + z * B(0, 2) + y * B(1, 0) - 2.0 * x * B(1, 1) - w * B(1, 2) +
                                     z * B(2, 0) + w * B(2, 1) - 2.0 * x * B(2, 2)),
                              2.0 * (-2.0 * y * B(0, 0) + x * B(0, 1) + w * B(0, 2) + x * B(1, 0) + z * B(1, 2) -
                                     w * B(2, 0) + z * B(2, 1) - 2.0 * y * B(2, 2)),
                              2.0 * (-2.0 * z * B(0, 0) - w * B(0, 1) + x * B(0, 2) + w * B(1, 0) - 2.0 * z * B(1, 1) +
-                                    y * B(1, 2) + x * B(2, 0) + y * B(2, 1))};
-      for (int k = 0; k < 4; ++k) tape->AddAdjoint(b.orientation_nodes[k], bar[k]);
+                                    y * B(1, 2) + x * B(2, 0) + y * B(2, 1)));
+      AddAdjoints(tape, b.orientation_nodes, bar);
     }
   }
 };
@@ -77,22 +77,17 @@ void RecordSpatialFrames(const Model<Rev>& model, const VecX<Rev>& q, const VecX
   for (size_t i = 0; i < model.spatial_bodies.size(); ++i) {
     const Body<Rev>& body = model.bodies[model.spatial_bodies[i]];
     BodyRecord& b = record->bodies[i];
-    for (int k = 0; k < 4; ++k) {
-      const Rev& component = q[body.q_offset + 3 + k];
-      b.orientation[k] = component.a;
-      b.orientation_nodes[k] = component.index;
-      recorded = recorded || component.index >= 0;
-    }
-    b.velocity_nodes = {-1, -1, -1};
+    const Vec4<Rev> orientation = Orientation(body, q);
+    b.orientation = Values(orientation);
+    b.orientation_nodes = Nodes(orientation);
+    b.velocity_nodes.setConstant(-1);
     b.velocity.setZero();
     if (velocities) {
-      for (int k = 0; k < 3; ++k) {
-        const Rev& component = v[body.v_offset + 3 + k];
-        b.velocity[k] = component.a;
-        b.velocity_nodes[k] = component.index;
-        recorded = recorded || component.index >= 0;
-      }
+      const Vec3<Rev> velocity = v.segment<3>(body.v_offset + 3);
+      b.velocity = Values(velocity);
+      b.velocity_nodes = Nodes(velocity);
     }
+    recorded = recorded || AnyRecorded(b.orientation_nodes) || AnyRecorded(b.velocity_nodes);
     // as UpdateFrames
     R_WB[i] = RotationMatrix(b.orientation);
     b.principal = body.principal_axes == Vec4<double>(1, 0, 0, 0);

@@ -6,11 +6,11 @@
 //   wbar += y x gbar,  ybar = gbar x w,  wbar += I ybar  (I symmetric),  Ibar = ybar w^T,
 //   Sbar = R_BP Ibar R_BP^T,  and S's upper triangle stands for both halves: tensorbar_ij = Sbar_ij + Sbar_ji
 //   (i < j), tensorbar_ii = Sbar_ii.
-#include <array>
 #include <memory>
 #include <vector>
 
 #include "tether/dynamics/effects.h"
+#include "tether/dynamics/recorded_blocks.h"
 
 namespace tether {
 namespace {
@@ -19,14 +19,14 @@ struct GyroscopicRecord {
   Vec3<double> w, y;
   Mat3<double> I, R_BP;
   bool principal = true;
-  std::array<int, 3> w_nodes;
+  Vec3<int> w_nodes;
   Mat3<int> tensor_nodes;
 
   void Backward(const double* g_bar_data, Tape* tape) const {
     const Vec3<double> g_bar(g_bar_data[0], g_bar_data[1], g_bar_data[2]);
     const Vec3<double> y_bar = g_bar.cross(w);
     const Vec3<double> w_bar = y.cross(g_bar) + I * y_bar;
-    for (int k = 0; k < 3; ++k) tape->AddAdjoint(w_nodes[k], w_bar[k]);
+    AddAdjoints(tape, w_nodes, w_bar);
     const Mat3<double> I_bar = y_bar * w.transpose();
     const Mat3<double> S_bar = principal ? I_bar : Mat3<double>(R_BP * I_bar * R_BP.transpose());
     for (int i = 0; i < 3; ++i) {
@@ -45,18 +45,12 @@ void RecordGyroscopicTorques(const Model<Rev>& model, const VecX<Rev>& v, VecX<R
     const std::shared_ptr<GyroscopicRecord> record =
         tape ? tape->Reusable<GyroscopicRecord>() : std::make_shared<GyroscopicRecord>();
     GyroscopicRecord& r = *record;
-    bool recorded = false;
-    Mat3<double> tensor;
-    for (int k = 0; k < 9; ++k) {
-      tensor(k) = body.inertia_tensor(k).a;
-      r.tensor_nodes(k) = body.inertia_tensor(k).index;
-      recorded = recorded || r.tensor_nodes(k) >= 0;
-    }
-    for (int k = 0; k < 3; ++k) {
-      r.w[k] = v[body.v_offset + 3 + k].a;
-      r.w_nodes[k] = v[body.v_offset + 3 + k].index;
-      recorded = recorded || r.w_nodes[k] >= 0;
-    }
+    const Mat3<double> tensor = Values(body.inertia_tensor);
+    r.tensor_nodes = Nodes(body.inertia_tensor);
+    const Vec3<Rev> w = v.segment<3>(body.v_offset + 3);
+    r.w = Values(w);
+    r.w_nodes = Nodes(w);
+    const bool recorded = AnyRecorded(r.tensor_nodes) || AnyRecorded(r.w_nodes);
     r.principal = body.principal_axes == Vec4<double>(1, 0, 0, 0);
     r.R_BP = RotationMatrix(body.principal_axes);
     r.I = PrincipalInertia(tensor, body.principal_axes);

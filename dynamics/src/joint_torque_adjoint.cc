@@ -13,6 +13,7 @@
 #include <memory>
 
 #include "tether/dynamics/effects.h"
+#include "tether/dynamics/recorded_blocks.h"
 
 namespace tether {
 namespace {
@@ -30,10 +31,8 @@ TorqueSide SideOf(const Model<Rev>& model, const BodyFrames<Rev>& frames, int bo
   if (body == kWorld || model.bodies[body].kind != BodyKind::kRigid3d) return side;
   side.framed = true;
   side.v_offset = model.bodies[body].v_offset;
-  for (int k = 0; k < 9; ++k) {
-    side.R_WP(k) = frames[body].R_WP(k).a;
-    side.R_WP_nodes(k) = frames[body].R_WP(k).index;
-  }
+  side.R_WP = Values(frames[body].R_WP);
+  side.R_WP_nodes = Nodes(frames[body].R_WP);
   return side;
 }
 
@@ -42,7 +41,7 @@ struct AngleTorqueRecord {
   Mat3<double> R_WA = Mat3<double>::Identity();
   Mat3<int> R_WA_nodes = Mat3<int>::Constant(-1);
   Vec3<double> axis, axis_W, g_a, g_b;  // a^A, a, g_A, g_B
-  std::array<int, 3> axis_nodes;
+  Vec3<int> axis_nodes;
   double tau = 0.0;
   int tau_node = -1;
 
@@ -53,19 +52,17 @@ struct AngleTorqueRecord {
     if (a.framed) {
       const Vec3<double> g_bar = tau * t_bar_a;
       const Mat3<double> R_bar = -axis_W * g_bar.transpose();
-      for (int k = 0; k < 9; ++k) tape->AddAdjoint(a.R_WP_nodes(k), R_bar(k));
+      AddAdjoints(tape, a.R_WP_nodes, R_bar);
       axis_W_bar -= a.R_WP * g_bar;
     }
     if (b.framed) {
       const Vec3<double> g_bar = tau * t_bar_b;
       const Mat3<double> R_bar = axis_W * g_bar.transpose();
-      for (int k = 0; k < 9; ++k) tape->AddAdjoint(b.R_WP_nodes(k), R_bar(k));
+      AddAdjoints(tape, b.R_WP_nodes, R_bar);
       axis_W_bar += b.R_WP * g_bar;
     }
-    const Mat3<double> R_WA_bar = axis_W_bar * axis.transpose();
-    for (int k = 0; k < 9; ++k) tape->AddAdjoint(R_WA_nodes(k), R_WA_bar(k));
-    const Vec3<double> axis_bar = R_WA.transpose() * axis_W_bar;
-    for (int k = 0; k < 3; ++k) tape->AddAdjoint(axis_nodes[k], axis_bar[k]);
+    AddAdjoints(tape, R_WA_nodes, axis_W_bar * axis.transpose());
+    AddAdjoints(tape, axis_nodes, R_WA.transpose() * axis_W_bar);
   }
 };
 
@@ -82,21 +79,16 @@ bool RecordAngleTorque(const Model<Rev>& model, const JointCoordinates<Rev>& coo
   AngleTorqueRecord& r = *record;
   r.a = SideOf(model, frames, joint.a.body);
   r.b = SideOf(model, frames, joint.b.body);
-  bool recorded = value.index >= 0 || (r.a.R_WP_nodes.array() >= 0).any() || (r.b.R_WP_nodes.array() >= 0).any();
+  bool recorded = value.index >= 0 || AnyRecorded(r.a.R_WP_nodes) || AnyRecorded(r.b.R_WP_nodes);
   r.R_WA.setIdentity();
   r.R_WA_nodes.setConstant(-1);
   if (joint.a.body != kWorld && model.bodies[joint.a.body].kind != BodyKind::kParticle) {  // as RotationOf
-    for (int i = 0; i < 9; ++i) {
-      r.R_WA(i) = frames[joint.a.body].R_WB(i).a;
-      r.R_WA_nodes(i) = frames[joint.a.body].R_WB(i).index;
-      recorded = recorded || r.R_WA_nodes(i) >= 0;
-    }
+    r.R_WA = Values(frames[joint.a.body].R_WB);
+    r.R_WA_nodes = Nodes(frames[joint.a.body].R_WB);
   }
-  for (int i = 0; i < 3; ++i) {
-    r.axis[i] = reference.axis[i].a;
-    r.axis_nodes[i] = reference.axis[i].index;
-    recorded = recorded || r.axis_nodes[i] >= 0;
-  }
+  r.axis = Values(reference.axis);
+  r.axis_nodes = Nodes(reference.axis);
+  recorded = recorded || AnyRecorded(r.R_WA_nodes) || AnyRecorded(r.axis_nodes);
   r.tau = value.a;
   r.tau_node = value.index;
   r.axis_W = r.R_WA * r.axis;

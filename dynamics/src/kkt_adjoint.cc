@@ -23,21 +23,10 @@
 #include <optional>
 
 #include "tether/dynamics/constrained_dynamics.h"
+#include "tether/dynamics/recorded_blocks.h"
 
 namespace tether {
 namespace {
-
-template <typename T>
-VecX<double> Values(const VecX<T>& x) {
-  VecX<double> out(x.size());
-  for (int i = 0; i < x.size(); ++i) out[i] = Value(x[i]);
-  return out;
-}
-VecX<int> Nodes(const VecX<Rev>& x) {
-  VecX<int> out(x.size());
-  for (int i = 0; i < x.size(); ++i) out[i] = x[i].index;
-  return out;
-}
 
 // A Jacobian block's six components (translation, then rotation), as values or as nodes.
 BodyVector<double> Values(const BodyVector<Rev>& g) {
@@ -211,19 +200,15 @@ bool SolveKkt<Rev>(const Model<Rev>& model, const VecX<Rev>& v, Workspace<Rev>* 
   r.inverse_mass.rotational.resize(bodies);
   r.rotational_nodes.resize(bodies);
   for (size_t b = 0; b < bodies; ++b) {
-    const Mat3<Rev>& block = ws->inverse_mass.rotational[b];
-    for (int k = 0; k < 9; ++k) {
-      r.inverse_mass.rotational[b](k) = block(k).a;
-      r.rotational_nodes[b](k) = block(k).index;
-      recorded = recorded || block(k).index >= 0;
-    }
+    r.inverse_mass.rotational[b] = Values(ws->inverse_mass.rotational[b]);
+    r.rotational_nodes[b] = Nodes(ws->inverse_mass.rotational[b]);
+    recorded = recorded || AnyRecorded(r.rotational_nodes[b]);
   }
   r.f = Values(ws->force);
   r.f_nodes = Nodes(ws->force);
   r.v = Values(v);
   r.v_nodes = Nodes(v);
-  recorded = recorded || (r.f_nodes.array() >= 0).any() || (r.v_nodes.array() >= 0).any() ||
-             (r.diagonal_nodes.array() >= 0).any();
+  recorded = recorded || AnyRecorded(r.f_nodes) || AnyRecorded(r.v_nodes) || AnyRecorded(r.diagonal_nodes);
   r.alpha = ws->alpha.a;
   r.beta = ws->beta.a;
   r.alpha_node = ws->alpha.index;

@@ -27,32 +27,14 @@
 #include <memory>
 
 #include "tether/dynamics/constraint_rows_impl.h"
+#include "tether/dynamics/recorded_blocks.h"
 
 namespace tether {
 namespace {
 
 constexpr int kOutputs = 8;  // per row: C, Jdot v, the rotational part on A (3), on B (3)
 
-Mat3<double> Values(const Mat3<Rev>& m) {
-  Mat3<double> out;
-  for (int k = 0; k < 9; ++k) out(k) = m(k).a;
-  return out;
-}
-Mat3<int> Nodes(const Mat3<Rev>& m) {
-  Mat3<int> out;
-  for (int k = 0; k < 9; ++k) out(k) = m(k).index;
-  return out;
-}
-Vec3<double> Values(const Vec3<Rev>& x) { return Vec3<double>(x[0].a, x[1].a, x[2].a); }
-std::array<int, 3> Nodes(const Vec3<Rev>& x) { return {x[0].index, x[1].index, x[2].index}; }
-std::array<int, 3> NoNodes() { return {-1, -1, -1}; }
-
-void AddAdjoints(Tape* tape, const std::array<int, 3>& nodes, const Vec3<double>& adjoint) {
-  for (int k = 0; k < 3; ++k) tape->AddAdjoint(nodes[k], adjoint[k]);
-}
-void AddAdjoints(Tape* tape, const Mat3<int>& nodes, const Mat3<double>& adjoint) {
-  for (int k = 0; k < 9; ++k) tape->AddAdjoint(nodes(k), adjoint(k));
-}
+Vec3<int> NoNodes() { return Vec3<int>::Constant(-1); }
 
 // One side of a primitive: a 3D body's frame quantities (values and nodes), or none for a particle or the world.
 struct Side {
@@ -60,7 +42,7 @@ struct Side {
   Mat3<double> R_WB = Mat3<double>::Identity(), R_WP = Mat3<double>::Identity();
   Vec3<double> w = Vec3<double>::Zero();  // zero without velocity terms
   Mat3<int> R_WB_nodes = Mat3<int>::Constant(-1), R_WP_nodes = Mat3<int>::Constant(-1);
-  std::array<int, 3> w_nodes = NoNodes();
+  Vec3<int> w_nodes = NoNodes();
 };
 
 Side SideOf(const Model<Rev>& model, const BodyFrames<Rev>& frames, int body, bool velocity_terms) {
@@ -93,7 +75,7 @@ struct PointSide {
   bool on_body = false;  // a particle or a 3D body (x is read)
   Vec3<double> local, arm = Vec3<double>::Zero(), spin = Vec3<double>::Zero();
   Vec3<double> position, centripetal = Vec3<double>::Zero();
-  std::array<int, 3> x_nodes = NoNodes(), local_nodes = NoNodes();
+  Vec3<int> x_nodes = NoNodes(), local_nodes = NoNodes();
 };
 
 // As MovePoint: p = x + a, spin = w x a, centripetal = w x spin.
@@ -110,7 +92,7 @@ PointSide MoveSide(const Model<Rev>& model, const BodyFrames<Rev>& frames, const
   s.on_body = true;
   const int offset = model.bodies[point.body].q_offset;
   s.position = Vec3<double>(q[offset].a, q[offset + 1].a, q[offset + 2].a);
-  s.x_nodes = {q[offset].index, q[offset + 1].index, q[offset + 2].index};
+  s.x_nodes = Vec3<int>(q[offset].index, q[offset + 1].index, q[offset + 2].index);
   if (!s.side.framed) {
     s.position += s.local;
     return s;
@@ -185,7 +167,7 @@ struct PointRecord {
 struct AngleEntry {
   Side a, b;
   Vec3<double> u_local, w_local, u, w;  // u^A, w^B and their world images
-  std::array<int, 3> u_nodes, w_nodes;  // of u^A and w^B
+  Vec3<int> u_nodes, w_nodes;           // of u^A and w^B
   int c_node = -1;
 };
 
@@ -263,12 +245,10 @@ bool AllSpatial(const Model<Rev>& model, const std::vector<Primitive>& primitive
   return !primitives.empty();
 }
 
-// Whether a recorded operation's inputs include a recorded node.
+// Whether a side's frame quantities include a recorded node.
 bool Recorded(const Side& side) {
-  return (side.R_WB_nodes.array() >= 0).any() || (side.R_WP_nodes.array() >= 0).any() || side.w_nodes[0] >= 0 ||
-         side.w_nodes[1] >= 0 || side.w_nodes[2] >= 0;
+  return AnyRecorded(side.R_WB_nodes) || AnyRecorded(side.R_WP_nodes) || AnyRecorded(side.w_nodes);
 }
-bool Recorded(const std::array<int, 3>& nodes) { return nodes[0] >= 0 || nodes[1] >= 0 || nodes[2] >= 0; }
 
 // Writes one row's outputs: recorded nodes from `node` on (-1: constants), the translational parts given.
 void SetRow(const double* value, int node, bool velocity_terms, const Vec3<double>& translation_a,
@@ -305,7 +285,7 @@ ConstraintRow<Rev>* RecordPointRows(const Model<Rev>& model, const std::vector<P
     e.a = MoveSide(model, frames, points[i].a, q, velocity_terms);
     e.b = MoveSide(model, frames, points[i].b, q, velocity_terms);
     for (const PointSide* s : {&e.a, &e.b}) {
-      recorded = recorded || Recorded(s->side) || Recorded(s->x_nodes) || Recorded(s->local_nodes);
+      recorded = recorded || Recorded(s->side) || AnyRecorded(s->x_nodes) || AnyRecorded(s->local_nodes);
     }
     for (int k = 0; k < 3; ++k) {  // as EvaluatePointRows and PointGradient
       const Vec3<double> unit = Vec3<double>::Unit(k);
@@ -356,7 +336,7 @@ ConstraintRow<Rev>* RecordAngleRows(const Model<Rev>& model, const std::vector<A
     recorded = recorded || Recorded(a) || Recorded(b);
     for (int k = 0; k < c.rows; ++k) {  // as EvaluateAngleRows and Turning
       AngleEntry e{a, b, Values(c.u[k]), Values(c.w[k]), {}, {}, Nodes(c.u[k]), Nodes(c.w[k]), c.c[k].index};
-      recorded = recorded || Recorded(e.u_nodes) || Recorded(e.w_nodes) || e.c_node >= 0;
+      recorded = recorded || AnyRecorded(e.u_nodes) || AnyRecorded(e.w_nodes) || e.c_node >= 0;
       e.u = a.framed ? Vec3<double>(a.R_WB * e.u_local) : e.u_local;
       e.w = b.framed ? Vec3<double>(b.R_WB * e.w_local) : e.w_local;
       const Vec3<double> normal = e.u.cross(e.w);

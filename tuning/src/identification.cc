@@ -619,7 +619,7 @@ std::vector<std::pair<double, double>> BoundsFor(const ParameterSet& parameters,
   const std::vector<std::string>& pointers = parameters.pointers();
   for (const bool wildcards : {true, false}) {
     for (const ParameterBound& b : bounds) {
-      const bool wildcard = b.pointer.size() >= 2 && b.pointer.compare(b.pointer.size() - 2, 2, "/*") == 0;
+      const bool wildcard = EndsInWildcard(b.pointer);
       if (wildcard != wildcards) continue;
       const std::string prefix = wildcard ? b.pointer.substr(0, b.pointer.size() - 1) : b.pointer;  // ".../"
       bool matched = false;

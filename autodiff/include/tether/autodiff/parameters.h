@@ -37,6 +37,9 @@ struct FieldRef {
   int component = 0;  // vector component, or a tensor's column
 };
 
+// Whether a pointer ends in "/*": it stands for every element of the array before it (ParameterSet, bounds).
+bool EndsInWildcard(const std::string& pointer);
+
 class ParameterSet {
  public:
   ParameterSet() = default;
