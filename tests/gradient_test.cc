@@ -488,7 +488,9 @@ INSTANTIATE_TEST_SUITE_P(AllScenesIntegratorsAndStabilizations, AdjointGradient,
                          CombinationName);
 
 // Checkpoints change only what is recomputed: every state kept (K = 1, the default here), checkpoints every
-// ceil(sqrt(152)) = 13 steps, and a single checkpoint (K = all steps) give the same numbers.
+// ceil(sqrt(152)) = 13 steps, and a single checkpoint (K = all steps) give the same numbers, bit for bit; so do
+// the replays that take the double run's KKT solves (kkt_log.h: all of them with every state kept) and those that
+// solve again (a segment's last step).
 TEST(AdjointCheckpoints, CheckpointedEqualsStored) {
   const GradientScene scene = RigidPins();
   std::vector<std::string> pointers;
@@ -503,9 +505,11 @@ TEST(AdjointCheckpoints, CheckpointedEqualsStored) {
   EXPECT_EQ(stored_report.checkpoints, 152);
   EXPECT_EQ(checkpointed_report.checkpoints, 12);
   EXPECT_EQ(single_report.checkpoints, 1);
-  // checkpoints and one segment's states: fewer kept with checkpoints than with every state
+  // checkpoints and one segment's states and KKT solves: fewer kept with checkpoints than with every state
   EXPECT_LT(checkpointed_report.memory_bytes - checkpointed_report.largest_record * Tape::kBytesPerNode,
             stored_report.memory_bytes - stored_report.largest_record * Tape::kBytesPerNode);
+  EXPECT_GT(checkpointed_report.kkt_solve_bytes, 0);
+  EXPECT_LT(checkpointed_report.kkt_solve_bytes, stored_report.kkt_solve_bytes);
   for (size_t i = 0; i < pointers.size(); ++i) {
     EXPECT_EQ(checkpointed.gradient[i], stored.gradient[i]) << pointers[i];
     EXPECT_EQ(single.gradient[i], stored.gradient[i]) << pointers[i];

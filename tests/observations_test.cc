@@ -14,6 +14,7 @@
 #include "test_files.h"
 #include "test_scenes.h"
 #include "tether/dynamics/errors.h"
+#include "tether/dynamics/simulator.h"
 
 namespace tether {
 namespace {
@@ -77,6 +78,26 @@ TEST_F(ObservationsTest, ColumnsMapToCoordinatesVelocitiesAndEnergy) {
   ASSERT_EQ(obs.times.size(), 1u);
   EXPECT_EQ(obs.values[0], (std::vector<double>{0.3, 0.6, 0.0, 1.5, 0.0, 0.5, 0.0}));
   EXPECT_EQ(obs.lines, std::vector<int>{2});
+}
+
+// A run evaluates the energy only for observations that have its column (RunOptions::energy): without it the
+// samples carry NaN there, with it the energy, and the other columns are the same either way.
+TEST_F(ObservationsTest, TheEnergyIsEvaluatedOnlyWhenObserved) {
+  const Observations with = ReadObservations(Write("with.csv", "t,bob.x,energy\n0.25,0.5,1.0\n"), model_);
+  const Observations without = ReadObservations(Write("without.csv", "t,bob.x\n0.25,0.5\n"), model_);
+  EXPECT_TRUE(ObservesEnergy(with));
+  EXPECT_FALSE(ObservesEnergy(without));
+  for (const bool energy : {true, false}) {
+    RunOptions options;
+    options.energy = energy;
+    int samples = 0;
+    Simulate<double>(model_, options, [&](const Sample<double>& s) {
+      ++samples;
+      EXPECT_EQ(std::isfinite(s.energy), energy) << s.t;
+      EXPECT_TRUE(std::isfinite(s.q[0]));
+    });
+    EXPECT_GT(samples, 1);
+  }
 }
 
 TEST_F(ObservationsTest, ParticleZColumnsIn3D) {

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 #include <type_traits>
 #include <vector>
 
@@ -13,18 +15,23 @@ namespace {
 using PlainCarry = Stepper<double>::Carry;
 using RecordedCarry = Stepper<Rev>::Carry;
 
-// A state of the double run as recorded inputs of a replay.
-RecordedCarry RecordInputs(Tape* tape, const PlainCarry& plain) {
-  RecordedCarry carry{VecX<Rev>(plain.q.size()), VecX<Rev>(plain.v.size()), plain.step, plain.time, plain.next_stop,
-                      plain.rk45_step, plain.starts_regularized, plain.coordinate_branches};
-  for (int i = 0; i < plain.q.size(); ++i) carry.q[i] = tape->Variable(plain.q[i]);
-  for (int i = 0; i < plain.v.size(); ++i) carry.v[i] = tape->Variable(plain.v[i]);
-  return carry;
+// A state of the double run as recorded inputs of a replay (into *carry, whose buffers serve again).
+void RecordInputs(Tape* tape, const PlainCarry& plain, RecordedCarry* carry) {
+  carry->q.resize(plain.q.size());
+  carry->v.resize(plain.v.size());
+  for (int i = 0; i < plain.q.size(); ++i) carry->q[i] = tape->Variable(plain.q[i]);
+  for (int i = 0; i < plain.v.size(); ++i) carry->v[i] = tape->Variable(plain.v[i]);
+  carry->step = plain.step;
+  carry->time = plain.time;
+  carry->next_stop = plain.next_stop;
+  carry->rk45_step = plain.rk45_step;
+  carry->starts_regularized = plain.starts_regularized;
+  carry->coordinate_branches = plain.coordinate_branches;
 }
 
-void AddAdjoints(Tape* tape, const RecordedCarry& carry, const Eigen::VectorXd& q_bar, const Eigen::VectorXd& v_bar) {
-  for (int i = 0; i < carry.q.size(); ++i) tape->AddAdjoint(carry.q[i], q_bar[i]);
-  for (int i = 0; i < carry.v.size(); ++i) tape->AddAdjoint(carry.v[i], v_bar[i]);
+void AddAdjoints(Tape* tape, const State<Rev>& state, const Eigen::VectorXd& q_bar, const Eigen::VectorXd& v_bar) {
+  for (int i = 0; i < state.q.size(); ++i) tape->AddAdjoint(state.q[i], q_bar[i]);
+  for (int i = 0; i < state.v.size(); ++i) tape->AddAdjoint(state.v[i], v_bar[i]);
 }
 
 void ReadAdjoints(const Tape& tape, const RecordedCarry& carry, Eigen::VectorXd* q_bar, Eigen::VectorXd* v_bar) {
@@ -71,11 +78,28 @@ LossGradient AdjointGradient(const Model<double>& model, const ParameterSet& par
   const std::int64_t k = interval > 0 ? interval : CheckpointInterval(planned, state_bytes, kAdjointMemoryBudget);
   std::vector<PlainCarry> checkpoints;
   checkpoints.reserve(static_cast<size_t>(planned / k + 2));
+  // the KKT solves of the steps whose states are kept (all when K = 1, else a segment's), while they fit in what
+  // the states leave of the budget; the replay takes them instead of solving again
+  const std::int64_t solve_budget =
+      kAdjointMemoryBudget - ((planned + k - 1) / k + (k > 1 ? k : 0)) * state_bytes;
+  std::vector<KktLog> logs(static_cast<size_t>(k == 1 ? planned : k));
+  std::int64_t solve_bytes = 0, largest_solve_bytes = 0;
+  const auto log_step = [&](KktLog* log) {  // the stepper's log for its next step, if the budget allows
+    log->Clear();
+    plain.set_kkt_log(solve_bytes < solve_budget ? log : nullptr);
+  };
+  const auto count_step = [&](const KktLog& log) {
+    solve_bytes += log.Bytes();
+    largest_solve_bytes = std::max(largest_solve_bytes, solve_bytes);
+  };
   std::int64_t steps = 0;
   for (; !plain.done(); ++steps) {
     if (steps % k == 0) checkpoints.push_back(plain.Save());
+    if (k == 1 && steps < planned) log_step(&logs[steps]);
     plain.Step();
+    if (k == 1 && steps < planned) count_step(logs[steps]);
   }
+  plain.set_kkt_log(nullptr);
   forward = false;
 
   // the recorded run, whose parameters are the tape's inputs: its construction and start (the initial state
@@ -94,32 +118,46 @@ LossGradient AdjointGradient(const Model<double>& model, const ParameterSet& par
   });
   recorded.Start();
   const Rev start_loss = recorded_loss;
-  const RecordedCarry start = recorded.Save();
+  const State<Rev> start = recorded.state();
   const int prefix = tape.size();
   std::int64_t largest_record = prefix;
 
   // backward, segment by segment: run the segment again keeping the states its steps start from, then replay
   // its steps recorded, in reverse, each swept back at once
   Eigen::VectorXd q_bar = Eigen::VectorXd::Zero(nq), v_bar = Eigen::VectorXd::Zero(nv);
-  std::vector<PlainCarry> segment;
+  std::vector<PlainCarry> segment;  // the states after a checkpoint that the segment's steps start from
   segment.reserve(static_cast<size_t>(k));
+  RecordedCarry in;
   for (std::int64_t c = static_cast<std::int64_t>(checkpoints.size()) - 1; c >= 0; --c) {
     const std::int64_t count = std::min(k, steps - c * k);
-    segment.assign(1, checkpoints[c]);
+    segment.clear();
+    if (k > 1) {
+      solve_bytes = 0;
+      for (KktLog& log : logs) log.Clear();
+    }
     if (count > 1) plain.Restore(checkpoints[c]);
-    for (std::int64_t n = 1; n < count; ++n) {
+    for (std::int64_t n = 1; n < count; ++n) {  // the segment's last step is replayed solving its own KKT systems
+      log_step(&logs[n - 1]);
       plain.Step();
+      count_step(logs[n - 1]);
       segment.push_back(plain.Save());
     }
+    plain.set_kkt_log(nullptr);
     for (std::int64_t n = count - 1; n >= 0; --n) {
-      const RecordedCarry in = RecordInputs(&tape, segment[n]);
+      RecordInputs(&tape, n == 0 ? checkpoints[c] : segment[n - 1], &in);
       recorded.Restore(in);
       recorded_loss = Rev(0.0);
+      const std::int64_t step = c * k + n;
+      KktLog* log = k == 1 ? (step < planned ? &logs[step] : nullptr) : &logs[n];
+      recorded.set_kkt_log(log);
       recorded.Step();
-      const RecordedCarry out = recorded.Save();
+      if (log && log->taken != log->kept) {
+        throw std::logic_error("the adjoint's replay of step " + std::to_string(step) +
+                               " made other KKT solves than the double run");
+      }
       largest_record = std::max<std::int64_t>(largest_record, tape.size() - prefix);
       tape.AddAdjoint(recorded_loss, 1.0);
-      AddAdjoints(&tape, out, q_bar, v_bar);
+      AddAdjoints(&tape, recorded.state(), q_bar, v_bar);
       tape.Backward(prefix);
       ReadAdjoints(tape, in, &q_bar, &v_bar);
       tape.Rewind(prefix);
@@ -135,7 +173,9 @@ LossGradient AdjointGradient(const Model<double>& model, const ParameterSet& par
     report->interval = k;
     report->checkpoints = static_cast<std::int64_t>(checkpoints.size());
     report->largest_record = largest_record;
-    report->memory_bytes = (report->checkpoints + (k > 1 ? k : 0)) * state_bytes + largest_record * Tape::kBytesPerNode;
+    report->kkt_solve_bytes = largest_solve_bytes;
+    report->memory_bytes = (report->checkpoints + (k > 1 ? k : 0)) * state_bytes + largest_solve_bytes +
+                           largest_record * Tape::kBytesPerNode;
   }
   return result;
 }
@@ -145,6 +185,7 @@ LossGradient AdjointLossGradient(const Model<double>& model, const ParameterSet&
   RunOptions options;
   options.every = INT_MAX;  // no output rows are needed, only the stops
   options.stops = observations.times;
+  options.energy = ObservesEnergy(observations);
   const auto loss = [&observations](const auto& m, const auto& s) {
     using T = std::decay_t<decltype(s.energy)>;
     T sum(0.0);

@@ -122,6 +122,11 @@ int Observations::CellCount() const {
   return count;
 }
 
+bool ObservesEnergy(const Observations& observations) {
+  return std::any_of(observations.columns.begin(), observations.columns.end(),
+                     [](const TrajectoryColumn& c) { return c.kind == TrajectoryColumn::Kind::kEnergy; });
+}
+
 Observations ReadObservations(const std::string& path, const Model<double>& model) {
   std::error_code error;
   const std::uintmax_t bytes = std::filesystem::file_size(path, error);

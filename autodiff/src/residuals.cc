@@ -19,6 +19,7 @@ VecX<T> ObservationResiduals(const Model<T>& model, const Observations& observat
   RunOptions run = options;
   run.every = INT_MAX;  // no output rows are needed, only the stops
   run.stops = observations.times;
+  run.energy = ObservesEnergy(observations);
   Simulate<T>(model, run, [&](const Sample<T>& s) {
     if (s.stop < 0) return;
     int cell = first[s.stop];

@@ -1,6 +1,7 @@
 #include "tether/dynamics/constrained_dynamics.h"
 
 #include <limits>
+#include <type_traits>
 
 #include "tether/dynamics/effects.h"
 
@@ -49,8 +50,12 @@ bool KktAcceleration(const Model<S>& model, const std::vector<BodyLayout>& layou
 
 template <typename T>
 bool SolveKkt(const Model<T>& model, const VecX<T>& v, Workspace<T>* ws, VecX<T>* a) {
-  return KktAcceleration(model, ws->layout, ws->pattern, &ws->solver, ws->rows, ws->inverse_mass, v, ws->alpha,
-                         ws->beta, &ws->force, &ws->kkt, a);
+  const bool solved = KktAcceleration(model, ws->layout, ws->pattern, &ws->solver, ws->rows, ws->inverse_mass, v,
+                                      ws->alpha, ws->beta, &ws->force, &ws->kkt, a);
+  if constexpr (std::is_same_v<T, double>) {
+    if (solved && ws->kkt_log) ws->kkt_log->Keep(ws->kkt.lambda, ws->solver);
+  }
+  return solved;
 }
 
 #define TETHER_INSTANTIATE_DYNAMICS(T)                                                                            \

@@ -24,6 +24,8 @@ namespace {
 constexpr int kOutputs = 21;  // per body: R_WB (9), R_WP (9), w_W (3), column-major
 
 struct BodyRecord {
+  Mat3<double> R_WB;  // the forward's outputs
+  Vec3<double> w_W;
   Vec4<int> orientation_nodes;
   Vec3<int> velocity_nodes;
   Vec4<double> orientation;
@@ -71,8 +73,6 @@ void RecordSpatialFrames(const Model<Rev>& model, const VecX<Rev>& q, const VecX
   const std::shared_ptr<FramesRecord> record = tape ? tape->Reusable<FramesRecord>() : std::make_shared<FramesRecord>();
   record->velocities = velocities;
   record->bodies.resize(model.spatial_bodies.size());
-  std::vector<Mat3<double>> R_WB(model.spatial_bodies.size());
-  std::vector<Vec3<double>> w_W(model.spatial_bodies.size());
   bool recorded = false;
   for (size_t i = 0; i < model.spatial_bodies.size(); ++i) {
     const Body<Rev>& body = model.bodies[model.spatial_bodies[i]];
@@ -89,11 +89,11 @@ void RecordSpatialFrames(const Model<Rev>& model, const VecX<Rev>& q, const VecX
     }
     recorded = recorded || AnyRecorded(b.orientation_nodes) || AnyRecorded(b.velocity_nodes);
     // as UpdateFrames
-    R_WB[i] = RotationMatrix(b.orientation);
+    b.R_WB = RotationMatrix(b.orientation);
     b.principal = body.principal_axes == Vec4<double>(1, 0, 0, 0);
     b.axes = RotationMatrix(Vec4<double>(body.principal_axes));
-    b.R_WP = b.principal ? R_WB[i] : Mat3<double>(R_WB[i] * b.axes);
-    if (velocities) w_W[i] = b.R_WP * b.velocity;
+    b.R_WP = b.principal ? b.R_WB : Mat3<double>(b.R_WB * b.axes);
+    if (velocities) b.w_W = b.R_WP * b.velocity;
   }
   const int count = kOutputs * static_cast<int>(model.spatial_bodies.size());
   const int first =
@@ -105,11 +105,11 @@ void RecordSpatialFrames(const Model<Rev>& model, const VecX<Rev>& q, const VecX
     const int node = recorded ? first + kOutputs * static_cast<int>(i) : -1;
     auto output = [node](double value, int k) { return node < 0 ? Rev(value) : Rev(value, node + k); };
     for (int k = 0; k < 9; ++k) {
-      f.R_WB(k) = output(R_WB[i](k), k);
+      f.R_WB(k) = output(b.R_WB(k), k);
       f.R_WP(k) = b.principal ? f.R_WB(k) : output(b.R_WP(k), 9 + k);
     }
     if (velocities) {
-      for (int k = 0; k < 3; ++k) f.w_W[k] = output(w_W[i][k], 18 + k);
+      for (int k = 0; k < 3; ++k) f.w_W[k] = output(b.w_W[k], 18 + k);
     }
   }
 }

@@ -2,7 +2,9 @@
 //
 // Forward, in double, what KktAcceleration computes for a double run (the same code: the same values):
 //   u = M^-1 f,  w = u + alpha v,  rhs_i = J_i w + bias_i + beta C_i,  S lambda = rhs,  S = J M^-1 J^T,
-//   y = f - J^T lambda,  a = M^-1 y.
+//   y = f - J^T lambda,  a = M^-1 y;
+// where the double run kept this solve (a KKT log, kkt_log.h), its lambda and factorization are taken instead of
+// assembling, factoring and solving S again.
 // Backward, from abar, in double, with one more solve by the forward factorization, kept (S is symmetric):
 //   g = M^-1 abar,  lambdabar = -J g,  rbar = S^-1 lambdabar,  JTr = J^T rbar,  h = g + M^-1 JTr,
 //   fbar      += h
@@ -18,9 +20,15 @@
 // diagonal also counts eps times more:
 //   Jbar_i += -2 eps rbar_i lambda_i M^-1 J_i,   (M^-1)bar += -eps rbar_i lambda_i J_i J_i^T.
 // The rows, forces and inverse mass stay recorded, and carry these adjoints on to q, v and the parameters.
+// J is kept as sparse rows over the velocities (a row's entries on its first body, then on its second, in the
+// order of kinematics.h's Dot and AddScaled, so that J^T lambda adds up the same doubles), each entry with its
+// node: the sweep walks entries, not bodies.
+#include <algorithm>
 #include <array>
 #include <memory>
 #include <optional>
+#include <utility>
+#include <vector>
 
 #include "tether/dynamics/constrained_dynamics.h"
 #include "tether/dynamics/recorded_blocks.h"
@@ -28,38 +36,95 @@
 namespace tether {
 namespace {
 
-// A Jacobian block's six components (translation, then rotation), as values or as nodes.
+// J by rows over the velocity vector: row i's entries are [start[i], start[i + 1]), those on its second body
+// from second[i]; entry e is J(i, column[e]) = value[e], recorded as node[e] (-1: a constant).
+struct SparseRows {
+  std::vector<int> start{0}, second, column, node;
+  std::vector<double> value;
+
+  // Empties the rows, keeping room for `rows` of up to two 3D bodies.
+  void Clear(size_t rows) {
+    start.assign(1, 0);
+    second.clear();
+    column.clear();
+    node.clear();
+    value.clear();
+    for (auto* entries : {&column, &node}) entries->reserve(12 * rows);
+    value.reserve(12 * rows);
+  }
+  // Appends a row from its two blocks: the components each body kind has (kinematics.h's Dot).
+  void Append(const std::vector<BodyLayout>& layout, int dimension, const BodyVector<Rev>& a,
+              const BodyVector<Rev>& b) {
+    AppendBlock(layout, dimension, a);
+    second.push_back(static_cast<int>(column.size()));
+    AppendBlock(layout, dimension, b);
+    start.push_back(static_cast<int>(column.size()));
+  }
+  int rows() const { return static_cast<int>(second.size()); }
+  double Dot(int i, const VecX<double>& x) const {
+    double sum = 0.0;
+    for (int e = start[i]; e < start[i + 1]; ++e) sum += value[e] * x[column[e]];
+    return sum;
+  }
+  // x += scale J_i^T, entry by entry as AddScaled adds a block's components
+  void AddTransposed(int i, double scale, VecX<double>* x) const {
+    for (int e = start[i]; e < start[i + 1]; ++e) (*x)[column[e]] += scale * value[e];
+  }
+
+ private:
+  void AppendBlock(const std::vector<BodyLayout>& layout, int dimension, const BodyVector<Rev>& g) {
+    if (g.body == kWorld) return;
+    const BodyLayout& body = layout[g.body];
+    const auto add = [this](int c, const Rev& x) {
+      column.push_back(c);
+      value.push_back(x.a);
+      node.push_back(x.index);
+    };
+    const int o = body.v_offset;
+    if (body.kind == BodyKind::kParticle) {
+      for (int k = 0; k < dimension; ++k) add(o + k, g.translation[k]);
+    } else if (body.kind == BodyKind::kPlanar) {
+      add(o, g.translation[0]);
+      add(o + 1, g.translation[1]);
+      add(o + 2, g.rotation[2]);
+    } else {
+      for (int k = 0; k < 3; ++k) add(o + k, g.translation[k]);
+      for (int k = 0; k < 3; ++k) add(o + 3 + k, g.rotation[k]);
+    }
+  }
+};
+
+// A Jacobian block's values.
 BodyVector<double> Values(const BodyVector<Rev>& g) {
   BodyVector<double> out;
   out.body = g.body;
-  for (int k = 0; k < 3; ++k) {
-    out.translation[k] = g.translation[k].a;
-    out.rotation[k] = g.rotation[k].a;
-  }
+  out.translation = tether::Values(g.translation);
+  out.rotation = tether::Values(g.rotation);
   return out;
 }
-std::array<int, 6> Nodes(const BodyVector<Rev>& g) {
-  return {g.translation[0].index, g.translation[1].index, g.translation[2].index,
-          g.rotation[0].index,    g.rotation[1].index,    g.rotation[2].index};
-}
-void AddAdjoints(Tape* tape, const std::array<int, 6>& nodes, const BodyVector<double>& adjoint) {
-  for (int k = 0; k < 3; ++k) {
-    tape->AddAdjoint(nodes[k], adjoint.translation[k]);
-    tape->AddAdjoint(nodes[3 + k], adjoint.rotation[k]);
-  }
+
+// How many of a body's velocity components M^-1 scales by its diagonal (the rest: a 3D body's rotation block),
+// and how many of them are translations, which share one inverse mass where S is assembled.
+int DiagonalCount(BodyKind kind, int dimension) { return kind == BodyKind::kParticle ? dimension : 3; }
+int TranslationCount(BodyKind kind, int dimension) {
+  return kind == BodyKind::kParticle ? dimension : kind == BodyKind::kPlanar ? 2 : 3;
 }
 
 // What the backward sweep needs of one evaluation: the forward values, and the nodes they came from.
 struct KktRecord {
-  const Model<Rev>* model;  // the bodies' layout
-  SchurSolver* solver;       // solves with the forward factorization in the backward sweep
-  std::vector<ConstraintRow<double>> rows;
-  std::vector<std::array<int, 2>> row_nodes;                   // value, bias
-  std::vector<std::array<std::array<int, 6>, 2>> block_nodes;  // J_i on its first and second body
+  const Model<Rev>* model;                // the bodies' layout, for ApplyInverseMass
+  const std::vector<BodyLayout>* layout;  // the same, compact
+  int dimension = 2;
+  SchurSolver* solver;  // solves with the forward factorization in the backward sweep
+  SparseRows jacobian;
+  VecX<double> constraint;                    // C_i
+  std::vector<std::array<int, 2>> row_nodes;  // C_i, bias_i
+  std::vector<ConstraintRow<double>> rows;    // the rows in double, where this record solves (no KKT log)
   InverseMass<double> inverse_mass;
   VecX<int> diagonal_nodes;
   std::vector<Mat3<int>> rotational_nodes;
-  std::optional<KktSystem<double>> system;  // the solve's S and multipliers lambda
+  std::optional<KktSystem<double>> system;  // the solve's S, where this record solves it
+  VecX<double> lambda;                      // the multipliers
   VecX<double> f, v, y, a;
   VecX<int> f_nodes, v_nodes;
   double alpha = 0.0, beta = 0.0;
@@ -67,69 +132,71 @@ struct KktRecord {
   SchurSolver::Factorization factorization;  // of S as solved forward: regularized or not
   bool regularized = false;
   struct {
-    VecX<double> g, r_bar, jt_r, jt_lambda, h, a_plus_alpha_v;
+    VecX<double> g, r_bar, jt_r, jt_lambda, h, a_plus_alpha_v, block, weighted;
   } scratch;  // the backward sweep's vectors, allocated once per reused record
 
   void Backward(const double* a_bar_data, Tape* tape);
+  void AddRegularizedAdjoint(int first, int end, double d, Tape* tape);
 };
 
 // (M^-1)bar from out = M^-1 x with outbar: the diagonal's entries and the 3D bodies' blocks, by body.
 void AddInverseMassAdjoint(const KktRecord& r, const VecX<double>& out_bar, const VecX<double>& x, Tape* tape) {
-  for (size_t i = 0; i < r.model->bodies.size(); ++i) {
-    const Body<Rev>& body = r.model->bodies[i];
-    const bool spatial = body.kind == BodyKind::kRigid3d;
-    const int diagonal = spatial ? 3 : body.v_size;
-    for (int k = 0; k < diagonal; ++k) {
-      tape->AddAdjoint(r.diagonal_nodes[body.v_offset + k], out_bar[body.v_offset + k] * x[body.v_offset + k]);
+  const std::vector<BodyLayout>& layout = *r.layout;
+  for (size_t i = 0; i < layout.size(); ++i) {
+    const int o = layout[i].v_offset;
+    for (int k = 0; k < DiagonalCount(layout[i].kind, r.dimension); ++k) {
+      tape->AddAdjoint(r.diagonal_nodes[o + k], out_bar[o + k] * x[o + k]);
     }
-    if (!spatial) continue;
-    const Mat3<double> outer = out_bar.segment<3>(body.v_offset + 3) * x.segment<3>(body.v_offset + 3).transpose();
-    for (int c = 0; c < 3; ++c) {
-      for (int k = 0; k < 3; ++k) tape->AddAdjoint(r.rotational_nodes[i](k, c), outer(k, c));
-    }
+    if (layout[i].kind != BodyKind::kRigid3d) continue;
+    const Mat3<double> outer = out_bar.segment<3>(o + 3) * x.segment<3>(o + 3).transpose();
+    AddAdjoints(tape, r.rotational_nodes[i], outer);
   }
 }
 
 // (M^-1)bar from S = J M^-1 J^T with Sbar = -s t^T summed over pairs (s, t) of generalized vectors that stand
 // for J^T of multiplier-shaped vectors, as AssembleSchur uses M^-1: a body's translations share one entry.
 void AddAssemblyAdjoint(const KktRecord& r, double scale, const VecX<double>& s, const VecX<double>& t, Tape* tape) {
-  for (size_t i = 0; i < r.model->bodies.size(); ++i) {
-    const Body<Rev>& body = r.model->bodies[i];
-    const int o = body.v_offset;
-    const int translations = body.kind == BodyKind::kParticle ? body.v_size : body.kind == BodyKind::kPlanar ? 2 : 3;
+  const std::vector<BodyLayout>& layout = *r.layout;
+  for (size_t i = 0; i < layout.size(); ++i) {
+    const BodyKind kind = layout[i].kind;
+    const int o = layout[i].v_offset;
     double shared = 0.0;
-    for (int k = 0; k < translations; ++k) shared += s[o + k] * t[o + k];
+    for (int k = 0; k < TranslationCount(kind, r.dimension); ++k) shared += s[o + k] * t[o + k];
     tape->AddAdjoint(r.diagonal_nodes[o], scale * shared);
-    if (body.kind == BodyKind::kPlanar) tape->AddAdjoint(r.diagonal_nodes[o + 2], scale * s[o + 2] * t[o + 2]);
-    if (body.kind != BodyKind::kRigid3d) continue;
+    if (kind == BodyKind::kPlanar) tape->AddAdjoint(r.diagonal_nodes[o + 2], scale * s[o + 2] * t[o + 2]);
+    if (kind != BodyKind::kRigid3d) continue;
     const Mat3<double> outer = s.segment<3>(o + 3) * t.segment<3>(o + 3).transpose();
-    for (int c = 0; c < 3; ++c) {
-      for (int k = 0; k < 3; ++k) tape->AddAdjoint(r.rotational_nodes[i](k, c), scale * outer(k, c));
-    }
+    AddAdjoints(tape, r.rotational_nodes[i], scale * outer);
   }
 }
 
+// The regularization's terms for the entries [first, end) of one row on one body, with d = -eps rbar_i lambda_i:
+// Jbar += 2 d M^-1 J_i there, and (M^-1)bar += d J_i J_i^T (M^-1 is block diagonal by body).
+void KktRecord::AddRegularizedAdjoint(int first, int end, double d, Tape* tape) {
+  if (first == end) return;
+  auto& [g, r_bar, jt_r, jt_lambda, h, a_plus_alpha_v, block, weighted] = scratch;
+  block.setZero(f.size());
+  weighted.resize(f.size());
+  for (int e = first; e < end; ++e) block[jacobian.column[e]] = jacobian.value[e];
+  ApplyInverseMass(*model, inverse_mass, block, &weighted);
+  for (int e = first; e < end; ++e) tape->AddAdjoint(jacobian.node[e], 2.0 * d * weighted[jacobian.column[e]]);
+  AddAssemblyAdjoint(*this, d, block, block, tape);
+}
+
 void KktRecord::Backward(const double* a_bar_data, Tape* tape) {
-  const Model<Rev>& m = *model;
-  const int nv = static_cast<int>(f.size()), rows_count = static_cast<int>(rows.size());
+  const int nv = static_cast<int>(f.size()), rows_count = jacobian.rows();
   const Eigen::Map<const VecX<double>> a_bar(a_bar_data, nv);
-  const VecX<double>& lambda = system->lambda;
-  auto& [g, r_bar, jt_r, jt_lambda, h, a_plus_alpha_v] = scratch;
+  auto& [g, r_bar, jt_r, jt_lambda, h, a_plus_alpha_v, block, weighted] = scratch;
   h = a_bar;
   g.resize(nv);
-  ApplyInverseMass(m, inverse_mass, h, &g);
+  ApplyInverseMass(*model, inverse_mass, h, &g);
   r_bar.resize(rows_count);
-  for (int i = 0; i < rows_count; ++i) r_bar[i] = -(Dot(m, rows[i].a, g) + Dot(m, rows[i].b, g));  // lambdabar
+  for (int i = 0; i < rows_count; ++i) r_bar[i] = -jacobian.Dot(i, g);  // lambdabar
   solver->SolveWith(factorization, &r_bar);
   jt_r.setZero(nv);
-  jt_lambda.setZero(nv);
-  for (int i = 0; i < rows_count; ++i) {
-    AddScaled(m, rows[i].a, r_bar[i], &jt_r);
-    AddScaled(m, rows[i].b, r_bar[i], &jt_r);
-    AddScaled(m, rows[i].a, lambda[i], &jt_lambda);
-    AddScaled(m, rows[i].b, lambda[i], &jt_lambda);
-  }
-  ApplyInverseMass(m, inverse_mass, jt_r, &h);
+  for (int i = 0; i < rows_count; ++i) jacobian.AddTransposed(i, r_bar[i], &jt_r);
+  jt_lambda = f - y;  // y = f - J^T lambda
+  ApplyInverseMass(*model, inverse_mass, jt_r, &h);
   h += g;
   a_plus_alpha_v = a + alpha * v;
 
@@ -138,33 +205,20 @@ void KktRecord::Backward(const double* a_bar_data, Tape* tape) {
     tape->AddAdjoint(v_nodes[i], alpha * jt_r[i]);
   }
   tape->AddAdjoint(alpha_node, jt_r.dot(v));
-  double beta_bar = 0.0;
+  tape->AddAdjoint(beta_node, r_bar.dot(constraint));
   for (int i = 0; i < rows_count; ++i) {
-    beta_bar += r_bar[i] * rows[i].value;
     tape->AddAdjoint(row_nodes[i][0], beta * r_bar[i]);
     tape->AddAdjoint(row_nodes[i][1], r_bar[i]);
-    const std::array<const BodyVector<double>*, 2> blocks{&rows[i].a, &rows[i].b};
-    for (int side = 0; side < 2; ++side) {
-      const BodyVector<double>& block = *blocks[side];
-      if (block.body == kWorld) continue;
-      BodyVector<double> adjoint = Slice(m, block.body, a_plus_alpha_v);
-      const BodyVector<double> along_h = Slice(m, block.body, h);
-      adjoint.translation = r_bar[i] * adjoint.translation - lambda[i] * along_h.translation;
-      adjoint.rotation = r_bar[i] * adjoint.rotation - lambda[i] * along_h.rotation;
-      if (regularized) {  // -2 eps rbar_i lambda_i M^-1 J_i, and the matching (M^-1)bar
-        const double d = -kSchurRegularization * r_bar[i] * lambda[i];
-        VecX<double> block_vector = VecX<double>::Zero(nv), weighted(nv);
-        AddScaled(m, block, 1.0, &block_vector);
-        ApplyInverseMass(m, inverse_mass, block_vector, &weighted);
-        const BodyVector<double> scaled = Slice(m, block.body, weighted);
-        adjoint.translation += 2.0 * d * scaled.translation;
-        adjoint.rotation += 2.0 * d * scaled.rotation;
-        AddAssemblyAdjoint(*this, d, block_vector, block_vector, tape);
-      }
-      AddAdjoints(tape, block_nodes[i][side], adjoint);
+    for (int e = jacobian.start[i]; e < jacobian.start[i + 1]; ++e) {
+      const int c = jacobian.column[e];
+      tape->AddAdjoint(jacobian.node[e], r_bar[i] * a_plus_alpha_v[c] - lambda[i] * h[c]);
+    }
+    if (regularized) {
+      const double d = -kSchurRegularization * r_bar[i] * lambda[i];
+      AddRegularizedAdjoint(jacobian.start[i], jacobian.second[i], d, tape);
+      AddRegularizedAdjoint(jacobian.second[i], jacobian.start[i + 1], d, tape);
     }
   }
-  tape->AddAdjoint(beta_node, beta_bar);
   AddInverseMassAdjoint(*this, a_bar, y, tape);
   AddInverseMassAdjoint(*this, jt_r, f, tape);
   AddAssemblyAdjoint(*this, -1.0, jt_r, jt_lambda, tape);
@@ -178,24 +232,26 @@ bool SolveKkt<Rev>(const Model<Rev>& model, const VecX<Rev>& v, Workspace<Rev>* 
   const std::shared_ptr<KktRecord> record = tape ? tape->Reusable<KktRecord>() : std::make_shared<KktRecord>();
   KktRecord& r = *record;
   r.model = &model;
+  r.layout = &ws->layout;
+  r.dimension = model.dimension;
   r.solver = &ws->solver;
-  bool recorded = ws->alpha.index >= 0 || ws->beta.index >= 0;
   const size_t m = ws->rows.size();
-  r.rows.resize(m);
+  r.jacobian.Clear(m);
+  r.constraint.resize(static_cast<Eigen::Index>(m));
   r.row_nodes.resize(m);
-  r.block_nodes.resize(m);
   for (size_t i = 0; i < m; ++i) {
     const ConstraintRow<Rev>& row = ws->rows[i];
-    r.rows[i] = {row.value.a, row.bias.a, Values(row.a), Values(row.b)};
+    r.jacobian.Append(ws->layout, model.dimension, row.a, row.b);
+    r.constraint[static_cast<Eigen::Index>(i)] = row.value.a;
     r.row_nodes[i] = {row.value.index, row.bias.index};
-    r.block_nodes[i] = {Nodes(row.a), Nodes(row.b)};
-    for (int node : r.row_nodes[i]) recorded = recorded || node >= 0;
-    for (const auto& nodes : r.block_nodes[i]) {
-      for (int node : nodes) recorded = recorded || node >= 0;
-    }
   }
-  r.inverse_mass.diagonal = Values(ws->inverse_mass.diagonal);
-  r.diagonal_nodes = Nodes(ws->inverse_mass.diagonal);
+  const auto recorded_node = [](int node) { return node >= 0; };
+  bool recorded = ws->alpha.index >= 0 || ws->beta.index >= 0 ||
+                  std::any_of(r.jacobian.node.begin(), r.jacobian.node.end(), recorded_node) ||
+                  std::any_of(r.row_nodes.begin(), r.row_nodes.end(),
+                              [](const std::array<int, 2>& nodes) { return nodes[0] >= 0 || nodes[1] >= 0; });
+  ValuesInto(ws->inverse_mass.diagonal, &r.inverse_mass.diagonal);
+  NodesInto(ws->inverse_mass.diagonal, &r.diagonal_nodes);
   const size_t bodies = ws->inverse_mass.rotational.size();
   r.inverse_mass.rotational.resize(bodies);
   r.rotational_nodes.resize(bodies);
@@ -204,32 +260,52 @@ bool SolveKkt<Rev>(const Model<Rev>& model, const VecX<Rev>& v, Workspace<Rev>* 
     r.rotational_nodes[b] = Nodes(ws->inverse_mass.rotational[b]);
     recorded = recorded || AnyRecorded(r.rotational_nodes[b]);
   }
-  r.f = Values(ws->force);
-  r.f_nodes = Nodes(ws->force);
-  r.v = Values(v);
-  r.v_nodes = Nodes(v);
+  ValuesInto(ws->force, &r.f);
+  NodesInto(ws->force, &r.f_nodes);
+  ValuesInto(v, &r.v);
+  NodesInto(v, &r.v_nodes);
   recorded = recorded || AnyRecorded(r.f_nodes) || AnyRecorded(r.v_nodes) || AnyRecorded(r.diagonal_nodes);
   r.alpha = ws->alpha.a;
   r.beta = ws->beta.a;
   r.alpha_node = ws->alpha.index;
   r.beta_node = ws->beta.index;
 
-  if (!r.system || r.system->u_plus_alpha_v.size() != r.f.size() ||
-      r.system->schur.size() != static_cast<size_t>(ws->pattern.nonzeros())) {
-    r.system.emplace(ws->pattern, static_cast<int>(r.f.size()));
-  }
   r.y = r.f;
   r.a.resize(r.f.size());
-  const bool solved = KktAcceleration(model, ws->layout, ws->pattern, &ws->solver, r.rows, r.inverse_mass, r.v,
-                                      r.alpha, r.beta, &r.y, &*r.system, &r.a);
+  bool solved = true;
+  if (KktSolve* kept = ws->kkt_log ? ws->kkt_log->Take() : nullptr) {  // the double run solved it: the same S
+    r.lambda.swap(kept->lambda);
+    r.factorization.sparse.lower.swap(kept->factorization.sparse.lower);
+    r.factorization.sparse.inverse_d.swap(kept->factorization.sparse.inverse_d);
+    std::swap(r.factorization.dense, kept->factorization.dense);
+    r.regularized = kept->regularized;
+    ws->solver.RestoreConditioning(kept->regularized, kept->near_singular);
+    for (size_t i = 0; i < m; ++i) r.jacobian.AddTransposed(static_cast<int>(i), -r.lambda[i], &r.y);  // f - J^T lambda
+    ApplyInverseMass(model, r.inverse_mass, r.y, &r.a);
+  } else {
+    r.rows.resize(m);
+    for (size_t i = 0; i < m; ++i) {
+      const ConstraintRow<Rev>& row = ws->rows[i];
+      r.rows[i] = {row.value.a, row.bias.a, Values(row.a), Values(row.b)};
+    }
+    if (!r.system || r.system->u_plus_alpha_v.size() != r.f.size() ||
+        r.system->schur.size() != static_cast<size_t>(ws->pattern.nonzeros())) {
+      r.system.emplace(ws->pattern, static_cast<int>(r.f.size()));
+    }
+    solved = KktAcceleration(model, ws->layout, ws->pattern, &ws->solver, r.rows, r.inverse_mass, r.v, r.alpha, r.beta,
+                             &r.y, &*r.system, &r.a);
+    if (solved && recorded) {
+      r.lambda = r.system->lambda;
+      r.regularized = ws->solver.starts_regularized();
+      ws->solver.SaveFactorization(&r.factorization);
+    }
+  }
   if (!solved || !recorded) {
     for (int i = 0; i < a->size(); ++i) (*a)[i] = Rev(r.a[i]);
     return solved;
   }
-  r.regularized = ws->solver.starts_regularized();
-  ws->solver.SaveFactorization(&r.factorization);
-  const int first = tape->RecordExternal(
-      static_cast<int>(r.a.size()), [record](const double* a_bar, Tape* tape) { record->Backward(a_bar, tape); });
+  const int first = tape->RecordExternal(static_cast<int>(r.a.size()),
+                                         [record](const double* a_bar, Tape* tape) { record->Backward(a_bar, tape); });
   for (int i = 0; i < a->size(); ++i) (*a)[i] = Rev(r.a[i], first + i);
   return true;
 }

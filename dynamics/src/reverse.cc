@@ -3,8 +3,19 @@
 #include <algorithm>
 
 namespace tether {
-Tape::Tape() : previous_(internal::active_tape) { internal::active_tape = this; }
-Tape::~Tape() { internal::active_tape = previous_; }
+Tape::Tape() : previous_(internal::active_tape) {
+  internal::active_tape = this;
+  nodes_.swap(spare_nodes_);
+  adjoints_.swap(spare_adjoints_);
+  nodes_.clear();
+  adjoints_.clear();
+}
+
+Tape::~Tape() {
+  internal::active_tape = previous_;
+  if (nodes_.capacity() > spare_nodes_.capacity()) nodes_.swap(spare_nodes_);
+  if (adjoints_.capacity() > spare_adjoints_.capacity()) adjoints_.swap(spare_adjoints_);
+}
 
 Rev Tape::Variable(double value) { return Rev(value, Push(-1, 0.0, -1, 0.0)); }
 

@@ -134,6 +134,7 @@ struct PointEntry {
 struct PointRecord {
   std::vector<PointEntry> entries;
   bool velocity_terms = false;
+  std::vector<double> values;  // the forward's outputs (scratch, reused with the record)
 
   void Backward(const double* adjoint, Tape* tape) const {
     for (size_t i = 0; i < entries.size(); ++i) {
@@ -174,6 +175,7 @@ struct AngleEntry {
 struct AngleRecord {
   std::vector<AngleEntry> entries;  // one per row
   bool velocity_terms = false;
+  std::vector<double> values;  // the forward's outputs (scratch, reused with the record)
 
   void Backward(const double* adjoint, Tape* tape) const {
     for (size_t i = 0; i < entries.size(); ++i) {
@@ -278,7 +280,8 @@ ConstraintRow<Rev>* RecordPointRows(const Model<Rev>& model, const std::vector<P
   const std::shared_ptr<PointRecord> record = tape ? tape->Reusable<PointRecord>() : std::make_shared<PointRecord>();
   record->velocity_terms = velocity_terms;
   record->entries.resize(points.size());
-  std::vector<double> values(kOutputs * 3 * points.size(), 0.0);
+  std::vector<double>& values = record->values;
+  values.assign(kOutputs * 3 * points.size(), 0.0);
   bool recorded = false;
   for (size_t i = 0; i < points.size(); ++i) {
     PointEntry& e = record->entries[i];
@@ -329,7 +332,8 @@ ConstraintRow<Rev>* RecordAngleRows(const Model<Rev>& model, const std::vector<A
   const std::shared_ptr<AngleRecord> record = tape ? tape->Reusable<AngleRecord>() : std::make_shared<AngleRecord>();
   record->velocity_terms = velocity_terms;
   record->entries.clear();
-  std::vector<double> values;
+  std::vector<double>& values = record->values;
+  values.clear();
   bool recorded = false;
   for (const AnglePrimitive<Rev>& c : angles) {
     const Side a = SideOf(model, frames, c.body_a, velocity_terms), b = SideOf(model, frames, c.body_b, velocity_terms);

@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
+#include <type_traits>
 
 #include "tether/dynamics/configuration_space.h"
 #include "tether/dynamics/default_gains.h"
@@ -197,8 +199,9 @@ void Stepper<T>::Emit(double t, bool output, int stop) {
     coordinates_[k] = row.value;
     rates_[k] = row.rate;
   }
-  observer_(Sample<T>{t, q, v, error, Energy(model_, ws_.coordinates, ws_.frames, q, v), coordinates_, rates_,
-                      ws_.frames, ws_.rows, output, stop});
+  const T energy = options_.energy ? Energy(model_, ws_.coordinates, ws_.frames, q, v)
+                                   : T(std::numeric_limits<double>::quiet_NaN());
+  observer_(Sample<T>{t, q, v, error, energy, coordinates_, rates_, ws_.frames, ws_.rows, output, stop});
 }
 
 // After every integrator step (rk45: every internal step): the projection stabilization; or, for Baumgarte,
@@ -243,8 +246,15 @@ void Stepper<T>::Advance(double t, double dt) {
   if (!AllFinite(q) || !AllFinite(v)) throw Diverged(t_next, "the state became non-finite (NaN or infinity)");
   CheckViolation(t_next, LargestViolation(ws_.infos, ws_.rows).largest);
   if (coordinates_.size() > 0) {  // the branch of every hinge angle follows the motion step by step
-    UpdateFrames(model_, q, v, false, &ws_.frames);
-    TrackCoordinates(model_, ws_.frames, q, v, &ws_.coordinates);
+    if constexpr (std::is_same_v<T, double>) {
+      UpdateFrames(model_, q, v, false, &ws_.frames);
+      TrackCoordinates(model_, ws_.frames, q, v, &ws_.coordinates);
+    } else {  // the branches are plain data: from the values alone, with nothing differentiated or recorded
+      q_values_ = q.unaryExpr([](const T& x) { return T(Value(x)); });
+      v_values_ = v.unaryExpr([](const T& x) { return T(Value(x)); });
+      UpdateFrames(model_, q_values_, v_values_, false, &ws_.frames);
+      TrackCoordinates(model_, ws_.frames, q_values_, v_values_, &ws_.coordinates);
+    }
   }
 }
 

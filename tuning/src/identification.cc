@@ -128,6 +128,7 @@ class ShootingProblem {
     for (const Observations& r : recordings_) options.stops.insert(options.stops.end(), r.times.begin(), r.times.end());
     std::sort(options.stops.begin(), options.stops.end());
     options.stops.erase(std::unique(options.stops.begin(), options.stops.end()), options.stops.end());
+    options.energy = std::any_of(recordings_.begin(), recordings_.end(), ObservesEnergy);
     const auto sample_loss = [&](const auto& model, const auto& sample) {
       using T = std::decay_t<decltype(sample.energy)>;
       T sum(0.0);

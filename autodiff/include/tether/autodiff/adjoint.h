@@ -19,7 +19,10 @@
 // B bytes and a budget of kAdjointMemoryBudget bytes: every state is kept (K = 1) while N states fit; beyond, the
 // forward run keeps a checkpoint every K steps, the smallest K for which ceil(N / K) checkpoints and one segment of
 // K states fit, and backwards each segment is run again in double from its checkpoint, keeping its states; when
-// not even 2 sqrt(N) states fit, K = ceil(sqrt(N)), the fewest. Besides the states, one step's record is held.
+// not even 2 sqrt(N) states fit, K = ceil(sqrt(N)), the fewest. Besides the states, one step's record is held,
+// and the KKT solves (multipliers and factorization, kkt_log.h) of the steps whose states are kept, as long as
+// they fit in what the states leave of the budget: a step replayed with its solves kept does not assemble, factor
+// and solve S again (a segment's last step, and the steps past the budget, do).
 // Time: one double run, one more for the segments (none when K = 1), and one recorded replay and sweep per step.
 #pragma once
 
@@ -36,7 +39,8 @@ struct AdjointReport {
   std::int64_t interval = 0;     // K: steps between checkpoints
   std::int64_t checkpoints = 0;  // states kept by the forward run
   std::int64_t largest_record = 0;  // nodes of the largest record (one step, or the initial state)
-  std::int64_t memory_bytes = 0;    // states kept (checkpoints and one segment) and the largest record
+  std::int64_t kkt_solve_bytes = 0;  // the KKT solves kept at once (all steps', or a segment's)
+  std::int64_t memory_bytes = 0;     // states kept (checkpoints and one segment), solves and the largest record
 };
 
 // The loss of one stop sample: in double for the forward run, and in Rev arithmetic for the recorded replay (the

@@ -37,6 +37,9 @@ Observations ReadObservations(const std::string& path, const Model<double>& mode
 Observations MakeObservations(const std::string& source, const std::vector<std::string>& names,
                               const std::vector<std::vector<double>>& rows, const Model<double>& model);
 
+// Whether the observations have an energy column (RunOptions::energy).
+bool ObservesEnergy(const Observations& observations);
+
 // Calls add(c, simulated - observed) for every observed cell c of row `row`, in column order, the simulated
 // value taken from a sample of a run of `model` at that row's time.
 template <typename T, typename Add>

@@ -26,7 +26,8 @@ bool KktAcceleration(const Model<S>& model, const std::vector<BodyLayout>& layou
                      SchurSolver* solver, const std::vector<ConstraintRow<T>>& rows, const InverseMass<T>& inverse_mass,
                      const VecX<T>& v, const T& alpha, const T& beta, VecX<T>* force, KktSystem<T>* kkt, VecX<T>* a);
 
-// KktAcceleration on the workspace's rows, force and gains; for Rev, recorded as one operation.
+// KktAcceleration on the workspace's rows, force and gains; for Rev, recorded as one operation. A double run
+// with a KKT log (ws->kkt_log) keeps each solve there, and a recorded replay takes them back (kkt_log.h).
 template <typename T>
 bool SolveKkt(const Model<T>& model, const VecX<T>& v, Workspace<T>* ws, VecX<T>* a);
 template <>

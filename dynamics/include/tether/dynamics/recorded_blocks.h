@@ -18,6 +18,16 @@ Eigen::Matrix<int, R, C> Nodes(const Eigen::Matrix<Rev, R, C>& x) {
   return x.unaryExpr([](const Rev& r) { return r.index; });
 }
 
+// The same into existing matrices, whose buffers serve again (no temporary is allocated).
+template <int R, int C>
+void ValuesInto(const Eigen::Matrix<Rev, R, C>& x, Eigen::Matrix<double, R, C>* values) {
+  *values = x.unaryExpr([](const Rev& r) { return r.a; });
+}
+template <int R, int C>
+void NodesInto(const Eigen::Matrix<Rev, R, C>& x, Eigen::Matrix<int, R, C>* nodes) {
+  *nodes = x.unaryExpr([](const Rev& r) { return r.index; });
+}
+
 // Whether any of the nodes is recorded.
 template <typename Derived>
 bool AnyRecorded(const Eigen::MatrixBase<Derived>& nodes) {

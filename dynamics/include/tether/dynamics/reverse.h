@@ -14,12 +14,11 @@
 // Comparisons look at values only, as with Jets; Value(x) is the value.
 #pragma once
 
+#include <atomic>
 #include <cmath>
 #include <functional>
 #include <limits>
 #include <memory>
-#include <typeindex>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -87,7 +86,9 @@ class Tape {
   // evaluation. The tape keeps them until it is destroyed.
   template <typename Record>
   std::shared_ptr<Record> Reusable() {
-    std::vector<std::shared_ptr<void>>& pool = pools_[std::type_index(typeid(Record))];
+    static const size_t kind = next_record_kind_++;
+    if (kind >= pools_.size()) pools_.resize(kind + 1);
+    std::vector<std::shared_ptr<void>>& pool = pools_[kind];
     for (const std::shared_ptr<void>& record : pool) {
       if (record.use_count() == 1) return std::static_pointer_cast<Record>(record);
     }
@@ -119,10 +120,15 @@ class Tape {
   static constexpr int kBytesPerNode = sizeof(Node) + sizeof(double);  // a node and its adjoint
 
  private:
+  // The nodes and adjoints, in buffers a thread's tapes pass on to the next one (Tape(), ~Tape()): a gradient's
+  // record is the same size every time, and a fresh buffer would be paged in again by the kernel on every call.
   std::vector<Node> nodes_;
   std::vector<double> adjoints_;     // of the nodes [0, adjoints_.size()); the others' are zero
   std::vector<External> externals_;  // in the order recorded
-  std::unordered_map<std::type_index, std::vector<std::shared_ptr<void>>> pools_;  // Reusable's records, by type
+  std::vector<std::vector<std::shared_ptr<void>>> pools_;  // Reusable's records, by the record type's number
+  inline static std::atomic<size_t> next_record_kind_{0};  // numbers the record types Reusable has seen
+  inline static thread_local std::vector<Node> spare_nodes_;  // the buffers of this thread's last tape
+  inline static thread_local std::vector<double> spare_adjoints_;
   Tape* previous_ = nullptr;
 };
 

@@ -69,6 +69,11 @@ class SchurSolver {
   // Whether the next factorization starts from S + eps D (after a regularized one): state a replayed step restores.
   bool starts_regularized() const { return regularized_; }
   void set_starts_regularized(bool regularized) { regularized_ = regularized; }
+  // What a solve leaves behind, as a replay that skips a solve it knows the outcome of sets it (kkt_log.h).
+  void RestoreConditioning(bool regularized, bool near_singular) {
+    regularized_ = regularized;
+    saw_near_singular_ = saw_near_singular_ || near_singular;
+  }
 
   // x = S^-1 b, S given by its stored values (AssembleSchur). Returns false, leaving x unchanged, when the
   // factorization fails (a non-finite or indefinite matrix: the run is diverging).

@@ -25,7 +25,7 @@ struct Sample {
   const VecX<T>& q;                    // configuration (model.h's layout)
   const VecX<T>& v;                    // velocity
   double constraint_error;             // largest geometric violation over the constraints, m (rad for angles)
-  T energy;                            // kinetic + gravity + spring potential, J
+  T energy;                            // kinetic + gravity + spring potential, J (RunOptions::energy)
   const VecX<T>& coordinates;          // every named joint's coordinates (joint_coordinates.h's order)
   const VecX<T>& coordinate_rates;     // and their rates
   const BodyFrames<T>& frames;         // the bodies' frames at (q, v)
@@ -47,6 +47,10 @@ struct RunOptions {
   // Test oracle and benchmark only: factor the Schur matrix of Jets itself instead of applying the implicit
   // function theorem to its value part (schur_solver.h).
   bool factor_jet_matrices = false;
+  // Whether the samples carry the energy (Sample::energy, NaN otherwise): a run whose observer never reads it
+  // (a loss on other columns, ObservesEnergy) skips evaluating it, which recorded (the adjoint's replay) adds
+  // a node per term.
+  bool energy = true;
 };
 
 struct RunReport {

@@ -50,6 +50,10 @@ class Stepper {
   Carry Save() const;
   void Restore(const Carry& carry);
   const RunReport& report() const { return report_; }
+  const State<T>& state() const { return state_; }  // (q, v) now
+  // The KKT log of the steps to come (kkt_log.h), or nullptr: a double stepper keeps its solves in it, a Rev
+  // stepper replaying the same step takes them back.
+  void set_kkt_log(KktLog* log) { ws_.kkt_log = log; }
 
  private:
   void Emit(double t, bool output, int stop);
@@ -71,6 +75,7 @@ class Stepper {
   double time_ = 0.0;
   size_t next_stop_ = 0;
   VecX<T> coordinates_, rates_, q_projected_, v_projected_;
+  VecX<T> q_values_, v_values_;  // the state's values alone, for tracking the joint angles' branches
   SettleState<T> settle_;
 };
 

@@ -9,6 +9,7 @@
 
 #include "tether/dynamics/constraint_rows.h"
 #include "tether/dynamics/joint_coordinates.h"
+#include "tether/dynamics/kkt_log.h"
 #include "tether/dynamics/schur_solver.h"
 
 namespace tether {
@@ -61,6 +62,9 @@ struct Workspace {
   KktSystem<T> kkt;                     // S, its right-hand side and the multipliers at the last solve
   VecX<T> force;                        // generalized force f (size nv)
   VecX<T> reaction;                     // M^-1 J^T lambda (size nv)
+  // The adjoint's log of a step's KKT solves (kkt_log.h), or nullptr: a double run keeps its solves there, a
+  // recorded replay takes them back.
+  KktLog* kkt_log = nullptr;
 
   // integrator scratch: stage increments (v-shaped: Munthe-Kaas stage derivatives K and accelerations),
   // trial and next states
