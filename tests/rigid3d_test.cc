@@ -89,6 +89,41 @@ struct OrderCase {
 
 class IntegratorOrderOnSo3 : public ::testing::TestWithParam<OrderCase> {};
 
+// The coefficients the recorded Integrate and DexpInv differentiate by hand (configuration_adjoint.cc) are Exp's
+// c and s and DexpInv's c with their derivatives along |theta|^2, in the branch the functions take: against a Jet
+// seeded along |theta|^2 itself (theta = sqrt(sq) u, so d theta / d sq = u / (2 sqrt(sq))), on both sides of the
+// switch and well inside the closed form.
+TEST(Rotation, CoefficientDerivativesAreTheFunctionsOwn) {
+  const Vec3<double> direction = Vec3<double>(0.3, -0.5, 0.8).normalized();
+  for (double squared : {1e-6, 0.0099, 0.0101, 0.5, 4.0}) {
+    SCOPED_TRACE(squared);
+    Vec3<Jet> theta;
+    for (int k = 0; k < 3; ++k) {
+      theta[k] = Jet(std::sqrt(squared) * direction[k]);
+      theta[k].v[0] = direction[k] / (2.0 * std::sqrt(squared));
+    }
+    const Vec4<Jet> exp = Exp(theta);
+    const ExpCoefficients e = ExpCoefficientsAt(squared);
+    EXPECT_NEAR(e.c, exp[0].a, 1e-15);
+    EXPECT_NEAR(e.dc, exp[0].v[0], 1e-12);
+    // s = e_v / theta along the direction: s' = (e_v' - s theta') / theta
+    const double theta_x = theta[0].a, s = exp[1].a / theta_x;
+    EXPECT_NEAR(e.s, s, 1e-14);
+    EXPECT_NEAR(e.ds, (exp[1].v[0] - s * theta[0].v[0]) / theta_x, 1e-9);
+    // DexpInv(theta, w) with w orthogonal to theta: c Y = k - w - X / 2, Y = theta x (theta x w) = -sq w
+    const Vec3<double> w_value = Vec3<double>(0.8, 0.0, -0.3).cross(direction);
+    const Vec3<Jet> w = w_value.cast<Jet>();
+    const Vec3<Jet> k = DexpInv(theta, w);
+    const auto [c, dc] = DexpInvCoefficientAt(squared);
+    const Jet c_jet = (k - w - 0.5 * theta.cross(w))[0] / (-squared * w_value[0]);
+    EXPECT_NEAR(c, c_jet.a, 1e-9 / squared);
+    // d(c Y)/dsq = dc Y + c Y' with Y = -sq w: the Jet's derivative is dc (-sq w) - c w
+    const double expected = (dc * (-squared * w_value[0]) - c * w_value[0]);
+    const Jet cy = (k - w - 0.5 * theta.cross(w))[0];
+    EXPECT_NEAR(expected, cy.v[0], 1e-9 * std::max(1.0, std::abs(expected)));
+  }
+}
+
 // Exp and DexpInv switch to series below |theta|^2 = 1e-2 (rotation.h); just below the switch, where the
 // series' first omitted term is largest, they agree with the closed forms to rounding, derivatives included.
 TEST(Rotation, SeriesBranchesMatchTheClosedForms) {

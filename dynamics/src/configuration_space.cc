@@ -3,6 +3,8 @@
 #include "tether/dynamics/elementwise.h"
 #include "tether/dynamics/rotation.h"
 
+#include <type_traits>
+
 namespace tether {
 namespace {
 
@@ -19,6 +21,10 @@ TETHER_FLATTEN void Integrate(const Model<T>& model, const VecX<T>& q, const Vec
     Elementwise(out, [h](const auto& x, const auto& y) { return x + h * y; }, q, v);
     return;
   }
+  if constexpr (std::is_same_v<T, Rev>) {
+    RecordSpatialIntegrate(model, q, v, h, out);
+    return;
+  }
   for (const Body<T>& body : model.bodies) {
     const T* qb = q.data() + body.q_offset;
     const T* vb = v.data() + body.v_offset;
@@ -29,10 +35,7 @@ TETHER_FLATTEN void Integrate(const Model<T>& model, const VecX<T>& q, const Vec
     }
     for (int k = 0; k < 3; ++k) ob[k] = qb[k] + h * vb[k];
     const Vec3<T> turn_P(T(h) * vb[3], T(h) * vb[4], T(h) * vb[5]);
-    const bool principal = body.principal_axes == Vec4<double>(1, 0, 0, 0);
-    const Vec3<T> turn_B = principal ? turn_P : Rotate(PrincipalAxes(body), turn_P);
-    // the product of unit quaternions is one; normalising removes the rounding that would otherwise accumulate
-    const Vec4<T> turned = Normalized(QuaternionProduct(Vec4<T>(qb[3], qb[4], qb[5], qb[6]), Exp(turn_B)));
+    const Vec4<T> turned = TurnedOrientation(Vec4<T>(qb[3], qb[4], qb[5], qb[6]), body.principal_axes, turn_P);
     for (int k = 0; k < 4; ++k) ob[3 + k] = turned[k];
   }
 }
@@ -62,6 +65,10 @@ template <typename T>
 TETHER_FLATTEN void DexpInv(const Model<T>& model, const VecX<T>& theta, const VecX<T>& v, VecX<T>* k) {
   if (k != &v) *k = v;
   if (model.spatial_bodies.empty()) return;
+  if constexpr (std::is_same_v<T, Rev>) {
+    RecordSpatialDexpInv(model, theta, k);
+    return;
+  }
   for (const Body<T>& body : model.bodies) {
     if (body.kind != BodyKind::kRigid3d) continue;
     const int r = body.v_offset + 3;

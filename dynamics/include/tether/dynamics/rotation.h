@@ -16,6 +16,7 @@
 
 #include <Eigen/Geometry>  // cross products
 #include <cmath>
+#include <utility>
 
 #include "tether/dynamics/scalar.h"
 
@@ -84,6 +85,34 @@ Vec4<T> Exp(const Vec3<T>& theta) {
   return Vec4<T>(c, s * theta[0], s * theta[1], s * theta[2]);
 }
 
+// An orientation turned by turn_P, given in the principal axes P of its body (R_BP from principal_axes):
+// q_WB (x) Exp(R_BP turn_P), normalised (configuration_space.h's Integrate).
+template <typename T>
+Vec4<T> TurnedOrientation(const Vec4<T>& q_WB, const Vec4<double>& principal_axes, const Vec3<T>& turn_P) {
+  const bool principal = principal_axes == Vec4<double>(1, 0, 0, 0);
+  const Vec3<T> turn_B = principal ? turn_P : Rotate(Vec4<T>(principal_axes.template cast<T>()), turn_P);
+  // the product of unit quaternions is one; normalising removes the rounding that would otherwise accumulate
+  return Normalized(QuaternionProduct(q_WB, Exp(turn_B)));
+}
+
+// Exp's coefficients as functions of sq = |theta|^2, with their derivatives, in double and by the branch Exp takes
+// (the recorded Integrate's adjoint, configuration_adjoint.cc): c = cos(|theta| / 2), s = sin(|theta| / 2) /
+// |theta|, dc/dsq = -s / 4 and ds/dsq = (c / 2 - s) / (2 sq), or the derivatives of the series.
+struct ExpCoefficients {
+  double c, s, dc, ds;
+};
+inline ExpCoefficients ExpCoefficientsAt(double sq) {
+  if (sq < 1e-2) {
+    return {1.0 + sq * (-1.0 / 8 + sq * (1.0 / 384 + sq * (-1.0 / 46080 + sq * (1.0 / 10321920)))),
+            0.5 + sq * (-1.0 / 48 + sq * (1.0 / 3840 + sq * (-1.0 / 645120 + sq * (1.0 / 185794560)))),
+            -1.0 / 8 + sq * (2.0 / 384 + sq * (-3.0 / 46080 + sq * (4.0 / 10321920))),
+            -1.0 / 48 + sq * (2.0 / 3840 + sq * (-3.0 / 645120 + sq * (4.0 / 185794560)))};
+  }
+  const double angle = std::sqrt(sq);
+  const double c = std::cos(0.5 * angle), s = std::sin(0.5 * angle) / angle;
+  return {c, s, -0.25 * s, (0.5 * c - s) / (2.0 * sq)};
+}
+
 template <typename T>
 Vec3<T> Log(const Vec4<T>& quaternion) {
   using std::atan2;
@@ -101,6 +130,21 @@ Vec3<T> Log(const Vec4<T>& quaternion) {
     scale = T(2.0) * atan2(norm, w) / norm;
   }
   return scale * v;
+}
+
+// DexpInv's c(s2) and its derivative dc/ds2, in double and by the branch DexpInv takes (its adjoint):
+// with s = sqrt(s2) and f = 1 - (s / 2) cot(s / 2), c = f / s2 and dc/ds2 = (f' / s - 2 c) / (2 s2),
+// f' = (s / 2 csc^2(s / 2) - cot(s / 2)) / 2; or the derivative of the series.
+inline std::pair<double, double> DexpInvCoefficientAt(double s2) {
+  if (s2 < 1e-2) {
+    return {1.0 / 12.0 + s2 * (1.0 / 720.0 + s2 * (1.0 / 30240.0 + s2 * (1.0 / 1209600.0))),
+            1.0 / 720.0 + s2 * (2.0 / 30240.0 + s2 * (3.0 / 1209600.0))};
+  }
+  const double s = std::sqrt(s2), half = 0.5 * s;
+  const double cot = 1.0 / std::tan(half), csc = 1.0 / std::sin(half);
+  const double c = (1.0 - half * cot) / s2;
+  const double f_prime = 0.5 * (half * csc * csc - cot);
+  return {c, (f_prime / s - 2.0 * c) / (2.0 * s2)};
 }
 
 template <typename T>
