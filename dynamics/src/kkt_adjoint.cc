@@ -37,49 +37,46 @@ namespace tether {
 namespace {
 
 // J by rows over the velocity vector: row i's entries are [start[i], start[i + 1]), those on its second body
-// from second[i]; entry e is J(i, column[e]) = value[e], recorded as node[e] (-1: a constant).
+// from second[i]; an entry is J(i, column) = value, recorded as node (-1: a constant).
 struct SparseRows {
-  std::vector<int> start{0}, second, column, node;
-  std::vector<double> value;
+  struct Entry {
+    int column, node;
+    double value;
+  };
+  std::vector<int> start{0}, second;
+  std::vector<Entry> entries;
 
   // Empties the rows, keeping room for `rows` of up to two 3D bodies.
   void Clear(size_t rows) {
     start.assign(1, 0);
     second.clear();
-    column.clear();
-    node.clear();
-    value.clear();
-    for (auto* entries : {&column, &node}) entries->reserve(12 * rows);
-    value.reserve(12 * rows);
+    entries.clear();
+    entries.reserve(12 * rows);
   }
   // Appends a row from its two blocks: the components each body kind has (kinematics.h's Dot).
   void Append(const std::vector<BodyLayout>& layout, int dimension, const BodyVector<Rev>& a,
               const BodyVector<Rev>& b) {
     AppendBlock(layout, dimension, a);
-    second.push_back(static_cast<int>(column.size()));
+    second.push_back(static_cast<int>(entries.size()));
     AppendBlock(layout, dimension, b);
-    start.push_back(static_cast<int>(column.size()));
+    start.push_back(static_cast<int>(entries.size()));
   }
   int rows() const { return static_cast<int>(second.size()); }
   double Dot(int i, const VecX<double>& x) const {
     double sum = 0.0;
-    for (int e = start[i]; e < start[i + 1]; ++e) sum += value[e] * x[column[e]];
+    for (int e = start[i]; e < start[i + 1]; ++e) sum += entries[e].value * x[entries[e].column];
     return sum;
   }
   // x += scale J_i^T, entry by entry as AddScaled adds a block's components
   void AddTransposed(int i, double scale, VecX<double>* x) const {
-    for (int e = start[i]; e < start[i + 1]; ++e) (*x)[column[e]] += scale * value[e];
+    for (int e = start[i]; e < start[i + 1]; ++e) (*x)[entries[e].column] += scale * entries[e].value;
   }
 
  private:
   void AppendBlock(const std::vector<BodyLayout>& layout, int dimension, const BodyVector<Rev>& g) {
     if (g.body == kWorld) return;
     const BodyLayout& body = layout[g.body];
-    const auto add = [this](int c, const Rev& x) {
-      column.push_back(c);
-      value.push_back(x.a);
-      node.push_back(x.index);
-    };
+    const auto add = [this](int c, const Rev& x) { entries.push_back({c, x.index, x.a}); };
     const int o = body.v_offset;
     if (body.kind == BodyKind::kParticle) {
       for (int k = 0; k < dimension; ++k) add(o + k, g.translation[k]);
@@ -139,16 +136,19 @@ struct KktRecord {
   void AddRegularizedAdjoint(int first, int end, double d, Tape* tape);
 };
 
-// (M^-1)bar from out = M^-1 x with outbar: the diagonal's entries and the 3D bodies' blocks, by body.
-void AddInverseMassAdjoint(const KktRecord& r, const VecX<double>& out_bar, const VecX<double>& x, Tape* tape) {
+// (M^-1)bar from out1 = M^-1 x1 and out2 = M^-1 x2 with out1bar, out2bar: the diagonal's entries and the 3D
+// bodies' blocks, by body.
+void AddInverseMassAdjoint(const KktRecord& r, const Eigen::Ref<const VecX<double>>& out1_bar, const VecX<double>& x1,
+                           const VecX<double>& out2_bar, const VecX<double>& x2, Tape* tape) {
   const std::vector<BodyLayout>& layout = *r.layout;
   for (size_t i = 0; i < layout.size(); ++i) {
     const int o = layout[i].v_offset;
     for (int k = 0; k < DiagonalCount(layout[i].kind, r.dimension); ++k) {
-      tape->AddAdjoint(r.diagonal_nodes[o + k], out_bar[o + k] * x[o + k]);
+      tape->AddAdjoint(r.diagonal_nodes[o + k], out1_bar[o + k] * x1[o + k] + out2_bar[o + k] * x2[o + k]);
     }
     if (layout[i].kind != BodyKind::kRigid3d) continue;
-    const Mat3<double> outer = out_bar.segment<3>(o + 3) * x.segment<3>(o + 3).transpose();
+    const Mat3<double> outer = out1_bar.segment<3>(o + 3) * x1.segment<3>(o + 3).transpose() +
+                               out2_bar.segment<3>(o + 3) * x2.segment<3>(o + 3).transpose();
     AddAdjoints(tape, r.rotational_nodes[i], outer);
   }
 }
@@ -177,9 +177,11 @@ void KktRecord::AddRegularizedAdjoint(int first, int end, double d, Tape* tape) 
   auto& [g, r_bar, jt_r, jt_lambda, h, a_plus_alpha_v, block, weighted] = scratch;
   block.setZero(f.size());
   weighted.resize(f.size());
-  for (int e = first; e < end; ++e) block[jacobian.column[e]] = jacobian.value[e];
+  for (int e = first; e < end; ++e) block[jacobian.entries[e].column] = jacobian.entries[e].value;
   ApplyInverseMass(*model, inverse_mass, block, &weighted);
-  for (int e = first; e < end; ++e) tape->AddAdjoint(jacobian.node[e], 2.0 * d * weighted[jacobian.column[e]]);
+  for (int e = first; e < end; ++e) {
+    tape->AddAdjoint(jacobian.entries[e].node, 2.0 * d * weighted[jacobian.entries[e].column]);
+  }
   AddAssemblyAdjoint(*this, d, block, block, tape);
 }
 
@@ -210,8 +212,8 @@ void KktRecord::Backward(const double* a_bar_data, Tape* tape) {
     tape->AddAdjoint(row_nodes[i][0], beta * r_bar[i]);
     tape->AddAdjoint(row_nodes[i][1], r_bar[i]);
     for (int e = jacobian.start[i]; e < jacobian.start[i + 1]; ++e) {
-      const int c = jacobian.column[e];
-      tape->AddAdjoint(jacobian.node[e], r_bar[i] * a_plus_alpha_v[c] - lambda[i] * h[c]);
+      const SparseRows::Entry& entry = jacobian.entries[e];
+      tape->AddAdjoint(entry.node, r_bar[i] * a_plus_alpha_v[entry.column] - lambda[i] * h[entry.column]);
     }
     if (regularized) {
       const double d = -kSchurRegularization * r_bar[i] * lambda[i];
@@ -219,8 +221,7 @@ void KktRecord::Backward(const double* a_bar_data, Tape* tape) {
       AddRegularizedAdjoint(jacobian.second[i], jacobian.start[i + 1], d, tape);
     }
   }
-  AddInverseMassAdjoint(*this, a_bar, y, tape);
-  AddInverseMassAdjoint(*this, jt_r, f, tape);
+  AddInverseMassAdjoint(*this, a_bar, y, jt_r, f, tape);
   AddAssemblyAdjoint(*this, -1.0, jt_r, jt_lambda, tape);
 }
 
@@ -245,9 +246,9 @@ bool SolveKkt<Rev>(const Model<Rev>& model, const VecX<Rev>& v, Workspace<Rev>* 
     r.constraint[static_cast<Eigen::Index>(i)] = row.value.a;
     r.row_nodes[i] = {row.value.index, row.bias.index};
   }
-  const auto recorded_node = [](int node) { return node >= 0; };
   bool recorded = ws->alpha.index >= 0 || ws->beta.index >= 0 ||
-                  std::any_of(r.jacobian.node.begin(), r.jacobian.node.end(), recorded_node) ||
+                  std::any_of(r.jacobian.entries.begin(), r.jacobian.entries.end(),
+                              [](const SparseRows::Entry& e) { return e.node >= 0; }) ||
                   std::any_of(r.row_nodes.begin(), r.row_nodes.end(),
                               [](const std::array<int, 2>& nodes) { return nodes[0] >= 0 || nodes[1] >= 0; });
   ValuesInto(ws->inverse_mass.diagonal, &r.inverse_mass.diagonal);

@@ -38,6 +38,7 @@ Vec3<int> NoNodes() { return Vec3<int>::Constant(-1); }
 
 // One side of a primitive: a 3D body's frame quantities (values and nodes), or none for a particle or the world.
 struct Side {
+  int body = kWorld;
   bool framed = false;  // a 3D rigid body
   Mat3<double> R_WB = Mat3<double>::Identity(), R_WP = Mat3<double>::Identity();
   Vec3<double> w = Vec3<double>::Zero();  // zero without velocity terms
@@ -49,6 +50,7 @@ Side SideOf(const Model<Rev>& model, const BodyFrames<Rev>& frames, int body, bo
   Side side;
   if (body == kWorld || model.bodies[body].kind != BodyKind::kRigid3d) return side;
   const BodyFrame<Rev>& f = frames[body];
+  side.body = body;
   side.framed = true;
   side.R_WB = Values(f.R_WB);
   side.R_WP = Values(f.R_WP);
@@ -61,13 +63,42 @@ Side SideOf(const Model<Rev>& model, const BodyFrames<Rev>& frames, int body, bo
   return side;
 }
 
-void AddSideAdjoints(Tape* tape, const Side& side, const Mat3<double>& R_WB_bar, const Mat3<double>& R_WP_bar,
-                     const Vec3<double>& w_bar) {
-  if (!side.framed) return;
-  AddAdjoints(tape, side.R_WB_nodes, R_WB_bar);
-  AddAdjoints(tape, side.R_WP_nodes, R_WP_bar);
-  AddAdjoints(tape, side.w_nodes, w_bar);
-}
+// The adjoints of the bodies' frame quantities (R_WB, R_WP, w) summed over an operation's rows, and added to their
+// nodes once per body when the sweep of the operation ends (Flush): a body's rows share its frame's nodes.
+class FrameAdjoints {
+ public:
+  void Add(const Side& side, const Mat3<double>& R_WB_bar, const Mat3<double>& R_WP_bar, const Vec3<double>& w_bar) {
+    if (!side.framed) return;
+    if (side.body >= static_cast<int>(slot_.size())) slot_.resize(side.body + 1, -1);
+    int& slot = slot_[side.body];
+    if (slot < 0) {
+      slot = static_cast<int>(sums_.size());
+      sums_.push_back({&side, Mat3<double>::Zero(), Mat3<double>::Zero(), Vec3<double>::Zero()});
+    }
+    Sum& sum = sums_[slot];
+    sum.R_WB += R_WB_bar;
+    sum.R_WP += R_WP_bar;
+    sum.w += w_bar;
+  }
+  void Flush(Tape* tape) {
+    for (const Sum& sum : sums_) {
+      AddAdjoints(tape, sum.side->R_WB_nodes, sum.R_WB);
+      AddAdjoints(tape, sum.side->R_WP_nodes, sum.R_WP);
+      AddAdjoints(tape, sum.side->w_nodes, sum.w);
+      slot_[sum.side->body] = -1;
+    }
+    sums_.clear();
+  }
+
+ private:
+  struct Sum {
+    const Side* side;  // one of the body's sides: its nodes
+    Mat3<double> R_WB, R_WP;
+    Vec3<double> w;
+  };
+  std::vector<int> slot_;  // by body index: the body's sum, or -1
+  std::vector<Sum> sums_;
+};
 
 // A point of a point primitive: its side, x and r (values and nodes) and the motion computed from them.
 struct PointSide {
@@ -113,7 +144,7 @@ struct PointSideAdjoint {
   Mat3<double> R_WP = Mat3<double>::Zero();
 };
 
-void FinishPointSide(Tape* tape, const PointSide& s, PointSideAdjoint adjoint) {
+void FinishPointSide(Tape* tape, const PointSide& s, PointSideAdjoint adjoint, FrameAdjoints* frames) {
   if (!s.side.framed) {  // p = x + r, or p = r
     if (s.on_body) AddAdjoints(tape, s.x_nodes, adjoint.position);
     AddAdjoints(tape, s.local_nodes, adjoint.position);
@@ -124,7 +155,7 @@ void FinishPointSide(Tape* tape, const PointSide& s, PointSideAdjoint adjoint) {
   adjoint.arm += spin_bar.cross(s.side.w) + adjoint.position;
   AddAdjoints(tape, s.x_nodes, adjoint.position);
   AddAdjoints(tape, s.local_nodes, Vec3<double>(s.side.R_WB.transpose() * adjoint.arm));
-  AddSideAdjoints(tape, s.side, adjoint.arm * s.local.transpose(), adjoint.R_WP, w_bar);
+  frames->Add(s.side, adjoint.arm * s.local.transpose(), adjoint.R_WP, w_bar);
 }
 
 struct PointEntry {
@@ -134,7 +165,8 @@ struct PointEntry {
 struct PointRecord {
   std::vector<PointEntry> entries;
   bool velocity_terms = false;
-  std::vector<double> values;  // the forward's outputs (scratch, reused with the record)
+  std::vector<double> values;    // the forward's outputs (scratch, reused with the record)
+  mutable FrameAdjoints frames;  // the backward sweep's sums (scratch)
 
   void Backward(const double* adjoint, Tape* tape) const {
     for (size_t i = 0; i < entries.size(); ++i) {
@@ -159,9 +191,10 @@ struct PointRecord {
           bar_b.arm += unit.cross(e.b.side.R_WP * g_bar_b);
         }
       }
-      FinishPointSide(tape, e.a, bar_a);
-      FinishPointSide(tape, e.b, bar_b);
+      FinishPointSide(tape, e.a, bar_a, &frames);
+      FinishPointSide(tape, e.b, bar_b, &frames);
     }
+    frames.Flush(tape);
   }
 };
 
@@ -175,7 +208,8 @@ struct AngleEntry {
 struct AngleRecord {
   std::vector<AngleEntry> entries;  // one per row
   bool velocity_terms = false;
-  std::vector<double> values;  // the forward's outputs (scratch, reused with the record)
+  std::vector<double> values;    // the forward's outputs (scratch, reused with the record)
+  mutable FrameAdjoints frames;  // the backward sweep's sums (scratch)
 
   void Backward(const double* adjoint, Tape* tape) const {
     for (size_t i = 0; i < entries.size(); ++i) {
@@ -217,17 +251,18 @@ struct AngleRecord {
       tape->AddAdjoint(e.c_node, -c_bar);
       if (e.a.framed) {
         AddAdjoints(tape, e.u_nodes, Vec3<double>(e.a.R_WB.transpose() * u_bar));
-        AddSideAdjoints(tape, e.a, u_bar * e.u_local.transpose(), R_WP_a_bar, w_a_bar);
+        frames.Add(e.a, u_bar * e.u_local.transpose(), R_WP_a_bar, w_a_bar);
       } else {
         AddAdjoints(tape, e.u_nodes, u_bar);
       }
       if (e.b.framed) {
         AddAdjoints(tape, e.w_nodes, Vec3<double>(e.b.R_WB.transpose() * w_bar));
-        AddSideAdjoints(tape, e.b, w_bar * e.w_local.transpose(), R_WP_b_bar, w_b_bar);
+        frames.Add(e.b, w_bar * e.w_local.transpose(), R_WP_b_bar, w_b_bar);
       } else {
         AddAdjoints(tape, e.w_nodes, w_bar);
       }
     }
+    frames.Flush(tape);
   }
 };
 
