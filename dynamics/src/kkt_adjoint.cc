@@ -21,8 +21,8 @@
 //   Jbar_i += -2 eps rbar_i lambda_i M^-1 J_i,   (M^-1)bar += -eps rbar_i lambda_i J_i J_i^T.
 // The rows, forces and inverse mass stay recorded, and carry these adjoints on to q, v and the parameters.
 // J is kept as sparse rows over the velocities (a row's entries on its first body, then on its second, in the
-// order of kinematics.h's Dot and AddScaled, so that J^T lambda adds up the same doubles), each entry with its
-// node: the sweep walks entries, not bodies.
+// order of kinematics.h's Dot and AddScaled, so that J^T lambda adds up the same doubles; constant zeros, which
+// add nothing, left out), each entry with its node: the sweep walks entries, not bodies.
 #include <algorithm>
 #include <array>
 #include <memory>
@@ -44,22 +44,23 @@ struct SparseRows {
     double value;
   };
   std::vector<int> start{0}, second;
-  std::vector<Entry> entries;
+  std::vector<Entry> entries;  // [0, start.back()) in use; sized for the most a row can have
 
-  // Empties the rows, keeping room for `rows` of up to two 3D bodies.
+  // Empties the rows, with room for `rows` of up to two 3D bodies.
   void Clear(size_t rows) {
     start.assign(1, 0);
     second.clear();
-    entries.clear();
-    entries.reserve(12 * rows);
+    if (entries.size() < 12 * rows) entries.resize(12 * rows);
   }
-  // Appends a row from its two blocks: the components each body kind has (kinematics.h's Dot).
+  // Appends a row from its two blocks: the components each body kind has (kinematics.h's Dot), but for the
+  // constant zeros (a point row's translational part is a unit vector), which add nothing either way.
   void Append(const std::vector<BodyLayout>& layout, int dimension, const BodyVector<Rev>& a,
               const BodyVector<Rev>& b) {
-    AppendBlock(layout, dimension, a);
-    second.push_back(static_cast<int>(entries.size()));
-    AppendBlock(layout, dimension, b);
-    start.push_back(static_cast<int>(entries.size()));
+    int used = start.back();
+    AppendBlock(layout, dimension, a, &used);
+    second.push_back(used);
+    AppendBlock(layout, dimension, b, &used);
+    start.push_back(used);
   }
   int rows() const { return static_cast<int>(second.size()); }
   double Dot(int i, const VecX<double>& x) const {
@@ -73,10 +74,13 @@ struct SparseRows {
   }
 
  private:
-  void AppendBlock(const std::vector<BodyLayout>& layout, int dimension, const BodyVector<Rev>& g) {
+  void AppendBlock(const std::vector<BodyLayout>& layout, int dimension, const BodyVector<Rev>& g, int* used) {
     if (g.body == kWorld) return;
     const BodyLayout& body = layout[g.body];
-    const auto add = [this](int c, const Rev& x) { entries.push_back({c, x.index, x.a}); };
+    Entry* out = entries.data();
+    const auto add = [out, used](int c, const Rev& x) {
+      if (x.a != 0.0 || x.index >= 0) out[(*used)++] = {c, x.index, x.a};
+    };
     const int o = body.v_offset;
     if (body.kind == BodyKind::kParticle) {
       for (int k = 0; k < dimension; ++k) add(o + k, g.translation[k]);
@@ -247,7 +251,7 @@ bool SolveKkt<Rev>(const Model<Rev>& model, const VecX<Rev>& v, Workspace<Rev>* 
     r.row_nodes[i] = {row.value.index, row.bias.index};
   }
   bool recorded = ws->alpha.index >= 0 || ws->beta.index >= 0 ||
-                  std::any_of(r.jacobian.entries.begin(), r.jacobian.entries.end(),
+                  std::any_of(r.jacobian.entries.begin(), r.jacobian.entries.begin() + r.jacobian.start.back(),
                               [](const SparseRows::Entry& e) { return e.node >= 0; }) ||
                   std::any_of(r.row_nodes.begin(), r.row_nodes.end(),
                               [](const std::array<int, 2>& nodes) { return nodes[0] >= 0 || nodes[1] >= 0; });
