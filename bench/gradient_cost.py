@@ -105,6 +105,11 @@ def table(report):
         if c:
             notes.append(f"{model_name(n)}: a Jet run costs {c[0]:.2f} plain simulations, the adjoint {c[1]:.1f}; "
                          f"the adjoint is the cheaper from P = {c[2]} on")
+        largest = max(p for p in parsed["counts"] if (n, "adjoint", p) in parsed["cells"])
+        adjoint = parsed["cells"][(n, "adjoint", largest)][0]
+        jets = parsed["cells"].get((n, "implicit", largest))
+        notes.append(f"{model_name(n)} at P = {largest}: the adjoint costs {adjoint:.2f} plain simulations"
+                     + (f", {jets[0] / adjoint:.0f} times less than the Jets" if jets else ""))
     notes.append("a Jet gradient is ceil(P / 4) Jet runs; central differences are 1 + 2P plain runs; the adjoint "
                  "is one plain run and one recorded replay")
     notes.append("host: " + bench_json.host(report))
