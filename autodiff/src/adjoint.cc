@@ -82,22 +82,32 @@ LossGradient AdjointGradient(const Model<double>& model, const ParameterSet& par
   // the states leave of the budget; the replay takes them instead of solving again
   const std::int64_t solve_budget =
       kAdjointMemoryBudget - ((planned + k - 1) / k + (k > 1 ? k : 0)) * state_bytes;
-  std::vector<KktLog> logs(static_cast<size_t>(k == 1 ? planned : k));
+  std::vector<KktLog> logs;  // K = 1: the first steps', one each, as long as they fit; K > 1: a segment's
   std::int64_t solve_bytes = 0, largest_solve_bytes = 0;
-  const auto log_step = [&](KktLog* log) {  // the stepper's log for its next step, if the budget allows
+  const auto step_keeping_solves = [&](KktLog* log) {  // one double step, its solves kept in *log if they fit
     log->Clear();
-    plain.set_kkt_log(solve_bytes < solve_budget ? log : nullptr);
-  };
-  const auto count_step = [&](const KktLog& log) {
-    solve_bytes += log.Bytes();
+    plain.set_kkt_log(log);
+    plain.Step();
+    const std::int64_t bytes = log->Bytes();
+    if (solve_bytes + bytes > solve_budget) {
+      log->Clear();  // its replay solves again
+      return false;
+    }
+    solve_bytes += bytes;
     largest_solve_bytes = std::max(largest_solve_bytes, solve_bytes);
+    return true;
   };
   std::int64_t steps = 0;
+  bool keeping = k == 1;
   for (; !plain.done(); ++steps) {
     if (steps % k == 0) checkpoints.push_back(plain.Save());
-    if (k == 1 && steps < planned) log_step(&logs[steps]);
-    plain.Step();
-    if (k == 1 && steps < planned) count_step(logs[steps]);
+    if (keeping) {
+      keeping = step_keeping_solves(&logs.emplace_back());
+      if (!keeping) logs.pop_back();
+    } else {
+      plain.set_kkt_log(nullptr);
+      plain.Step();
+    }
   }
   plain.set_kkt_log(nullptr);
   forward = false;
@@ -133,13 +143,12 @@ LossGradient AdjointGradient(const Model<double>& model, const ParameterSet& par
     segment.clear();
     if (k > 1) {
       solve_bytes = 0;
+      logs.resize(static_cast<size_t>(k));
       for (KktLog& log : logs) log.Clear();
     }
     if (count > 1) plain.Restore(checkpoints[c]);
     for (std::int64_t n = 1; n < count; ++n) {  // the segment's last step is replayed solving its own KKT systems
-      log_step(&logs[n - 1]);
-      plain.Step();
-      count_step(logs[n - 1]);
+      step_keeping_solves(&logs[n - 1]);
       segment.push_back(plain.Save());
     }
     plain.set_kkt_log(nullptr);
@@ -148,7 +157,7 @@ LossGradient AdjointGradient(const Model<double>& model, const ParameterSet& par
       recorded.Restore(in);
       recorded_loss = Rev(0.0);
       const std::int64_t step = c * k + n;
-      KktLog* log = k == 1 ? (step < planned ? &logs[step] : nullptr) : &logs[n];
+      KktLog* log = k > 1 ? &logs[n] : step < static_cast<std::int64_t>(logs.size()) ? &logs[step] : nullptr;
       recorded.set_kkt_log(log);
       recorded.Step();
       if (log && log->taken != log->kept) {
