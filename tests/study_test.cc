@@ -390,6 +390,24 @@ TEST_F(StudyTest, SweptPointerPastTheEndOfAnArrayIsAnInputErrorNamingThatPointer
   ExpectInputError(study, {study, "/bodies/3/mass"});
 }
 
+// A swept pointer that ends in /* writes its value into every element of that array (as --param's wildcard names
+// every element); on anything but a non-empty array it is an InputError naming the swept entry.
+TEST_F(StudyTest, AWildcardSweepWritesEveryElementOfItsArray) {
+  const std::string study = WriteStudy(R"({"/effects/0/acceleration/*": [-2.0, -4.0]})", R"(["seconds"])");
+  const StudySpec spec = ReadStudySpec(study);
+  ASSERT_EQ(RowCount(spec), 2);
+  for (int row = 0; row < 2; ++row) {
+    const RowScene scene = SceneOfRow(spec, Combination(spec, row), "row " + std::to_string(row));
+    ASSERT_EQ(scene.model.gravity.size(), 1u);
+    EXPECT_EQ(scene.model.gravity[0].acceleration, Vec3<double>(-2.0 * (row + 1), -2.0 * (row + 1), 0.0));
+  }
+  for (const std::string pointer : {"/bodies/0/mass/*", "/bodies/5/*"}) {
+    SCOPED_TRACE(pointer);
+    const std::string bad = WriteStudy(R"({")" + pointer + R"(": [1.0]})", R"(["seconds"])");
+    ExpectInputError(bad, {bad, "/sweep/", "not a non-empty array"});
+  }
+}
+
 TEST_F(StudyTest, EnergyDriftIsMeasuredWithoutTheReferenceMetric) {
   // euler at h = 0.01 gains energy visibly; the row must show it even when no reference is asked for
   const std::string study = WriteStudy(R"({"/simulation/integrator": ["euler"]})", R"(["energy_drift"])", 1.0);

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "tether/autodiff/parameters.h"
 #include "tether/dynamics/errors.h"
 #include "tether/dynamics/scene_reader.h"
 
@@ -74,6 +75,30 @@ void WriteAt(nlohmann::json* document, const std::string& pointer, const nlohman
     (*document)[at] = value;
   } catch (const nlohmann::json::exception& e) {  // e.g. an empty token where the path has to be made
     fail(std::string("the JSON library refused it (") + e.what() + ")");
+  }
+}
+
+// Writes a swept value: at its pointer, or, for a pointer that ends in "/*", at every element of that array (as
+// --param's wildcard names every element, parameters.h).
+void WriteSwept(nlohmann::json* document, const std::string& pointer, const nlohmann::json& value,
+                const std::string& study) {
+  if (!EndsInWildcard(pointer)) {
+    WriteAt(document, pointer, value, study);
+    return;
+  }
+  const std::string array = pointer.substr(0, pointer.size() - 2);
+  const nlohmann::json* elements = nullptr;
+  try {
+    elements = &document->at(nlohmann::json::json_pointer(array));
+  } catch (const nlohmann::json::exception&) {
+    elements = nullptr;  // a malformed or missing prefix: refused below
+  }
+  if (!elements || !elements->is_array() || elements->empty()) {
+    throw InputError(study + ": " + SweepEntry(pointer) + ": '/*' stands for the elements of an array, and " +
+                     (array.empty() ? std::string("the scene") : array) + " is not a non-empty array of the scene");
+  }
+  for (size_t k = 0; k < elements->size(); ++k) {
+    WriteAt(document, array + "/" + std::to_string(k), value, study);
   }
 }
 
@@ -256,7 +281,7 @@ RowScene SceneOfRow(const StudySpec& spec, const std::vector<nlohmann::json>& va
   }
   nlohmann::json document = spec.scenes.at(scene);
   for (size_t k = 0; k < spec.pointers.size(); ++k) {
-    if (spec.pointers[k] != kSceneColumn) WriteAt(&document, spec.pointers[k], values[k], spec.path);
+    if (spec.pointers[k] != kSceneColumn) WriteSwept(&document, spec.pointers[k], values[k], spec.path);
   }
   RowScene row;
   const nlohmann::json::json_pointer method(kStabilizationMethod);

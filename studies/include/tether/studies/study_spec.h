@@ -8,7 +8,8 @@
 //
 // A row is one combination of the swept values, the first column varying slowest. With several labelled scenes
 // the first column is `scene` (the label), then the pointers. Each value is written into the scene at its
-// pointer and the scene is read again with the usual validation; the value "tuned" at /stabilization/method
+// pointer (at every element of the array for a pointer ending in "/*") and the scene is read again with the
+// usual validation; the value "tuned" at /stabilization/method
 // asks for Baumgarte with the gains `tether tune` finds for that row's scene.
 #pragma once
 
