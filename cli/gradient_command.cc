@@ -18,6 +18,7 @@ class GradientCommand final : public Command {
     app_->add_option("SCENE", scene_path_, "scene file (JSON)")->required();
     app_->add_option("--data", data_path_, "observations: a trajectory CSV with t and any subset of columns")->required();
     app_->add_option("--param", pointers_, "a parameter, as a JSON Pointer into the scene (repeatable)")->required();
+    app_->add_option("--tie", ties_, "PTR=EXPR: PTR follows EXPR of other scene numbers in braces (repeatable)");
     app_->add_option("--method", method_,
                      "auto (default: jet below " + std::to_string(kAdjointCrossover) +
                          " parameters, adjoint from there), adjoint (the discrete adjoint), jet (Jets through the KKT "
@@ -31,7 +32,8 @@ class GradientCommand final : public Command {
     const GradientMethod requested = ParseGradientMethod(method_, "--method");
     Scene scene = ReadSceneFile(scene_path_);
     overrides_.Apply(&scene.model);
-    const ParameterSet parameters(scene, pointers_);
+    ParameterSet parameters(scene, pointers_);
+    parameters.Tie(scene, ties_);
     const Observations observations = ReadObservations(data_path_, scene.model);
 
     const auto start = std::chrono::steady_clock::now();
@@ -62,7 +64,7 @@ class GradientCommand final : public Command {
  private:
   CLI::App* app_;
   std::string scene_path_, data_path_, method_ = "auto";
-  std::vector<std::string> pointers_;
+  std::vector<std::string> pointers_, ties_;
   SceneOverrides overrides_;
 };
 

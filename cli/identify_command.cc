@@ -45,6 +45,7 @@ class IdentifyCommand final : public Command {
         ->required();
     app_->add_option("--param", pointers_, "an unknown, as a JSON Pointer into the scene (repeatable)")->required();
     app_->add_option("--bound", bounds_, "PTR=LO:HI bounds an unknown (repeatable; LO or HI may be left empty)");
+    app_->add_option("--tie", ties_, "PTR=EXPR: PTR follows EXPR of other scene numbers in braces (repeatable)");
     app_->add_option("--segments", segments_, "multiple shooting with K segments (default 1: single shooting)");
     app_->add_option("--loss", loss_, "robust loss: huber:DELTA or cauchy:DELTA (default: squares)");
     app_->add_option("--optimizer", optimizer_, "ceres (default) or nlopt:ALGORITHM");
@@ -78,7 +79,8 @@ class IdentifyCommand final : public Command {
 
     Scene scene = ReadSceneFile(scene_path_);
     overrides_.Apply(&scene.model);
-    const ParameterSet parameters(scene, pointers_);
+    ParameterSet parameters(scene, pointers_);
+    parameters.Tie(scene, ties_);
     std::vector<ParameterBound> bounds;
     for (const std::string& text : bounds_) {
       const auto [pointer, lo, hi] = ParseBound(text);
@@ -125,7 +127,7 @@ class IdentifyCommand final : public Command {
   bool fit_;
   CLI::App* app_;
   std::string scene_path_, output_path_, plot_path_, loss_, optimizer_ = "ceres", method_ = "auto";
-  std::vector<std::string> data_paths_, pointers_, bounds_;
+  std::vector<std::string> data_paths_, pointers_, bounds_, ties_;
   int segments_ = 1, max_evaluations_ = 200;
   double smooth_ = 0.0;
   SceneOverrides overrides_;

@@ -160,6 +160,29 @@ TEST_F(GradientCliTest, UnknownPointerExitsTwoNamingFileAndPointer) {
   EXPECT_EQ(run.out, "");
 }
 
+// --tie: the rod's length follows the mass (a made-up law), so d loss / d mass counts the length's change too; a
+// tie naming an unknown pointer exits 2 naming the flag and the pointer, with nothing on stdout.
+TEST_F(GradientCliTest, ATiedPointerFollowsItsExpressionAndAnUnknownOneExitsTwo) {
+  WritePendulumProblem();
+  const std::string base = "gradient '" + scene_ + "' --data '" + data_ + "' --param /bodies/0/mass";
+  const Outcome free = Tether(base);
+  const Outcome tied = Tether(base + " --tie '/constraints/0/length={/bodies/0/mass}*0.7'");
+  const Outcome tied_adjoint = Tether(base + " --tie '/constraints/0/length={/bodies/0/mass}*0.7' --method adjoint");
+  ASSERT_EQ(free.status, 0) << free.err;
+  ASSERT_EQ(tied.status, 0) << tied.err;
+  ASSERT_EQ(tied_adjoint.status, 0) << tied_adjoint.err;
+  const auto g = [](const Outcome& run) { return nlohmann::json::parse(run.out)["gradient"]["/bodies/0/mass"].get<double>(); };
+  // at mass 1 the tie leaves the length 0.7 as written: the same loss, another gradient
+  EXPECT_EQ(nlohmann::json::parse(tied.out)["loss"], nlohmann::json::parse(free.out)["loss"]);
+  EXPECT_GT(std::abs(g(tied) - g(free)), 1e-3 * std::abs(g(free)));
+  EXPECT_NEAR(g(tied_adjoint), g(tied), 1e-8 * std::abs(g(tied)));
+  const Outcome unknown = Tether(base + " --tie '/constraints/0/length={/bodies/4/mass}'");
+  EXPECT_EQ(unknown.status, 2) << unknown.err;
+  EXPECT_TRUE(Contains(unknown.err, "--tie")) << unknown.err;
+  EXPECT_TRUE(Contains(unknown.err, "/bodies/4/mass")) << unknown.err;
+  EXPECT_EQ(unknown.out, "");
+}
+
 TEST_F(GradientCliTest, NonDifferentiablePointerExitsTwoNamingFileAndPointer) {
   WritePendulumProblem();
   for (const std::string& pointer : {"/simulation/step", "/bodies/0/name", "/bodies/0/position"}) {

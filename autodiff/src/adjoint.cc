@@ -63,8 +63,14 @@ std::int64_t CheckpointInterval(std::int64_t steps, std::int64_t state_bytes, st
   return k;
 }
 
-LossGradient AdjointGradient(const Model<double>& model, const ParameterSet& parameters, const RunOptions& options,
+LossGradient AdjointGradient(const Model<double>& given, const ParameterSet& parameters, const RunOptions& options,
                              const SampleLoss& loss, std::int64_t interval, AdjointReport* report) {
+  Model<double> tied;  // the model with its tied fields set from the others, where there are ties
+  if (parameters.tied()) {
+    tied = given;
+    parameters.ApplyTies(&tied);
+  }
+  const Model<double>& model = parameters.tied() ? tied : given;
   // forward, in double: the loss, and a checkpoint every `interval` steps
   LossGradient result;
   bool forward = true;  // the segments run again backwards do not add to the loss
@@ -122,6 +128,7 @@ LossGradient AdjointGradient(const Model<double>& model, const ParameterSet& par
     field = tape.Variable(field.a);
     inputs.push_back(field);
   }
+  parameters.ApplyTies(&recorded_model);
   Rev recorded_loss(0.0);
   Stepper<Rev> recorded(recorded_model, options, [&](const Sample<Rev>& s) {
     if (s.stop >= 0) recorded_loss += loss.recorded(recorded_model, s);

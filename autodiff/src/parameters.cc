@@ -217,6 +217,38 @@ std::vector<std::string> Expanded(const Scene& scene, const std::vector<std::str
   return out;
 }
 
+// The ties with every one whose pointer ends in "/*" replaced by a tie per element k of its array, "/*}" in its
+// expression read as "/k}" (element k of the named array: one knot list following another, element by element).
+std::vector<std::string> TiesExpanded(const Scene& scene, const std::vector<std::string>& ties,
+                                      const std::string& flag) {
+  std::vector<std::string> out;
+  for (const std::string& text : ties) {
+    const size_t equals = text.find('=');
+    if (equals == std::string::npos) throw InputError(flag + " '" + text + "': expected PTR=EXPR");
+    const std::string pointer = text.substr(0, equals), expression = text.substr(equals + 1);
+    if (!EndsInWildcard(pointer)) {
+      out.push_back(text);
+      continue;
+    }
+    std::vector<std::string> elements;
+    try {
+      elements = Expanded(scene, {pointer});
+    } catch (const InputError& e) {
+      throw InputError(flag + " '" + text + "': " + e.what());
+    }
+    for (size_t k = 0; k < elements.size(); ++k) {
+      std::string element_expression = expression;
+      const std::string index = "/" + std::to_string(k) + "}";
+      for (size_t at = element_expression.find("/*}"); at != std::string::npos;
+           at = element_expression.find("/*}", at + index.size())) {
+        element_expression.replace(at, 3, index);
+      }
+      out.push_back(elements[k] + "=" + element_expression);
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 bool EndsInWildcard(const std::string& pointer) {
@@ -250,22 +282,94 @@ std::vector<double> ParameterSet::Values(const Model<double>& model) const {
   return values;
 }
 
-void ParameterSet::Assign(const std::vector<double>& values, Model<double>* model) const {
-  for (int i = 0; i < size(); ++i) Field(model, i) = values[i];
-}
-
-void ParameterSet::WriteInto(const std::vector<double>& values, nlohmann::json* document) const {
-  for (int i = 0; i < size(); ++i) {
-    (*document)[nlohmann::json::json_pointer(pointers_[i])] = values[i];
-    const FieldRef& f = fields_[i];
-    if (f.kind == Kind::kInertiaProduct) {  // the tensor stays symmetric
-      auto& tensor = (*document)["bodies"][f.index]["inertia"];
-      tensor[f.slot][f.component] = values[i];
-      tensor[f.component][f.slot] = values[i];
+void ParameterSet::Tie(const Scene& scene, const std::vector<std::string>& ties, const std::string& flag) {
+  const auto same = [](const FieldRef& a, const FieldRef& b) {
+    return a.kind == b.kind && a.index == b.index && a.slot == b.slot && a.component == b.component;
+  };
+  for (const std::string& text : TiesExpanded(scene, ties, flag)) {
+    const std::string source = flag + " '" + text + "'";
+    const size_t equals = text.find('=');
+    const std::string pointer = text.substr(0, equals);
+    const auto resolve = [&](const std::string& p) {
+      try {
+        return Resolver(scene, p).Resolve();
+      } catch (const InputError& e) {
+        throw InputError(source + ": " + e.what());
+      }
+    };
+    TieRef tie{pointer, resolve(pointer), TieExpression(text.substr(equals + 1), source), {}};
+    for (size_t k = 0; k < fields_.size(); ++k) {
+      if (same(fields_[k], tie.target)) throw InputError(source + ": " + pointer + " is a parameter (--param)");
+    }
+    for (const TieRef& earlier : ties_) {
+      if (same(earlier.target, tie.target)) throw InputError(source + ": " + pointer + " is tied twice");
+    }
+    for (const std::string& reference : tie.expression.references()) {
+      const FieldRef field = resolve(reference);
+      if (same(field, tie.target)) throw InputError(source + ": the expression names " + pointer + " itself");
+      tie.references.push_back(field);
+    }
+    ties_.push_back(std::move(tie));
+  }
+  for (size_t i = 0; i < ties_.size(); ++i) {  // a tie may use what earlier ties set, not what later ones will
+    for (size_t j = i + 1; j < ties_.size(); ++j) {
+      for (const FieldRef& reference : ties_[i].references) {
+        if (same(reference, ties_[j].target)) {
+          throw InputError(flag + " '" + ties_[i].pointer + "': names " + ties_[j].pointer +
+                           ", which a later tie sets (give that tie first)");
+        }
+      }
     }
   }
 }
 
+template <typename T>
+void ParameterSet::ApplyTies(Model<T>* model) const {
+  std::vector<T> values;
+  for (const TieRef& tie : ties_) {
+    values.clear();
+    for (const FieldRef& reference : tie.references) values.push_back(FieldOf(model, reference));
+    const T value = tie.expression.Evaluate(values);
+    FieldOf(model, tie.target) = value;
+    if (tie.target.kind == Kind::kInertiaProduct) {  // the tensor stays symmetric
+      model->bodies[tie.target.index].inertia_tensor(tie.target.component, tie.target.slot) = value;
+    }
+  }
+}
+
+void ParameterSet::Assign(const std::vector<double>& values, Model<double>* model) const {
+  for (int i = 0; i < size(); ++i) Field(model, i) = values[i];
+  ApplyTies(model);
+}
+
+namespace {
+
+// A number written at its pointer (a product of inertia at both of its places).
+void WriteNumber(const std::string& pointer, const FieldRef& f, double value, nlohmann::json* document) {
+  (*document)[nlohmann::json::json_pointer(pointer)] = value;
+  if (f.kind == Kind::kInertiaProduct) {  // the tensor stays symmetric
+    auto& tensor = (*document)["bodies"][f.index]["inertia"];
+    tensor[f.slot][f.component] = value;
+    tensor[f.component][f.slot] = value;
+  }
+}
+
+}  // namespace
+
+void ParameterSet::WriteInto(const std::vector<double>& values, nlohmann::json* document) const {
+  for (int i = 0; i < size(); ++i) WriteNumber(pointers_[i], fields_[i], values[i], document);
+  for (const TieRef& tie : ties_) {
+    std::vector<double> references;
+    for (const std::string& pointer : tie.expression.references()) {
+      references.push_back(document->at(nlohmann::json::json_pointer(pointer)).get<double>());
+    }
+    WriteNumber(tie.pointer, tie.target, tie.expression.Evaluate(references), document);
+  }
+}
+
+template void ParameterSet::ApplyTies<double>(Model<double>*) const;
+template void ParameterSet::ApplyTies<Jet>(Model<Jet>*) const;
+template void ParameterSet::ApplyTies<Rev>(Model<Rev>*) const;
 template double& ParameterSet::Field<double>(Model<double>*, int) const;
 template Jet& ParameterSet::Field<Jet>(Model<Jet>*, int) const;
 template Rev& ParameterSet::Field<Rev>(Model<Rev>*, int) const;

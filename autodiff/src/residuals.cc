@@ -35,6 +35,7 @@ void EvaluateByJets(const Model<double>& model, const ParameterSet& parameters, 
     Model<Jet> seeded = CastModel<Jet>(model);
     const int chunk = std::min(kJetStride, count - first);
     for (int k = 0; k < chunk; ++k) parameters.Field(&seeded, first + k).v[k] = 1.0;
+    parameters.ApplyTies(&seeded);
     const VecX<Jet> r = residuals(seeded);
     if (first == 0) {
       values->resize(r.size());
@@ -72,17 +73,21 @@ LossGradient CentralDifferenceLossGradient(const Model<double>& model, const Par
     return 0.5 * ObservationResiduals(m, observations).squaredNorm();
   };
   LossGradient result;
-  result.loss = loss(model);
-  const std::vector<double> values = parameters.Values(model);
   Model<double> shifted = model;
+  parameters.ApplyTies(&shifted);
+  result.loss = loss(shifted);
+  const std::vector<double> values = parameters.Values(model);
   for (int i = 0; i < parameters.size(); ++i) {
     const double h = CentralDifferenceStep(values[i]);
     double& field = parameters.Field(&shifted, i);
     field = values[i] + h;
+    parameters.ApplyTies(&shifted);
     const double up = loss(shifted);
     field = values[i] - h;
+    parameters.ApplyTies(&shifted);
     const double down = loss(shifted);
     field = values[i];
+    parameters.ApplyTies(&shifted);
     result.gradient.push_back((up - down) / (2 * h));
   }
   return result;

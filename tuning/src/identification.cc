@@ -90,6 +90,7 @@ class ShootingProblem {
   bool Evaluate(const std::vector<double>& x, Eigen::VectorXd* r, Eigen::MatrixXd* jacobian) const {
     Model<double> guess = model_;
     for (int i = 0; i < parameters_.size(); ++i) parameters_.Field(&guess, i) = ToParameter(i, x[i]);
+    parameters_.ApplyTies(&guess);
     try {
       if (!jacobian) {
         const std::vector<double> values = Residuals<double>(CastModel<double>(guess), x, -1);
@@ -122,6 +123,7 @@ class ShootingProblem {
                     std::vector<double>* gradient) const {
     Model<double> guess = TruncatedModel(model_, 0);
     for (int i = 0; i < parameters_.size(); ++i) parameters_.Field(&guess, i) = ToParameter(i, x[i]);
+    parameters_.ApplyTies(&guess);
     RunOptions options;
     options.every = std::numeric_limits<int>::max();
     options.stops = {boundaries_.back()};
@@ -172,6 +174,7 @@ class ShootingProblem {
   std::vector<ResidualStatistics> Statistics(const std::vector<double>& x) const {
     Model<double> guess = model_;
     for (int i = 0; i < parameters_.size(); ++i) parameters_.Field(&guess, i) = ToParameter(i, x[i]);
+    parameters_.ApplyTies(&guess);
     std::vector<ResidualStatistics> stats;
     for (const Observations& r : recordings_) {
       for (const TrajectoryColumn& c : r.columns) stats.push_back({r.path, c.name});
@@ -334,6 +337,7 @@ class ShootingProblem {
         }
       }
     }
+    parameters_.ApplyTies(&model);  // the tied fields follow the seeded ones
     std::vector<T> out;
     const auto ends = DataResiduals<T>(model, x, first_seeded, [&out](size_t, const T& r) { out.push_back(r); });
     // continuity: end of segment k (-) start of segment k + 1

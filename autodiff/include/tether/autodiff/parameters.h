@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "tether/autodiff/tie_expression.h"
 #include "tether/dynamics/scene_reader.h"
 
 namespace tether {
@@ -56,14 +57,33 @@ class ParameterSet {
   template <typename T>
   T& Field(Model<T>* model, int i) const;
 
+  // Ties (`--tie PTR=EXPR`, tie_expression.h): each PTR follows its expression of other scene numbers
+  // (parameters or not) instead of being an unknown, in the order given: a tie may name the pointers earlier ties
+  // set, not its own nor a later one's. Throws InputError naming `flag` (and the scene file where a pointer does
+  // not resolve): an unknown or non-differentiable pointer, a tied pointer that is also a parameter or tied twice.
+  void Tie(const Scene& scene, const std::vector<std::string>& ties, const std::string& flag = "--tie");
+  bool tied() const { return !ties_.empty(); }
+  // Sets the tied fields from the others; every place that sets the parameters in a model calls it after them.
+  template <typename T>
+  void ApplyTies(Model<T>* model) const;
+
   std::vector<double> Values(const Model<double>& model) const;
+  // Sets the parameters, then the ties.
   void Assign(const std::vector<double>& values, Model<double>* model) const;
-  // Writes the values into a scene document at their pointers (for writing a scene back).
+  // Writes the values into a scene document at their pointers, then the tied pointers' values from them (for
+  // writing a scene back).
   void WriteInto(const std::vector<double>& values, nlohmann::json* document) const;
 
  private:
+  struct TieRef {
+    std::string pointer;
+    FieldRef target;
+    TieExpression expression;
+    std::vector<FieldRef> references;  // of expression.references()
+  };
   std::vector<std::string> pointers_;
   std::vector<FieldRef> fields_;
+  std::vector<TieRef> ties_;
 };
 
 }  // namespace tether
