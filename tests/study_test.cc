@@ -408,6 +408,24 @@ TEST_F(StudyTest, AWildcardSweepWritesEveryElementOfItsArray) {
   }
 }
 
+// "ties" in the study file: numbers that follow the swept ones row by row (as --tie); a tie that does not resolve is
+// an InputError naming the study file and /ties.
+TEST_F(StudyTest, TiedNumbersFollowTheSweptOnes) {
+  folder_.Write("pendulum.json", PendulumScene(0.5));
+  const std::string study = folder_.Write(
+      "study.json", R"({"scene": "pendulum.json", "sweep": {"/stabilization/beta": [25.0, 50.0]},
+                        "ties": ["/stabilization/alpha={/stabilization/beta}/2.5"], "metrics": ["seconds"]})");
+  const StudySpec spec = ReadStudySpec(study);
+  for (int row = 0; row < 2; ++row) {
+    const RowScene scene = SceneOfRow(spec, Combination(spec, row), "row " + std::to_string(row));
+    EXPECT_DOUBLE_EQ(scene.model.stabilization.alpha, 10.0 * (row + 1));
+  }
+  const std::string bad = folder_.Write(
+      "bad.json", R"({"scene": "pendulum.json", "sweep": {"/stabilization/beta": [25.0]},
+                      "ties": ["/stabilization/alpha={/bodies/3/mass}"], "metrics": ["seconds"]})");
+  ExpectInputError(bad, {bad, "/ties", "/bodies/3/mass"});
+}
+
 TEST_F(StudyTest, EnergyDriftIsMeasuredWithoutTheReferenceMetric) {
   // euler at h = 0.01 gains energy visibly; the row must show it even when no reference is asked for
   const std::string study = WriteStudy(R"({"/simulation/integrator": ["euler"]})", R"(["energy_drift"])", 1.0);

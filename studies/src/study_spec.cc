@@ -112,13 +112,15 @@ class SpecReader {
     const nlohmann::ordered_json study = nlohmann::ordered_json::parse(ReadFile(path_, "study file"));
     if (!study.is_object()) Fail("(top level)", "expected an object");
     for (auto it = study.begin(); it != study.end(); ++it) {
-      if (it.key() != "scene" && it.key() != "sweep" && it.key() != "metrics" && it.key() != "figures") {
-        Fail("/" + it.key(), "unknown key '" + it.key() + "' (allowed here: scene, sweep, metrics, figures)");
+      if (it.key() != "scene" && it.key() != "sweep" && it.key() != "metrics" && it.key() != "figures" &&
+          it.key() != "ties") {
+        Fail("/" + it.key(), "unknown key '" + it.key() + "' (allowed here: scene, sweep, metrics, figures, ties)");
       }
     }
     spec_.path = path_;
     ReadScenes(study.contains("scene") ? study["scene"] : nlohmann::ordered_json());
     ReadSweep(study.contains("sweep") ? study["sweep"] : nlohmann::ordered_json());
+    if (study.contains("ties")) ReadTies(study["ties"]);
     ReadMetrics(study.contains("metrics") ? study["metrics"] : nlohmann::ordered_json());
     ReadFigures(study.contains("figures") ? study["figures"] : nlohmann::ordered_json::array({{{"type", "lines"}}}));
     // every combination must make a valid scene: check them now, before any run (errors name the row)
@@ -185,6 +187,14 @@ class SpecReader {
       std::vector<nlohmann::json> values;
       for (const auto& v : it.value()) values.push_back(nlohmann::json::parse(v.dump()));
       spec_.values.push_back(values);
+    }
+  }
+
+  void ReadTies(const nlohmann::ordered_json& ties) {
+    if (!ties.is_array()) Fail("/ties", "expected an array of \"PTR=EXPR\" strings");
+    for (size_t k = 0; k < ties.size(); ++k) {
+      if (!ties[k].is_string()) Fail("/ties/" + std::to_string(k), "expected a \"PTR=EXPR\" string");
+      spec_.ties.push_back(ties[k].get<std::string>());
     }
   }
 
@@ -282,6 +292,12 @@ RowScene SceneOfRow(const StudySpec& spec, const std::vector<nlohmann::json>& va
   nlohmann::json document = spec.scenes.at(scene);
   for (size_t k = 0; k < spec.pointers.size(); ++k) {
     if (spec.pointers[k] != kSceneColumn) WriteSwept(&document, spec.pointers[k], values[k], spec.path);
+  }
+  if (!spec.ties.empty()) {  // the tied numbers follow the row's values (parameters.h's ties, no unknowns)
+    const Scene swept = ParseScene(document, spec.path + " (" + row_name + ")");
+    ParameterSet tied(swept, {});
+    tied.Tie(swept, spec.ties, spec.path + ": /ties");
+    tied.WriteInto({}, &document);
   }
   RowScene row;
   const nlohmann::json::json_pointer method(kStabilizationMethod);

@@ -4,12 +4,13 @@
 //    "sweep": {PTR: [values], ...},          JSON Pointers into the scene, swept in the file's key order
 //    "metrics": [names],
 //    "figures": [{"type": "lines"} | {"type": "pareto", "x": METRIC, "y": METRIC}
-//                | {"type": "gain_map", "color": METRIC}]}   optional; default [{"type": "lines"}]
+//                | {"type": "gain_map", "color": METRIC}],   optional; default [{"type": "lines"}]
+//    "ties": ["PTR=EXPR", ...]}             optional: numbers that follow others, as --tie (parameters.h)
 //
 // A row is one combination of the swept values, the first column varying slowest. With several labelled scenes
 // the first column is `scene` (the label), then the pointers. Each value is written into the scene at its
-// pointer (at every element of the array for a pointer ending in "/*") and the scene is read again with the
-// usual validation; the value "tuned" at /stabilization/method
+// pointer (at every element of the array for a pointer ending in "/*"), the ties are set from the result, and the
+// scene is read again with the usual validation; the value "tuned" at /stabilization/method
 // asks for Baumgarte with the gains `tether tune` finds for that row's scene.
 #pragma once
 
@@ -37,6 +38,7 @@ struct StudySpec {
   std::vector<std::vector<nlohmann::json>> values;  // per column
   std::vector<std::string> metrics;
   std::vector<nlohmann::json> figures;              // validated figure requests
+  std::vector<std::string> ties;                    // "PTR=EXPR": numbers that follow the swept ones (--tie)
 };
 
 // Reads and validates STUDY.json, its scenes and every combination of the sweep. Throws InputError naming the
