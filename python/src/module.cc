@@ -134,9 +134,11 @@ Observations Data(const std::string& source, const std::vector<std::string>& nam
 
 std::string GradientOf(const Scene& scene, const std::vector<std::string>& names,
                        const py::array_t<double, py::array::c_style | py::array::forcecast>& values,
-                       const std::vector<std::string>& pointers, const std::string& method) {
+                       const std::vector<std::string>& pointers, const std::string& method,
+                       const std::vector<std::string>& ties) {
   const GradientMethod requested = ParseGradientMethod(method, "method");
-  const ParameterSet parameters(scene, pointers);
+  ParameterSet parameters(scene, pointers);
+  parameters.Tie(scene, ties, "ties");
   const Observations observations = Data("data", names, values, scene.model);
   return OnScene(scene, [&] {
     const auto start = std::chrono::steady_clock::now();
@@ -189,7 +191,7 @@ std::string IdentifyParameters(const Scene& scene, const std::vector<Dataset>& d
                                const std::vector<std::string>& pointers,
                                const std::vector<std::tuple<std::string, double, double>>& bounds, int segments,
                                const std::string& loss, const std::string& optimizer, int max_evaluations,
-                               double smooth, const std::string& method) {
+                               double smooth, const std::string& method, const std::vector<std::string>& ties) {
   IdentifySettings settings;
   CheckOptimizerName(optimizer, "optimizer");
   settings.optimizer.name = optimizer;
@@ -201,7 +203,8 @@ std::string IdentifyParameters(const Scene& scene, const std::vector<Dataset>& d
   settings.segments = segments;
   settings.smooth = smooth;
   settings.optimizer.max_evaluations = max_evaluations;
-  const ParameterSet parameters(scene, pointers);
+  ParameterSet parameters(scene, pointers);
+  parameters.Tie(scene, ties, "ties");
   std::vector<ParameterBound> checked;
   for (const auto& [pointer, lo, hi] : bounds) {
     if (!(lo < hi)) throw InputError("bounds: '" + pointer + "': the lower bound must be below the upper");

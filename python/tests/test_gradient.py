@@ -137,3 +137,16 @@ def test_a_wildcard_names_every_element_of_an_array(pendulum, observed):
     assert got["gradient"] == want["gradient"] and got["loss"] == want["loss"]
     with pytest.raises(tether.InputError, match=r"/bodies/0/mass/\*: '/\*' stands for the elements of an array"):
         tether.gradient(scene, data, ["/bodies/0/mass/*"])
+
+
+def test_a_tie_makes_a_number_follow_the_parameters(pendulum, observed):
+    """ties: the rod's length follows the mass (made up), so the gradient counts the length's change; the same as
+    --tie, as a dict or as "PTR=EXPR" strings, and an unknown pointer is refused naming ties."""
+    data, _ = observed
+    free = tether.gradient(pendulum, data, ["/bodies/0/mass"])
+    tied = tether.gradient(pendulum, data, ["/bodies/0/mass"], ties={"/constraints/0/length": "{/bodies/0/mass}*1.0"})
+    as_text = tether.gradient(pendulum, data, ["/bodies/0/mass"], ties=["/constraints/0/length={/bodies/0/mass}*1.0"])
+    assert tied == {**as_text, "seconds": tied["seconds"]}
+    assert tied["gradient"]["/bodies/0/mass"] != free["gradient"]["/bodies/0/mass"]
+    with pytest.raises(tether.InputError, match=r"ties '/constraints/0/length=\{/bodies/9/mass\}'.*/bodies/9/mass"):
+        tether.gradient(pendulum, data, ["/bodies/0/mass"], ties={"/constraints/0/length": "{/bodies/9/mass}"})

@@ -219,6 +219,17 @@ def _pointers(params):
     return pointers
 
 
+def _ties(ties):
+    """{pointer: expression} or ["PTR=EXPR", ...] as "PTR=EXPR" strings (as --tie)."""
+    if ties is None:
+        return []
+    if isinstance(ties, Mapping):
+        return [f"{pointer}={expression}" for pointer, expression in ties.items()]
+    if isinstance(ties, str):
+        return [ties]
+    return [str(tie) for tie in ties]
+
+
 def _bounds(bounds):
     """{pointer: (lo, hi)} (None: unbounded) as (pointer, lo, hi) triples."""
     if bounds is None:
@@ -235,14 +246,15 @@ def _bounds(bounds):
     return out
 
 
-def gradient(scene, data, params, method="auto"):
+def gradient(scene, data, params, method="auto", ties=None):
     """The loss 1/2 sum (simulated - observed)^2 over the data and its gradient with respect to the parameters
     (JSON Pointers): {"loss", "gradient", "parameters", "method", "seconds"}, as `tether gradient` prints.
     method: "auto" (Jets for few parameters, the adjoint for many), "jet" (forward mode through the KKT solves),
     "adjoint" (reverse mode, the discrete adjoint) or "fd" (central differences); "method" in the result names the
-    one used."""
+    one used. ties: {pointer: expression} (or "PTR=EXPR" strings), numbers that follow others, as --tie
+    ({"/bodies/1/inertia": "{/bodies/1/mass}*0.36/12"})."""
     names, values = _table(data, "data")
-    return json.loads(_tether.gradient(_scene(scene), names, values, _pointers(params), method))
+    return json.loads(_tether.gradient(_scene(scene), names, values, _pointers(params), method, _ties(ties)))
 
 
 def tune(scene, objective="reference", optimizer="ceres", samples=1, max_evaluations=200):
@@ -250,28 +262,28 @@ def tune(scene, objective="reference", optimizer="ceres", samples=1, max_evaluat
     return json.loads(_tether.tune(_scene(scene), objective, optimizer, samples, max_evaluations))
 
 
-def _estimate(scene, data, params, bounds, segments, loss, optimizer, max_evaluations, smooth, method):
+def _estimate(scene, data, params, bounds, segments, loss, optimizer, max_evaluations, smooth, method, ties):
     result = json.loads(_tether.identify(_scene(scene), _datasets(data), _pointers(params), _bounds(bounds), segments,
-                                         loss or "", optimizer, max_evaluations, smooth, method))
+                                         loss or "", optimizer, max_evaluations, smooth, method, _ties(ties)))
     if result["failed"]:  # where the command line exits with status 1
         warnings.warn("the estimate failed: " + "; ".join(result["warnings"]), EstimateFailed, stacklevel=3)
     return result
 
 
 def identify(scene, data, params, bounds=None, segments=1, loss=None, optimizer="ceres", max_evaluations=200,
-             method="auto"):
+             method="auto", ties=None):
     """Estimates the parameters (JSON Pointers) from one recording or a list of them, as `tether identify` (its
     JSON: estimates, standard deviations, correlations, residuals, "failed"). bounds: {pointer: (lo, hi)}, either
     may be None; loss: None, "huber:DELTA" or "cauchy:DELTA"; method: the derivatives a gradient-based NLopt
-    optimizer takes, "auto", "jet" or "adjoint" (as --method)."""
-    return _estimate(scene, data, params, bounds, segments, loss, optimizer, max_evaluations, 0.0, method)
+    optimizer takes, "auto", "jet" or "adjoint" (as --method); ties as for gradient."""
+    return _estimate(scene, data, params, bounds, segments, loss, optimizer, max_evaluations, 0.0, method, ties)
 
 
 def fit(scene, data, params, bounds=None, segments=1, loss=None, optimizer="ceres", max_evaluations=200,
-        smooth=0.0, method="auto"):
+        smooth=0.0, method="auto", ties=None):
     """Fits initial conditions or schedules to targets, as `tether fit` (smooth: the weight of the penalty on
-    changes between schedule values; method as for identify)."""
-    return _estimate(scene, data, params, bounds, segments, loss, optimizer, max_evaluations, smooth, method)
+    changes between schedule values; method and ties as for identify)."""
+    return _estimate(scene, data, params, bounds, segments, loss, optimizer, max_evaluations, smooth, method, ties)
 
 
 def check(scene):
