@@ -41,6 +41,14 @@ TEST(TieExpression, FollowsTheUsualPrecedenceWithARightAssociativePower) {
   EXPECT_DOUBLE_EQ(e.Evaluate(std::vector<double>{0.7, 0.6}), 0.7 * 0.36 / 12 + 0.7);
 }
 
+TEST(TieExpression, NestsDeeplyButNotWithoutBound) {
+  EXPECT_DOUBLE_EQ(Evaluate(std::string(100, '(') + "1" + std::string(100, ')')), 1.0);
+  EXPECT_DOUBLE_EQ(Evaluate(std::string(100, '-') + "1"), 1.0);
+  for (const std::string text : {std::string(100000, '(') + "1", std::string(100000, '-') + "1"}) {
+    EXPECT_THROW(TieExpression(text, "--tie"), InputError);
+  }
+}
+
 TEST(TieExpression, RefusesWhatItCannotReadNamingTheFlagAndThePlace) {
   for (const std::string text : {"", "2 +", "(1 + 2", "{/x", "{x}", "2 3", "nan", "2 ** 3", "{}"}) {
     SCOPED_TRACE(text);

@@ -65,7 +65,14 @@ class TieParser {
   void Term() {
     LeftAssociative([this] { Unary(); }, {{'*', Kind::kMultiply}, {'/', Kind::kDivide}});
   }
+  // Every nesting (a parenthesis, a sign, a power's exponent) passes here: bounded, so that no input can
+  // exhaust the stack.
   void Unary() {
+    if (++depth_ > kMaxDepth) Fail("an expression nested more than " + std::to_string(kMaxDepth) + " deep");
+    Nested();
+    --depth_;
+  }
+  void Nested() {
     if (Take('-')) {
       Unary();
       Emit(Kind::kNegate);
@@ -112,6 +119,8 @@ class TieParser {
   const std::string& source_;
   TieExpression* out_;
   size_t at_ = 0;
+  int depth_ = 0;
+  static constexpr int kMaxDepth = 200;
 };
 
 TieExpression::TieExpression(const std::string& text, const std::string& source) {
