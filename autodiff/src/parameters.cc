@@ -201,18 +201,13 @@ std::vector<std::string> Expanded(const Scene& scene, const std::vector<std::str
       out.push_back(pointer);
       continue;
     }
-    const std::string array = pointer.substr(0, pointer.size() - 2);
-    const json* elements = nullptr;
-    try {
-      elements = &scene.document.at(json::json_pointer(array));
-    } catch (const json::exception&) {
-      elements = nullptr;  // a malformed or missing prefix: refused below
-    }
-    if (!elements || !elements->is_array() || elements->empty()) {
+    const std::vector<std::string> elements = WildcardElements(scene.document, pointer);
+    if (elements.empty()) {
+      const std::string array = pointer.substr(0, pointer.size() - 2);
       throw InputError(scene.path + ": " + pointer + ": '/*' stands for the elements of an array, and " +
                        (array.empty() ? std::string("the document") : array) + " is not a non-empty array");
     }
-    for (size_t k = 0; k < elements->size(); ++k) out.push_back(array + "/" + std::to_string(k));
+    out.insert(out.end(), elements.begin(), elements.end());
   }
   return out;
 }
@@ -253,6 +248,20 @@ std::vector<std::string> TiesExpanded(const Scene& scene, const std::vector<std:
 
 bool EndsInWildcard(const std::string& pointer) {
   return pointer.size() >= 2 && pointer.compare(pointer.size() - 2, 2, "/*") == 0;
+}
+
+std::vector<std::string> WildcardElements(const nlohmann::json& document, const std::string& pointer) {
+  const std::string array = pointer.substr(0, pointer.size() - 2);
+  const json* elements = nullptr;
+  try {
+    elements = &document.at(json::json_pointer(array));
+  } catch (const json::exception&) {
+    return {};  // a malformed or missing prefix
+  }
+  std::vector<std::string> out;
+  if (!elements->is_array()) return out;
+  for (size_t k = 0; k < elements->size(); ++k) out.push_back(array + "/" + std::to_string(k));
+  return out;
 }
 
 ParameterSet::ParameterSet(const Scene& scene, const std::vector<std::string>& given) {

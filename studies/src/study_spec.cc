@@ -86,20 +86,13 @@ void WriteSwept(nlohmann::json* document, const std::string& pointer, const nloh
     WriteAt(document, pointer, value, study);
     return;
   }
-  const std::string array = pointer.substr(0, pointer.size() - 2);
-  const nlohmann::json* elements = nullptr;
-  try {
-    elements = &document->at(nlohmann::json::json_pointer(array));
-  } catch (const nlohmann::json::exception&) {
-    elements = nullptr;  // a malformed or missing prefix: refused below
-  }
-  if (!elements || !elements->is_array() || elements->empty()) {
+  const std::vector<std::string> elements = WildcardElements(*document, pointer);
+  if (elements.empty()) {
+    const std::string array = pointer.substr(0, pointer.size() - 2);
     throw InputError(study + ": " + SweepEntry(pointer) + ": '/*' stands for the elements of an array, and " +
                      (array.empty() ? std::string("the scene") : array) + " is not a non-empty array of the scene");
   }
-  for (size_t k = 0; k < elements->size(); ++k) {
-    WriteAt(document, array + "/" + std::to_string(k), value, study);
-  }
+  for (const std::string& element : elements) WriteAt(document, element, value, study);
 }
 
 class SpecReader {

@@ -40,6 +40,9 @@ struct FieldRef {
 
 // Whether a pointer ends in "/*": it stands for every element of the array before it (ParameterSet, bounds).
 bool EndsInWildcard(const std::string& pointer);
+// The pointers of the elements of the array that a pointer ending in "/*" names, in order; none where it names no
+// non-empty array (the callers refuse it, naming their own file and entry).
+std::vector<std::string> WildcardElements(const nlohmann::json& document, const std::string& pointer);
 
 class ParameterSet {
  public:

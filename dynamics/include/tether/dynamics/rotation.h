@@ -15,6 +15,7 @@
 #pragma once
 
 #include <Eigen/Geometry>  // cross products
+#include <array>
 #include <cmath>
 #include <utility>
 
@@ -65,6 +66,28 @@ Vec4<T> Normalized(const Vec4<T>& q) {
   return q / sqrt(q.squaredNorm());
 }
 
+// Below |theta|^2 = kSeriesBelow, Exp and DexpInv take their Taylor series in |theta|^2, each written once here for
+// the functions and for their derivatives' helpers below.
+inline constexpr double kSeriesBelow = 1e-2;
+inline constexpr std::array<double, 5> kExpCosineSeries = {1.0, -1.0 / 8, 1.0 / 384, -1.0 / 46080, 1.0 / 10321920};
+inline constexpr std::array<double, 5> kExpSineSeries = {0.5, -1.0 / 48, 1.0 / 3840, -1.0 / 645120,
+                                                         1.0 / 185794560};
+inline constexpr std::array<double, 4> kDexpInvSeries = {1.0 / 12.0, 1.0 / 720.0, 1.0 / 30240.0, 1.0 / 1209600.0};
+
+// sum_k a_k x^k by Horner's rule, a_0 + x (a_1 + x (a_2 + ...)), and its derivative sum_k k a_k x^(k - 1).
+template <typename T, size_t N>
+T Series(const std::array<double, N>& a, const T& x) {
+  T sum = T(a[N - 1]);
+  for (size_t k = N - 1; k-- > 0;) sum = T(a[k]) + x * sum;
+  return sum;
+}
+template <size_t N>
+double SeriesDerivative(const std::array<double, N>& a, double x) {
+  double sum = static_cast<double>(N - 1) * a[N - 1];
+  for (size_t k = N - 1; k-- > 1;) sum = static_cast<double>(k) * a[k] + x * sum;
+  return sum;
+}
+
 template <typename T>
 Vec4<T> Exp(const Vec3<T>& theta) {
   using std::cos;
@@ -72,11 +95,9 @@ Vec4<T> Exp(const Vec3<T>& theta) {
   using std::sqrt;
   const T squared = theta.squaredNorm();
   T c, s;  // cos(|theta| / 2) and sin(|theta| / 2) / |theta|
-  if (Value(squared) < 1e-2) {  // the series to |theta|^8: the first term left out is below 3e-20
-    c = T(1.0) + squared * (T(-1.0 / 8) + squared * (T(1.0 / 384) + squared * (T(-1.0 / 46080) +
-                                                                               squared * T(1.0 / 10321920))));
-    s = T(0.5) + squared * (T(-1.0 / 48) + squared * (T(1.0 / 3840) + squared * (T(-1.0 / 645120) +
-                                                                                squared * T(1.0 / 185794560))));
+  if (Value(squared) < kSeriesBelow) {  // the series to |theta|^8: the first term left out is below 3e-20
+    c = Series(kExpCosineSeries, squared);
+    s = Series(kExpSineSeries, squared);
   } else {
     const T angle = sqrt(squared);
     c = cos(T(0.5) * angle);
@@ -102,11 +123,9 @@ struct ExpCoefficients {
   double c, s, dc, ds;
 };
 inline ExpCoefficients ExpCoefficientsAt(double sq) {
-  if (sq < 1e-2) {
-    return {1.0 + sq * (-1.0 / 8 + sq * (1.0 / 384 + sq * (-1.0 / 46080 + sq * (1.0 / 10321920)))),
-            0.5 + sq * (-1.0 / 48 + sq * (1.0 / 3840 + sq * (-1.0 / 645120 + sq * (1.0 / 185794560)))),
-            -1.0 / 8 + sq * (2.0 / 384 + sq * (-3.0 / 46080 + sq * (4.0 / 10321920))),
-            -1.0 / 48 + sq * (2.0 / 3840 + sq * (-3.0 / 645120 + sq * (4.0 / 185794560)))};
+  if (sq < kSeriesBelow) {
+    return {Series(kExpCosineSeries, sq), Series(kExpSineSeries, sq), SeriesDerivative(kExpCosineSeries, sq),
+            SeriesDerivative(kExpSineSeries, sq)};
   }
   const double angle = std::sqrt(sq);
   const double c = std::cos(0.5 * angle), s = std::sin(0.5 * angle) / angle;
@@ -136,10 +155,7 @@ Vec3<T> Log(const Vec4<T>& quaternion) {
 // with s = sqrt(s2) and f = 1 - (s / 2) cot(s / 2), c = f / s2 and dc/ds2 = (f' / s - 2 c) / (2 s2),
 // f' = (s / 2 csc^2(s / 2) - cot(s / 2)) / 2; or the derivative of the series.
 inline std::pair<double, double> DexpInvCoefficientAt(double s2) {
-  if (s2 < 1e-2) {
-    return {1.0 / 12.0 + s2 * (1.0 / 720.0 + s2 * (1.0 / 30240.0 + s2 * (1.0 / 1209600.0))),
-            1.0 / 720.0 + s2 * (2.0 / 30240.0 + s2 * (3.0 / 1209600.0))};
-  }
+  if (s2 < kSeriesBelow) return {Series(kDexpInvSeries, s2), SeriesDerivative(kDexpInvSeries, s2)};
   const double s = std::sqrt(s2), half = 0.5 * s;
   const double cot = 1.0 / std::tan(half), csc = 1.0 / std::sin(half);
   const double c = (1.0 - half * cot) / s2;
@@ -153,8 +169,8 @@ Vec3<T> DexpInv(const Vec3<T>& theta, const Vec3<T>& w) {
   using std::tan;
   const T s2 = theta.squaredNorm();
   T c;
-  if (Value(s2) < 1e-2) {
-    c = T(1.0 / 12.0) + s2 * (T(1.0 / 720.0) + s2 * (T(1.0 / 30240.0) + s2 * T(1.0 / 1209600.0)));
+  if (Value(s2) < kSeriesBelow) {
+    c = Series(kDexpInvSeries, s2);
   } else {
     const T s = sqrt(s2);
     c = (T(1.0) - T(0.5) * s / tan(T(0.5) * s)) / s2;
