@@ -35,18 +35,40 @@ std::tuple<std::string, double, double> ParseBound(const std::string& text) {
   return {text.substr(0, equals), lo, hi};
 }
 
+// "COLUMN=VALUE@T" (after --at-least or --at-most) -> the target.
+InequalityTarget ParseInequality(const std::string& text, bool at_least) {
+  const std::string flag = at_least ? "--at-least" : "--at-most";
+  const size_t at = text.rfind('@'), equals = text.rfind('=', at);
+  if (at == std::string::npos || equals == std::string::npos || equals == 0) {
+    throw InputError(flag + ": '" + text + "' is not COLUMN=VALUE@T (e.g. tip.y=1.99@5)");
+  }
+  auto number = [&](const std::string& s) {
+    char* end = nullptr;
+    const double x = std::strtod(s.c_str(), &end);
+    if (s.empty() || end != s.c_str() + s.size() || !std::isfinite(x)) {
+      throw InputError(flag + ": '" + text + "': '" + s + "' is not a finite number");
+    }
+    return x;
+  };
+  return {text.substr(0, equals), number(text.substr(equals + 1, at - equals - 1)), number(text.substr(at + 1)),
+          at_least, flag + " " + text};
+}
+
 class IdentifyCommand final : public Command {
  public:
   IdentifyCommand(CLI::App* parent, bool fit) : fit_(fit) {
     app_ = fit ? parent->add_subcommand("fit", "fit initial conditions or force schedules to target keyframes")
                : parent->add_subcommand("identify", "identify scene parameters from recorded trajectories");
     app_->add_option("SCENE", scene_path_, "scene file (JSON) holding the initial guess")->required();
-    app_->add_option("--data", data_paths_, "a recording or targets: trajectory CSV with t and any columns (repeatable)")
-        ->required();
+    CLI::Option* data =
+        app_->add_option("--data", data_paths_, "a recording or targets: trajectory CSV with t and any columns (repeatable)");
+    if (!fit) data->required();
     app_->add_option("--param", pointers_, "an unknown, as a JSON Pointer into the scene (repeatable)")->required();
     app_->add_option("--bound", bounds_, "PTR=LO:HI bounds an unknown (repeatable; LO or HI may be left empty)");
     app_->add_option("--tie", ties_, "PTR=EXPR: PTR follows EXPR of other scene numbers in braces (repeatable)");
-    app_->add_option("--segments", segments_, "multiple shooting with K segments (default 1: single shooting)");
+    app_->add_option("--segments", segments_,
+                     fit ? "multiple shooting with K segments (default: single shooting, multiple where it fails)"
+                         : "multiple shooting with K segments (default 1: single shooting)");
     app_->add_option("--loss", loss_, "robust loss: huber:DELTA or cauchy:DELTA (default: squares)");
     app_->add_option("--optimizer", optimizer_, "ceres (default) or nlopt:ALGORITHM");
     app_->add_option("--method", method_,
@@ -55,7 +77,14 @@ class IdentifyCommand final : public Command {
     app_->add_option("--max-evaluations", max_evaluations_, "budget of residual evaluations for NLopt; Ceres gets half as many iterations (default 200)");
     app_->add_option("-o,--output", output_path_, "write the scene with the estimates in place");
     app_->add_option("--plot", plot_path_, "draw the data against the motion with the estimates (PNG or SVG)");
-    if (fit) app_->add_option("--smooth", smooth_, "weight W of the penalty on changes between schedule values");
+    if (fit) {
+      app_->add_option("--smooth", smooth_, "weight W of the penalty on changes between schedule values");
+      app_->add_option("--effort", effort_, "weight W of the joint motors' effort, W times the integral of torque^2");
+      app_->add_option("--at-least", at_least_, "COLUMN=VALUE@T: a constraint, COLUMN >= VALUE at time T (repeatable)");
+      app_->add_option("--at-most", at_most_, "COLUMN=VALUE@T: a constraint, COLUMN <= VALUE at time T (repeatable)");
+      app_->add_option("--starts", starts_, "the scene's values and N - 1 random starts within the bounds (default 1)");
+      app_->add_option("--seed", seed_, "seed of the random starts (default 1)");
+    }
     overrides_.Register(app_);
   }
 
@@ -66,6 +95,19 @@ class IdentifyCommand final : public Command {
     settings.optimizer.name = optimizer_;
     CheckOptimizerName(optimizer_, "--optimizer");
     settings.method = ParseGradientMethod(method_, "--method");
+    for (const std::string& text : at_least_) settings.inequalities.push_back(ParseInequality(text, true));
+    for (const std::string& text : at_most_) settings.inequalities.push_back(ParseInequality(text, false));
+    CheckCount(starts_, 1, kMaxStarts, "--starts");
+    settings.starts = starts_;
+    settings.seed = seed_;
+    const bool trajectory = !settings.inequalities.empty() || starts_ > 1;
+    // constraints need a solver made for them (trajectory_fit.h); an explicit --optimizer is taken as given
+    if (trajectory && app_->count("--optimizer") == 0) settings.optimizer.name = optimizer_ = "nlopt:LD_SLSQP";
+    if (data_paths_.empty() && settings.inequalities.empty()) {
+      throw InputError("--data: fit needs targets: --data TARGETS.csv, or constraints (--at-least, --at-most)");
+    }
+    if (!(effort_ >= 0) || !std::isfinite(effort_)) throw InputError("--effort: must be >= 0");
+    settings.effort = effort_;
     if (!loss_.empty()) settings.optimizer.loss = ParseRobustLoss(loss_, "--loss");
     CheckCount(segments_, 1, kMaxSegments, "--segments");
     CheckCount(max_evaluations_, 2, kMaxEvaluations, "--max-evaluations");
@@ -73,7 +115,7 @@ class IdentifyCommand final : public Command {
     inputs.push_back(scene_path_);
     CheckOutputs({{output_path_, "-o"}, {plot_path_, "--plot", true}}, inputs);
     if (!(smooth_ >= 0) || !std::isfinite(smooth_)) throw InputError("--smooth: must be >= 0");
-    settings.segments = segments_;
+    settings.segments = fit_ && app_->count("--segments") == 0 ? 0 : segments_;
     settings.smooth = smooth_;
     settings.optimizer.max_evaluations = max_evaluations_;
 
@@ -104,7 +146,7 @@ class IdentifyCommand final : public Command {
       out->stream() << updated.dump(2) << "\n";
       out->Commit();
     }
-    std::cout << IdentifyJson(parameters, result, optimizer_, segments_).dump(2) << std::endl;
+    std::cout << IdentifyJson(parameters, result, optimizer_).dump(2) << std::endl;
     for (const std::string& warning : result.warnings) std::cerr << "tether: warning: " << warning << "\n";
     if (result.failed) {
       std::cerr << "tether: the " << (fit_ ? "fit" : "identification") << " failed (warnings above)"
@@ -128,8 +170,10 @@ class IdentifyCommand final : public Command {
   CLI::App* app_;
   std::string scene_path_, output_path_, plot_path_, loss_, optimizer_ = "ceres", method_ = "auto";
   std::vector<std::string> data_paths_, pointers_, bounds_, ties_;
-  int segments_ = 1, max_evaluations_ = 200;
-  double smooth_ = 0.0;
+  std::vector<std::string> at_least_, at_most_;
+  int segments_ = 1, max_evaluations_ = 200, starts_ = 1;
+  unsigned seed_ = 1;
+  double smooth_ = 0.0, effort_ = 0.0;
   SceneOverrides overrides_;
 };
 

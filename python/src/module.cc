@@ -214,8 +214,7 @@ std::string IdentifyParameters(const Scene& scene, const std::vector<Dataset>& d
   std::vector<Observations> recordings;
   for (const Dataset& d : datasets) recordings.push_back(Data(d.source, d.names, d.values, scene.model));
   return OnScene(scene, [&] {
-    return IdentifyJson(parameters, Identify(scene.model, parameters, recordings, settings), optimizer, segments)
-        .dump();
+    return IdentifyJson(parameters, Identify(scene.model, parameters, recordings, settings), optimizer).dump();
   });
 }
 

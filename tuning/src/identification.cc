@@ -14,6 +14,8 @@
 #include "tether/dynamics/simulator.h"
 #include "tether/dynamics/trajectory.h"
 #include "fit_judgement.h"
+#include "shooting_problem.h"
+#include "trajectory_fit.h"
 
 namespace tether {
 namespace {
@@ -21,352 +23,6 @@ namespace {
 using Kind = FieldRef::Kind;
 constexpr double kUnbounded = std::numeric_limits<double>::max();
 
-// The velocity index of configuration index i when it is a translation or a planar angle, -1 otherwise (a
-// quaternion component).
-int VelocityIndexOf(const Model<double>& model, int i) {
-  for (const Body<double>& body : model.bodies) {
-    if (i < body.q_offset || i >= body.q_offset + body.q_size) continue;
-    const int k = i - body.q_offset;
-    return body.kind == BodyKind::kRigid3d && k >= 3 ? -1 : body.v_offset + k;
-  }
-  return -1;
-}
-
-// Everything Identify needs to turn unknowns into residuals.
-class ShootingProblem {
- public:
-  ShootingProblem(const Model<double>& model, const ParameterSet& parameters, const std::vector<Observations>& recordings,
-                  const IdentifySettings& settings)
-      : model_(model), parameters_(parameters), recordings_(recordings), settings_(settings) {
-    const std::vector<double> values = parameters.Values(model);
-    for (int i = 0; i < parameters.size(); ++i) {
-      const bool lower_positive = settings.bounds.empty() || settings.bounds[i].first > 0 ||
-                                  settings.bounds[i].first == -kUnbounded;
-      log_space_.push_back(PositiveKind(parameters.field(i).kind) && values[i] > 0 && lower_positive);
-    }
-    double end = 0.0;
-    for (const Observations& r : recordings) end = std::max(end, r.times.back());
-    if (!(end > 0.0)) throw InputError("the data has no observation after t = 0: there is nothing to fit");
-    const int segments = std::max(1, settings.segments);
-    for (int k = 0; k <= segments; ++k) boundaries_.push_back(end * k / segments);
-    state_size_ = 2 * model.NumVelocities();
-    if (segments > 1) references_ = SegmentStarts();
-    // the smoothing pairs: consecutive values of one schedule component
-    for (int a = 0; a < parameters.size(); ++a) {
-      for (int b = 0; b < parameters.size(); ++b) {
-        const FieldRef &fa = parameters.field(a), &fb = parameters.field(b);
-        const bool schedule = fa.kind == Kind::kForceSchedule || fa.kind == Kind::kTorqueSchedule ||
-                              fa.kind == Kind::kJointTorqueSchedule;
-        if (schedule && fb.kind == fa.kind && fb.index == fa.index && fb.component == fa.component &&
-            fb.slot == fa.slot + 1) {
-          smooth_pairs_.push_back({a, b});
-        }
-      }
-    }
-  }
-
-  int Unknowns() const { return parameters_.size() + (Segments() - 1) * state_size_; }
-  int Segments() const { return static_cast<int>(boundaries_.size()) - 1; }
-  bool LogSpace(int i) const { return log_space_[i]; }
-
-  // unknowns <-> parameters (in their own units)
-  double ToUnknown(int i, double p) const { return log_space_[i] ? std::log(p) : p; }
-  double ToParameter(int i, double x) const { return log_space_[i] ? std::exp(x) : x; }
-
-  // The starting unknowns: the scene's parameters and, for multiple shooting, the segments' start states as
-  // offsets from their references (zero) and velocities.
-  std::vector<double> Start() const {
-    std::vector<double> x;
-    const std::vector<double> values = parameters_.Values(model_);
-    for (int i = 0; i < parameters_.size(); ++i) x.push_back(ToUnknown(i, values[i]));
-    for (const State<double>& reference : references_) {
-      for (int i = 0; i < reference.v.size(); ++i) x.push_back(0.0);
-      for (int i = 0; i < reference.v.size(); ++i) x.push_back(reference.v[i]);
-    }
-    return x;
-  }
-
-  // Residuals at unknowns x, and their Jacobian when asked (Jets in chunks of kJetStride unknowns).
-  bool Evaluate(const std::vector<double>& x, Eigen::VectorXd* r, Eigen::MatrixXd* jacobian) const {
-    Model<double> guess = model_;
-    for (int i = 0; i < parameters_.size(); ++i) parameters_.Field(&guess, i) = ToParameter(i, x[i]);
-    parameters_.ApplyTies(&guess);
-    try {
-      if (!jacobian) {
-        const std::vector<double> values = Residuals<double>(CastModel<double>(guess), x, -1);
-        *r = Eigen::Map<const Eigen::VectorXd>(values.data(), values.size());
-        return true;
-      }
-      const int n = Unknowns();
-      for (int first = 0; first < n; first += kJetStride) {
-        const std::vector<Jet> values = Residuals<Jet>(CastModel<Jet>(guess), x, first);
-        if (first == 0) {
-          r->resize(values.size());
-          jacobian->setZero(values.size(), n);
-          for (size_t i = 0; i < values.size(); ++i) (*r)[i] = values[i].a;
-        }
-        for (int k = 0; k < kJetStride && first + k < n; ++k) {
-          for (size_t i = 0; i < values.size(); ++i) (*jacobian)(i, first + k) = values[i].v[k];
-        }
-      }
-      return true;
-    } catch (const SimulationDiverged&) {
-      return false;
-    } catch (const InputError&) {  // a trial start state that cannot be assembled onto the constraints
-      return false;
-    }
-  }
-
-  // The cost 1/2 sum rho(r_i^2) at x over the data and smoothing residuals, and its gradient with respect to x,
-  // by the adjoint: single shooting, whose unknowns are the parameters. False where the run diverges.
-  bool CostGradient(const std::vector<double>& x, const RobustLoss& loss, double* cost,
-                    std::vector<double>* gradient) const {
-    Model<double> guess = TruncatedModel(model_, 0);
-    for (int i = 0; i < parameters_.size(); ++i) parameters_.Field(&guess, i) = ToParameter(i, x[i]);
-    parameters_.ApplyTies(&guess);
-    RunOptions options;
-    options.every = std::numeric_limits<int>::max();
-    options.stops = {boundaries_.back()};
-    for (const Observations& r : recordings_) options.stops.insert(options.stops.end(), r.times.begin(), r.times.end());
-    std::sort(options.stops.begin(), options.stops.end());
-    options.stops.erase(std::unique(options.stops.begin(), options.stops.end()), options.stops.end());
-    options.energy = std::any_of(recordings_.begin(), recordings_.end(), ObservesEnergy);
-    const auto sample_loss = [&](const auto& model, const auto& sample) {
-      using T = std::decay_t<decltype(sample.energy)>;
-      T sum(0.0);
-      const double t = options.stops[sample.stop];
-      for (const Observations& r : recordings_) {
-        const auto row = std::lower_bound(r.times.begin(), r.times.end(), t);
-        if (row == r.times.end() || *row != t) continue;
-        ObservedResiduals(model, r, static_cast<size_t>(row - r.times.begin()), sample,
-                          [&](size_t, const T& value) { sum += 0.5 * RobustRho(loss, T(value * value)); });
-      }
-      return sum;
-    };
-    LossGradient data;
-    try {
-      data = AdjointGradient(guess, parameters_, options, {sample_loss, sample_loss});
-    } catch (const SimulationDiverged&) {
-      return false;
-    } catch (const InputError&) {
-      return false;
-    }
-    *cost = data.loss;
-    std::vector<double>& g = data.gradient;
-    const double weight = std::sqrt(settings_.smooth);
-    for (const auto& [a, b] : smooth_pairs_) {  // r = w (p_b - p_a)
-      const double pa = parameters_.Field(&guess, a), pb = parameters_.Field(&guess, b);
-      const double r = weight * (pb - pa);
-      double rho[2];
-      EvaluateLoss(loss, r * r, rho);
-      *cost += 0.5 * rho[0];
-      g[b] += rho[1] * r * weight;
-      g[a] -= rho[1] * r * weight;
-    }
-    gradient->resize(x.size());
-    for (int i = 0; i < parameters_.size(); ++i) {  // d p / d x: p for log p, 1 otherwise
-      (*gradient)[i] = g[i] * (log_space_[i] ? ToParameter(i, x[i]) : 1.0);
-    }
-    return true;
-  }
-
-  // The data residuals at x grouped per recording and column, for the report.
-  std::vector<ResidualStatistics> Statistics(const std::vector<double>& x) const {
-    Model<double> guess = model_;
-    for (int i = 0; i < parameters_.size(); ++i) parameters_.Field(&guess, i) = ToParameter(i, x[i]);
-    parameters_.ApplyTies(&guess);
-    std::vector<ResidualStatistics> stats;
-    for (const Observations& r : recordings_) {
-      for (const TrajectoryColumn& c : r.columns) stats.push_back({r.path, c.name});
-    }
-    DataResiduals<double>(guess, x, -1, [&stats](size_t group, double residual) {
-      ResidualStatistics& s = stats[group];
-      ++s.count;
-      s.rms += residual * residual;
-      s.largest = std::max(s.largest, std::abs(residual));
-    });
-    for (ResidualStatistics& s : stats) s.rms = s.count ? std::sqrt(s.rms / s.count) : 0.0;
-    return stats;
-  }
-
- private:
-  // The model covering segment k: its duration ends at the next boundary.
-  template <typename T>
-  Model<T> TruncatedModel(const Model<T>& model, int k) const {
-    Model<T> out = model;
-    out.simulation.duration = boundaries_[k + 1] - boundaries_[k];
-    return out;
-  }
-
-  // Segment start states (references) from the initial-guess run, with the observed coordinates replaced by the
-  // data nearest in time; a start state's unknowns are its offset d from the reference, q = q_ref (+) d, and v.
-  std::vector<State<double>> SegmentStarts() const {
-    const std::vector<double> starts(boundaries_.begin() + 1, boundaries_.end() - 1);
-    Model<double> whole = model_;
-    whole.simulation.duration = boundaries_.back();
-    std::vector<State<double>> guess(starts.size(), InitialState(model_));
-    RunOptions options;
-    options.every = std::numeric_limits<int>::max();
-    options.stops = starts;
-    try {
-      const Trajectory<double> run = Record(whole, options, RecordWhat::kStops);
-      for (size_t k = 0; k < starts.size(); ++k) guess[k] = {run.q[k], run.v[k]};
-    } catch (const SimulationDiverged&) {  // the guess diverges: start every segment from the initial state
-    }
-    for (size_t k = 0; k < starts.size(); ++k) ReplaceByData(starts[k], &guess[k].q, &guess[k].v);
-    return guess;
-  }
-
-  void ReplaceByData(double t, VecX<double>* q, VecX<double>* v) const {
-    using Kind = TrajectoryColumn::Kind;
-    for (const Observations& r : recordings_) {
-      size_t nearest = 0;
-      for (size_t row = 1; row < r.times.size(); ++row) {
-        if (std::abs(r.times[row] - t) < std::abs(r.times[nearest] - t)) nearest = row;
-      }
-      for (size_t c = 0; c < r.columns.size(); ++c) {
-        const double value = r.values[nearest][c];
-        if (std::isnan(value)) continue;
-        const TrajectoryColumn& column = r.columns[c];
-        if (column.kind == Kind::kVelocity) (*v)[column.index] = value;
-        if (column.kind != Kind::kConfiguration) continue;
-        const int velocity = VelocityIndexOf(model_, column.index);
-        if (velocity < 0) continue;  // a quaternion component: the run's orientation is kept
-        (*q)[column.index] = value;
-        // a coordinate observed without its velocity: central difference of the neighbouring rows
-        if (nearest > 0 && nearest + 1 < r.times.size() && !std::isnan(r.values[nearest - 1][c]) &&
-            !std::isnan(r.values[nearest + 1][c])) {
-          (*v)[velocity] = (r.values[nearest + 1][c] - r.values[nearest - 1][c]) /
-                           (r.times[nearest + 1] - r.times[nearest - 1]);
-        }
-      }
-    }
-  }
-
-  // Calls add(group, residual) for every data residual (group: recording x column, as in Statistics), in a fixed
-  // order; returns the end state of every segment but the last (for the continuity residuals).
-  template <typename T, typename Add>
-  std::vector<State<T>> DataResiduals(const Model<T>& model, const std::vector<double>& x, int first_seeded,
-                                      Add add) const {
-    std::vector<State<T>> ends;
-    const int n_params = parameters_.size();
-    for (int k = 0; k < Segments(); ++k) {
-      Model<T> segment = TruncatedModel(model, k);
-      if (k > 0) {  // this segment's start state is an unknown
-        const State<T> start = SegmentStart(model, x, n_params + (k - 1) * state_size_, k - 1, first_seeded);
-        segment = WithInitialState(segment, start.q, start.v);
-      }
-      const double begin = boundaries_[k], end = boundaries_[k + 1];
-      auto inside = [&](double t) { return (t > begin || (k == 0 && t == begin)) && t <= end; };
-      std::vector<double> times;  // every recording's times in (begin, end] (and t = 0 in the first segment)
-      for (const Observations& r : recordings_) {
-        for (double t : r.times) {
-          if (inside(t)) times.push_back(t);
-        }
-      }
-      times.push_back(end);
-      std::sort(times.begin(), times.end());
-      times.erase(std::unique(times.begin(), times.end()), times.end());
-      // the residuals are added in recording, row, column order: collect them per stop first
-      std::vector<std::vector<std::vector<std::pair<size_t, T>>>> cells(recordings_.size());
-      for (size_t i = 0; i < recordings_.size(); ++i) cells[i].resize(recordings_[i].times.size());
-      RunOptions options;
-      options.every = std::numeric_limits<int>::max();
-      options.start_time = begin;
-      options.stops = times;
-      State<T> last;
-      Simulate<T>(segment, options, [&](const Sample<T>& s) {
-        if (s.stop < 0) return;
-        const double t = times[s.stop];
-        for (size_t i = 0; i < recordings_.size(); ++i) {
-          const Observations& r = recordings_[i];
-          const auto row = std::lower_bound(r.times.begin(), r.times.end(), t);
-          if (row == r.times.end() || *row != t || !inside(t)) continue;
-          const size_t index = row - r.times.begin();
-          ObservedResiduals(segment, r, index, s, [&](size_t c, const T& value) { cells[i][index].push_back({c, value}); });
-        }
-        if (s.stop + 1 == static_cast<int>(times.size())) last = {s.q, s.v};
-      });
-      size_t group = 0;
-      for (size_t i = 0; i < recordings_.size(); ++i) {
-        for (const auto& row : cells[i]) {
-          for (const auto& [c, value] : row) add(group + c, value);
-        }
-        group += recordings_[i].columns.size();
-      }
-      if (k + 1 < Segments()) ends.push_back(last);
-    }
-    return ends;
-  }
-
-  // Segment (reference + 1)'s start state from the unknowns at x[offset ..]: q_ref (+) d and v.
-  template <typename T>
-  State<T> SegmentStart(const Model<T>& model, const std::vector<double>& x, int offset, int reference,
-                        int first_seeded) const {
-    const int nv = model.NumVelocities();
-    VecX<T> d(nv), v(nv);
-    for (int i = 0; i < 2 * nv; ++i) {
-      T value(x[offset + i]);
-      SeedUnknown(offset + i, first_seeded, &value);
-      (i < nv ? d[i] : v[i - nv]) = value;
-    }
-    State<T> start;
-    start.q.resize(model.NumCoordinates());
-    Integrate(model, VecX<T>(references_[reference].q.template cast<T>()), d, 1.0, &start.q);
-    start.v = v;
-    return start;
-  }
-
-  // Seeds derivative direction (unknown - first_seeded) when that unknown is in the current chunk.
-  template <typename T>
-  static void SeedUnknown(int unknown, int first_seeded, T* value) {
-    if constexpr (IsJet<T>::value) {
-      if (first_seeded >= 0 && unknown >= first_seeded && unknown < first_seeded + kJetStride) {
-        value->v[unknown - first_seeded] = 1.0;
-      }
-    }
-  }
-
-  template <typename T>
-  std::vector<T> Residuals(Model<T> model, const std::vector<double>& x, int first_seeded) const {
-    for (int i = 0; i < parameters_.size(); ++i) {  // d p / d x: p for log p, 1 otherwise
-      T& field = parameters_.Field(&model, i);
-      if constexpr (IsJet<T>::value) {
-        if (first_seeded >= 0 && i >= first_seeded && i < first_seeded + kJetStride) {
-          field.v[i - first_seeded] = log_space_[i] ? field.a : 1.0;
-        }
-      }
-    }
-    parameters_.ApplyTies(&model);  // the tied fields follow the seeded ones
-    std::vector<T> out;
-    const auto ends = DataResiduals<T>(model, x, first_seeded, [&out](size_t, const T& r) { out.push_back(r); });
-    // continuity: end of segment k (-) start of segment k + 1
-    const int nv = model.NumVelocities();
-    VecX<T> gap(nv);
-    for (size_t k = 0; k < ends.size(); ++k) {
-      const State<T> start =
-          SegmentStart(model, x, parameters_.size() + static_cast<int>(k) * state_size_, static_cast<int>(k), first_seeded);
-      Difference(model, start.q, ends[k].q, &gap);
-      for (int i = 0; i < nv; ++i) out.push_back(gap[i]);
-      for (int i = 0; i < nv; ++i) out.push_back(ends[k].v[i] - start.v[i]);
-    }
-    const double weight = std::sqrt(settings_.smooth);
-    for (const auto& [a, b] : smooth_pairs_) {
-      out.push_back(T(weight) * (parameters_.Field(&model, b) - parameters_.Field(&model, a)));
-    }
-    return out;
-  }
-
-  const Model<double>& model_;
-  const ParameterSet& parameters_;
-  const std::vector<Observations>& recordings_;
-  const IdentifySettings& settings_;
-  std::vector<bool> log_space_;
-  std::vector<double> boundaries_;
-  int state_size_ = 0;                    // unknowns per segment start: an offset d and a velocity (2 nv)
-  std::vector<State<double>> references_;  // the start states the offsets are taken from
-  std::vector<std::pair<int, int>> smooth_pairs_;
-};
 
 std::string Names(const ParameterSet& parameters, const Eigen::VectorXd& direction) {
   std::string names;
@@ -459,23 +115,25 @@ bool PositiveKind(FieldRef::Kind kind) {
 
 IdentifyResult Identify(const Model<double>& model, const ParameterSet& parameters,
                         const std::vector<Observations>& recordings, const IdentifySettings& settings) {
+  if (!settings.inequalities.empty() || settings.starts > 1) return FitTrajectory(model, parameters, recordings, settings);
+  if (settings.segments == 0) {  // fit's choice: single shooting, and multiple shooting where it fails
+    IdentifySettings single = settings, multiple = settings;
+    single.segments = 1;
+    IdentifyResult result = Identify(model, parameters, recordings, single);
+    if (!result.failed) return result;
+    multiple.segments = AutomaticSegments(model, parameters, recordings, settings);
+    IdentifyResult retried = Identify(model, parameters, recordings, multiple);
+    if (!retried.failed || retried.final_cost < result.final_cost) return retried;
+    return result;
+  }
   const ShootingProblem problem(model, parameters, recordings, settings);
   const int n = problem.Unknowns(), p = parameters.size();
   IdentifyResult result;
   result.initial = parameters.Values(model);
 
-  std::vector<double> lower(n, -kUnbounded), upper(n, kUnbounded);
-  for (int i = 0; i < p && !settings.bounds.empty(); ++i) {
-    const auto [lo, hi] = settings.bounds[i];
-    if (!(result.initial[i] >= lo && result.initial[i] <= hi)) {
-      std::ostringstream message;
-      message << "--bound " << parameters.pointers()[i] << ": the scene's value " << result.initial[i]
-              << " lies outside [" << lo << ", " << hi << "]";
-      throw InputError(message.str());
-    }
-    if (lo != -kUnbounded) lower[i] = problem.LogSpace(i) ? std::log(lo) : lo;
-    if (hi != kUnbounded) upper[i] = problem.ToUnknown(i, hi);
-  }
+  CheckStartWithinBounds(parameters, result.initial, settings);
+  std::vector<double> lower, upper;
+  problem.Box(&lower, &upper);
   const bool global = settings.optimizer.name.rfind("nlopt:G", 0) == 0;
   if (global) {
     for (int i = 0; i < n; ++i) {
@@ -577,7 +235,7 @@ IdentifyResult Identify(const Model<double>& model, const ParameterSet& paramete
   // continuity residuals follow the data residuals in r (ShootingProblem::Residuals)
   int data_count = 0;
   for (const ResidualStatistics& s : result.residuals) data_count += s.count;
-  const std::vector<double> continuity(r.data() + data_count, r.data() + data_count + (n - p));
+  const std::vector<double> continuity(r.data() + data_count, r.data() + data_count + problem.ContinuityCount());
   const FitJudgement judgement =
       JudgeFit(recordings, result.residuals, continuity, LengthScale(model), result.optimizer);
   result.warnings.insert(result.warnings.end(), judgement.warnings.begin(), judgement.warnings.end());
@@ -610,6 +268,8 @@ IdentifyResult Identify(const Model<double>& model, const ParameterSet& paramete
     }
   }
   result.failed = judgement.failed;
+  result.segments = problem.Segments();
+  result.stopping_reason = result.optimizer.hit_limit ? "iteration limit" : "converged";
   if (judgement.failed) {
     result.standard_deviation.assign(p, NAN);
     result.correlation.setConstant(NAN);

@@ -45,8 +45,7 @@ nlohmann::json TuneJson(const TuneResult& result, const std::string& objective_k
   return json;
 }
 
-nlohmann::json IdentifyJson(const ParameterSet& parameters, const IdentifyResult& r, const std::string& optimizer,
-                            int segments) {
+nlohmann::json IdentifyJson(const ParameterSet& parameters, const IdentifyResult& r, const std::string& optimizer) {
   nlohmann::json j;
   j["parameters"] = nlohmann::json::object();
   j["standard_deviation"] = nlohmann::json::object();
@@ -70,9 +69,22 @@ nlohmann::json IdentifyJson(const ParameterSet& parameters, const IdentifyResult
   j["optimizer"] = optimizer;
   j["optimizer_message"] = r.optimizer.message;
   j["gradient_method"] = r.gradient_method;
-  j["segments"] = segments;
+  j["segments"] = r.segments;
+  j["stopping_reason"] = r.stopping_reason;
   j["warnings"] = r.warnings;
   j["failed"] = r.failed;
+  if (r.starts > 1 || !r.constraints.empty()) {  // trajectory optimisation (trajectory_fit.h)
+    j["feasible"] = r.feasible;
+    j["starts"] = {{"count", r.starts}, {"feasible", r.feasible_starts}, {"best", r.best_start}};
+    j["constraints"] = nlohmann::json::array();
+    for (const IdentifyResult::Constraint& c : r.constraints) {
+      j["constraints"].push_back({{"column", c.target.column},
+                                  {c.target.at_least ? "at_least" : "at_most", c.target.value},
+                                  {"t", c.target.time},
+                                  {"simulated", c.simulated},
+                                  {"met", c.met}});
+    }
+  }
   j["residuals"] = nlohmann::json::array();
   for (const ResidualStatistics& s : r.residuals) {
     j["residuals"].push_back({{"file", s.file}, {"column", s.column}, {"count", s.count}, {"rms", s.rms},

@@ -11,6 +11,7 @@ namespace tether {
 inline constexpr int kMaxSamples = 1000;         // tune's initial states
 inline constexpr int kMaxEvaluations = 1000000;  // an optimizer's budget
 inline constexpr int kMaxSegments = 100000;      // identify and fit's multiple-shooting segments
+inline constexpr int kMaxStarts = 10000;         // fit's starts (--starts)
 inline constexpr int kMaxThreads = 1024;         // a study's threads
 
 // `value` given as `what` (a flag or an argument's name) when it is a whole number in [low, high]; InputError

@@ -46,12 +46,26 @@ inline constexpr double kIdentifiabilityCondition = 1e8;
 // below this fraction of the data's norm has no measurable effect on the data.
 inline constexpr double kNoEffect = 1e-9;
 
+// An inequality target of fit (--at-least / --at-most COLUMN=VALUE@T): a trajectory column above or below a value
+// at a time, a constraint met to kConstraintTolerance of max(1, |value|) rather than a penalty.
+struct InequalityTarget {
+  std::string column;
+  double value = 0.0, time = 0.0;
+  bool at_least = true;
+  std::string text;  // as the user wrote it ("--at-least tip.y=1.99@5"), for messages
+};
+inline constexpr double kConstraintTolerance = 1e-6;
+
 struct IdentifySettings {
   OptimizerSettings optimizer;
   GradientMethod method = GradientMethod::kAuto;  // how a gradient-based NLopt algorithm gets its gradients
   std::vector<std::pair<double, double>> bounds;  // per parameter, in its own units; empty: unbounded
-  int segments = 1;                               // multiple shooting when > 1
-  double smooth = 0.0;                            // weight W of the schedule smoothing residuals
+  int segments = 1;  // multiple shooting when > 1; 0: fit chooses (trajectory_fit.h)
+  double smooth = 0.0;  // weight W of the schedule smoothing residuals
+  double effort = 0.0;  // weight W of the joint motors' effort, W int tau^2 dt
+  std::vector<InequalityTarget> inequalities;
+  int starts = 1;          // the scene's values and starts - 1 random ones (trajectory_fit.h)
+  unsigned seed = 1;       // of the random starts
 };
 
 // A bound on one parameter, or, for a pointer ending in "/*", on every parameter of that array.
@@ -83,6 +97,18 @@ struct IdentifyResult {
   std::vector<std::string> warnings;
   std::vector<ResidualStatistics> residuals;
   bool failed = false;  // the estimate does not reproduce the data (fit_judgement.h): no uncertainty for it
+  // Trajectory optimisation (trajectory_fit.h): the inequality targets at the estimate, one run of it from the
+  // scene's initial state, and how the starts went.
+  struct Constraint {
+    InequalityTarget target;
+    double simulated = 0.0;
+    bool met = true;
+  };
+  std::vector<Constraint> constraints;
+  bool feasible = true;
+  std::string stopping_reason;  // "converged", "iteration limit" or "infeasible"
+  int segments = 1;             // multiple shooting's segments on the way to the estimate (1: single shooting)
+  int starts = 1, feasible_starts = 1, best_start = 0;
 };
 
 // Throws InputError for bad settings (a bound outside which the initial value lies, an unbounded parameter for

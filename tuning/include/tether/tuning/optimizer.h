@@ -69,6 +69,7 @@ struct OptimizerResult {
   double seconds = 0.0;
   std::string message;   // the back end's own summary of why it stopped
   bool hit_limit = false;  // stopped by its budget (Ceres' iterations, NLopt's evaluations), not by converging
+  double violation = 0.0;  // MinimizeConstrained: the largest constraint violation at x over its tolerance
 };
 
 // Throws InputError ("optimizer: ...") for an unknown optimizer name. With `cost_gradient`, a gradient-based
@@ -76,6 +77,23 @@ struct OptimizerResult {
 OptimizerResult Minimize(const ResidualFunction& residuals, const std::vector<double>& start,
                          const std::vector<double>& lower, const std::vector<double>& upper,
                          const OptimizerSettings& settings, const CostGradientFunction& cost_gradient = nullptr);
+
+// Constrained minimization (trajectory optimisation): minimize 1/2 sum r_i^2 over the rows of the residual
+// function that are neither equality nor inequality rows, subject to r_e = 0 (equality rows) and sign_c r_c <= 0
+// (inequality rows), each within its tolerance, and the box, with an NLopt algorithm made for constraints
+// (nlopt:LD_SLSQP: sequential quadratic programming with a BFGS Hessian, which takes the rows' Jacobian). The
+// result is the best feasible point seen (the least cost among those meeting every constraint), or, where none
+// was feasible, the one with the least violation; `violation` is its largest violation relative to the row's
+// tolerance (at most 1: feasible).
+struct ConstraintRows {
+  std::vector<int> equality, inequality;  // row indices
+  std::vector<double> equality_tolerance, inequality_tolerance, inequality_sign;
+};
+// Throws InputError naming --optimizer unless `name` is an NLopt algorithm (constraints need one).
+void CheckConstrainedOptimizer(const std::string& name);
+OptimizerResult MinimizeConstrained(const ResidualFunction& residuals, const ConstraintRows& rows,
+                                    const std::vector<double>& start, const std::vector<double>& lower,
+                                    const std::vector<double>& upper, const OptimizerSettings& settings);
 
 // True for the NLopt algorithms that use gradients (LD_, GD_, and the MLSL and AUGLAG variants that run LD_LBFGS).
 bool UsesGradients(const std::string& optimizer_name);

@@ -15,7 +15,6 @@ namespace tether {
 nlohmann::json TuneJson(const TuneResult& result, const std::string& objective_kind, const std::string& optimizer,
                         double step);
 
-nlohmann::json IdentifyJson(const ParameterSet& parameters, const IdentifyResult& result, const std::string& optimizer,
-                            int segments);
+nlohmann::json IdentifyJson(const ParameterSet& parameters, const IdentifyResult& result, const std::string& optimizer);
 
 }  // namespace tether

@@ -1,0 +1,133 @@
+// The residuals of identification and fitting as functions of the unknowns (identification.h has the problem).
+//
+// Unknowns x: the parameters (positive kinds as log p, the others as p), then for multiple shooting the start
+// state of every segment after the first: an offset d from its reference, q = q_ref (+) d, and the velocity v.
+// Residuals, in this order:
+//   data         simulated - observed, every observed cell of every recording, segment by segment;
+//   continuity   end state of segment k (-) start state of segment k + 1 (configuration, then velocity);
+//   penalties    smoothing sqrt(W_s) (s_{j+1} - s_j) of consecutive schedule values; effort, the integral
+//                W_e int_0^D tau(t)^2 dt of every joint motor's torque, exact for its piecewise linear schedule
+//                (held at its end values): over a piece of length L from a to b, W_e L (a^2 + a b + b^2) / 3 =
+//                1/2 (r1^2 + r2^2) with r1 = c (a + b / 2), r2 = c (sqrt(3) / 2) b, c = sqrt(2 W_e L / 3);
+//   constraints  simulated - bound of every inequality target (fit's --at-least / --at-most).
+// The segments' boundaries lie on the integrator's step grid (the K-th parts of [0, last target time], rounded),
+// so that the joined segments step exactly as one run of the scene does.
+// A segment after the first starts from its unknown state moved onto the constraints (as every run starts), and
+// continues the joint coordinates of the whole run (a joint's angle is measured from the scene's initial state).
+//
+// Jacobian by Jets, segment by segment: segment k's residuals depend on the parameters that act within it (a
+// schedule value only between its neighbouring knots; any other parameter, and all of them when ties are
+// declared, everywhere) and on its own start state, so each segment is run once per kJetStride of those rather
+// than once per kJetStride of all unknowns.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "tether/autodiff/observations.h"
+#include "tether/autodiff/parameters.h"
+#include "tether/dynamics/scalar.h"
+#include "tether/tuning/identification.h"
+
+namespace tether {
+
+// Throws InputError when a parameter's value lies outside its bound (settings.bounds), naming --bound.
+void CheckStartWithinBounds(const ParameterSet& parameters, const std::vector<double>& values,
+                            const IdentifySettings& settings);
+
+// The knot times of the schedule a field is a value of; null for a field that is not a schedule value.
+const std::vector<double>* ScheduleTimes(const Model<double>& model, const FieldRef& field);
+
+class ShootingProblem {
+ public:
+  // settings.segments >= 1 (Identify resolves an automatic choice before).
+  ShootingProblem(const Model<double>& model, const ParameterSet& parameters, const std::vector<Observations>& recordings,
+                  const IdentifySettings& settings);
+
+  int Unknowns() const { return parameters_.size() + (Segments() - 1) * state_size_; }
+  int Segments() const { return static_cast<int>(boundaries_.size()) - 1; }
+  bool LogSpace(int i) const { return log_space_[i]; }
+  int DataCount() const { return segment_rows_.back(); }
+  int ContinuityCount() const { return (Segments() - 1) * state_size_; }
+  int PenaltyCount() const;
+  int ConstraintCount() const { return static_cast<int>(targets_.size()); }
+  // The constraint rows: the first and how each bounds its residual (+1: r <= 0, at most; -1: r >= 0, at least).
+  int FirstConstraintRow() const { return DataCount() + ContinuityCount() + PenaltyCount(); }
+  double ConstraintSign(int c) const { return settings_.inequalities[c].at_least ? -1.0 : 1.0; }
+
+  // unknowns <-> parameters (in their own units)
+  double ToUnknown(int i, double p) const;
+  double ToParameter(int i, double x) const;
+
+  // The box on the unknowns from settings.bounds, in the unknowns' units (the start states are unbounded).
+  void Box(std::vector<double>* lower, std::vector<double>* upper) const;
+
+  // The starting unknowns: the scene's parameters and, for multiple shooting, the segments' start states as
+  // offsets from their references (zero) and velocities.
+  std::vector<double> Start() const;
+
+  // Residuals at unknowns x, and their Jacobian when asked. False where a run diverges or a start cannot run.
+  bool Evaluate(const std::vector<double>& x, Eigen::VectorXd* r, Eigen::MatrixXd* jacobian) const;
+
+  // The cost 1/2 sum rho(r_i^2) at x over the data and penalty residuals, and its gradient with respect to x, by
+  // the adjoint: single shooting without constraints, whose unknowns are the parameters. False where the run
+  // diverges.
+  bool CostGradient(const std::vector<double>& x, const RobustLoss& loss, double* cost,
+                    std::vector<double>* gradient) const;
+
+  // The data residuals at x grouped per recording and column, for the report.
+  std::vector<ResidualStatistics> Statistics(const std::vector<double>& x) const;
+
+ private:
+  // Which unknowns a Jet run seeds: unknown seeded[j] in derivative slot j.
+  struct Seeds {
+    std::vector<int> unknowns;
+    int Slot(int unknown) const;
+  };
+  // What a run of one segment gives: its data residuals (group: recording x column, as in Statistics) in
+  // recording, row, column order; its constraint residuals by target; its end state.
+  template <typename T>
+  struct SegmentOutput {
+    std::vector<std::pair<size_t, T>> data;
+    std::vector<std::pair<int, T>> constraints;
+    State<T> end;
+  };
+
+  Model<double> WithParameters(const std::vector<double>& x) const;
+  template <typename T>
+  Model<T> Seeded(const Model<double>& model, const Seeds& seeds) const;
+  template <typename T>
+  SegmentOutput<T> RunSegment(const Model<T>& model, const std::vector<double>& x, int k, const Seeds& seeds) const;
+  template <typename T>
+  State<T> SegmentStart(const Model<T>& model, const std::vector<double>& x, int k, const Seeds& seeds) const;
+  // Sets the joint angles of a segment's model (their values at its start, joint_coordinates.h) so that its joint
+  // coordinates continue those of the whole run from the scene's initial state; `hint` picks a 3D angle's branch.
+  template <typename T>
+  void ContinueCoordinates(const Model<T>& model, const VecX<T>& q_start, const std::vector<double>& hint,
+                           Model<T>* segment) const;
+  template <typename T>
+  void Penalties(Model<T> model, std::vector<T>* out) const;
+  // Whether parameter i acts within segment k.
+  bool ActsWithin(int i, int k) const;
+  std::vector<State<double>> SegmentStarts();
+  void ReplaceByData(double t, VecX<double>* q, VecX<double>* v) const;
+
+  const Model<double>& model_;
+  const ParameterSet& parameters_;
+  const std::vector<Observations>& recordings_;
+  const IdentifySettings& settings_;
+  std::vector<Observations> targets_;  // one per inequality target: its column at its time, the bound as value
+  std::vector<const Observations*> observed_;  // the recordings, then the targets
+  size_t data_groups_ = 0;                      // columns over the recordings
+  std::vector<bool> log_space_;
+  std::vector<double> boundaries_;
+  std::vector<int> segment_rows_;         // the first data row of each segment, and the data count last
+  int state_size_ = 0;                    // unknowns per segment start: an offset d and a velocity (2 nv)
+  std::vector<State<double>> references_;  // the start states the offsets are taken from
+  std::vector<std::vector<double>> reference_coordinates_;  // the joint coordinates of the run at those
+  std::vector<std::pair<int, int>> smooth_pairs_;
+};
+
+}  // namespace tether

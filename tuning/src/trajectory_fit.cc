@@ -1,0 +1,340 @@
+#include "trajectory_fit.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <limits>
+#include <mutex>
+#include <random>
+#include <sstream>
+#include <thread>
+
+#include "fit_judgement.h"
+#include "shooting_problem.h"
+#include "tether/dynamics/errors.h"
+#include "tether/dynamics/simulator.h"
+
+namespace tether {
+namespace {
+
+constexpr double kUnbounded = std::numeric_limits<double>::max();
+constexpr double kMargin = 10.0;  // MinimizeViolation aims this many tolerances inside an inequality
+
+// What one start reached: single shooting's result from the scene's initial state.
+struct Attempt {
+  std::vector<double> estimate;  // parameters in their own units
+  OptimizerResult optimizer;     // of the last (single-shooting) solve; evaluations and seconds of all
+  int segments = 1;
+};
+
+bool Better(const Attempt& a, const Attempt& b) {  // a before b
+  const bool feasible_a = a.optimizer.violation <= 1.0, feasible_b = b.optimizer.violation <= 1.0;
+  if (feasible_a != feasible_b) return feasible_a;
+  return feasible_a ? a.optimizer.value < b.optimizer.value : a.optimizer.violation < b.optimizer.violation;
+}
+
+// The constraint rows of a problem: its continuity rows (equalities) and its inequality targets.
+ConstraintRows RowsOf(const ShootingProblem& problem, const IdentifySettings& settings) {
+  ConstraintRows rows;
+  for (int i = 0; i < problem.ContinuityCount(); ++i) {
+    rows.equality.push_back(problem.DataCount() + i);
+    rows.equality_tolerance.push_back(kContinuityTolerance);
+  }
+  for (int c = 0; c < problem.ConstraintCount(); ++c) {
+    rows.inequality.push_back(problem.FirstConstraintRow() + c);
+    rows.inequality_sign.push_back(problem.ConstraintSign(c));
+    rows.inequality_tolerance.push_back(kConstraintTolerance * std::max(1.0, std::abs(settings.inequalities[c].value)));
+  }
+  return rows;
+}
+
+// Minimizes 1/2 sum of the squared violations by Levenberg-Marquardt: the equality rows, and the inequality rows
+// where they come within kMargin tolerances of their bound (so that the result meets them with room rather than
+// on the kink of max(0, g)). An unknown bounded on both sides is optimized as u with x = mid + half tanh(u), since
+// Ceres' bounds (steps projected onto the box) stall where many unknowns sit on their bounds, as a swing-up's
+// torques do.
+OptimizerResult MinimizeViolation(const ResidualFunction& residuals, const ConstraintRows& rows,
+                                  const std::vector<double>& start, const std::vector<double>& lower,
+                                  const std::vector<double>& upper, const OptimizerSettings& settings) {
+  const size_t n = start.size();
+  std::vector<bool> mapped(n);
+  std::vector<double> mid(n), half(n), u(n), lo(n), hi(n);
+  for (size_t i = 0; i < n; ++i) {
+    mapped[i] = lower[i] != -kUnbounded && upper[i] != kUnbounded;
+    mid[i] = 0.5 * (lower[i] + upper[i]);
+    half[i] = 0.5 * (upper[i] - lower[i]);
+    u[i] = mapped[i] ? std::atanh(std::clamp((start[i] - mid[i]) / half[i], -1.0 + 1e-6, 1.0 - 1e-6)) : start[i];
+    lo[i] = mapped[i] ? -kUnbounded : lower[i];
+    hi[i] = mapped[i] ? kUnbounded : upper[i];
+  }
+  const auto unknowns = [&](const std::vector<double>& at) {
+    std::vector<double> x = at;
+    for (size_t i = 0; i < n; ++i) x[i] = mapped[i] ? mid[i] + half[i] * std::tanh(at[i]) : at[i];
+    return x;
+  };
+  const ResidualFunction violations = [&](const std::vector<double>& at, Eigen::VectorXd* v, Eigen::MatrixXd* jacobian) {
+    Eigen::VectorXd r;
+    Eigen::MatrixXd j;
+    if (!residuals(unknowns(at), &r, jacobian ? &j : nullptr)) return false;
+    const size_t m = rows.equality.size() + rows.inequality.size();
+    v->setZero(m);
+    if (jacobian) {
+      for (size_t i = 0; i < n; ++i) {
+        if (mapped[i]) j.col(i) *= half[i] * (1.0 - std::tanh(at[i]) * std::tanh(at[i]));
+      }
+      jacobian->setZero(m, n);
+    }
+    for (size_t e = 0; e < rows.equality.size(); ++e) {
+      (*v)[e] = r[rows.equality[e]];
+      if (jacobian) jacobian->row(e) = j.row(rows.equality[e]);
+    }
+    for (size_t c = 0; c < rows.inequality.size(); ++c) {
+      const size_t row = rows.equality.size() + c;
+      const double sign = rows.inequality_sign[c], g = sign * r[rows.inequality[c]] + kMargin * rows.inequality_tolerance[c];
+      if (!(g > 0.0)) continue;
+      (*v)[row] = g;
+      if (jacobian) jacobian->row(row) = sign * j.row(rows.inequality[c]);
+    }
+    return true;
+  };
+  OptimizerSettings lm = settings;
+  lm.name = "ceres";
+  lm.loss = RobustLoss{};
+  OptimizerResult result = Minimize(violations, u, lo, hi, lm);
+  result.x = unknowns(result.x);
+  return result;
+}
+
+// Multiple shooting with `segments` segments from `model`'s values: the constraints alone (continuity and the
+// inequality targets) met by Levenberg-Marquardt. The parameters found.
+std::vector<double> Reach(const Model<double>& model, const ParameterSet& parameters,
+                          const std::vector<Observations>& recordings, const IdentifySettings& settings, int segments,
+                          int* evaluations) {
+  IdentifySettings these = settings;
+  these.segments = segments;
+  const ShootingProblem problem(model, parameters, recordings, these);
+  std::vector<double> lower, upper;
+  problem.Box(&lower, &upper);
+  const ResidualFunction residuals = [&problem](const std::vector<double>& x, Eigen::VectorXd* r,
+                                                Eigen::MatrixXd* jacobian) { return problem.Evaluate(x, r, jacobian); };
+  const OptimizerResult reached =
+      MinimizeViolation(residuals, RowsOf(problem, settings), problem.Start(), lower, upper, settings.optimizer);
+  *evaluations += reached.evaluations;
+  std::vector<double> found;
+  for (int i = 0; i < parameters.size(); ++i) found.push_back(problem.ToParameter(i, reached.x[i]));
+  return found;
+}
+
+// Single shooting from `model`'s values: the cost minimized subject to the inequality targets (SLSQP).
+OptimizerResult Polish(const Model<double>& model, const ParameterSet& parameters,
+                       const std::vector<Observations>& recordings, const IdentifySettings& settings,
+                       std::vector<double>* estimate) {
+  IdentifySettings single = settings;
+  single.segments = 1;
+  const ShootingProblem problem(model, parameters, recordings, single);
+  std::vector<double> lower, upper;
+  problem.Box(&lower, &upper);
+  const ResidualFunction residuals = [&problem](const std::vector<double>& x, Eigen::VectorXd* r,
+                                                Eigen::MatrixXd* jacobian) { return problem.Evaluate(x, r, jacobian); };
+  OptimizerResult result =
+      MinimizeConstrained(residuals, RowsOf(problem, settings), problem.Start(), lower, upper, settings.optimizer);
+  estimate->clear();
+  for (int i = 0; i < parameters.size(); ++i) estimate->push_back(problem.ToParameter(i, result.x[i]));
+  return result;
+}
+
+// Multiple shooting with `segments` (when > 1), then single shooting from its parameters.
+Attempt Run(const Model<double>& start, const ParameterSet& parameters, const std::vector<Observations>& recordings,
+            const IdentifySettings& settings, int segments) {
+  Attempt attempt;
+  attempt.segments = segments;
+  Model<double> model = start;
+  int evaluations = 0;
+  const auto begin = std::chrono::steady_clock::now();
+  if (segments > 1) {
+    try {
+      parameters.Assign(Reach(model, parameters, recordings, settings, segments, &evaluations), &model);
+    } catch (const InputError&) {  // the start diverges: single shooting says so below
+    }
+  }
+  try {
+    attempt.optimizer = Polish(model, parameters, recordings, settings, &attempt.estimate);
+  } catch (const InputError& e) {  // single shooting cannot start from what multiple shooting found
+    attempt.estimate = parameters.Values(model);
+    attempt.optimizer.violation = INFINITY;
+    attempt.optimizer.value = INFINITY;
+    attempt.optimizer.message = e.what();
+  }
+  attempt.optimizer.evaluations += evaluations;
+  attempt.optimizer.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+  return attempt;
+}
+
+// Start s: the scene's values (s = 0) or a random point (starts.h, trajectory_fit.h).
+std::vector<std::vector<double>> StartValues(const Model<double>& model, const ParameterSet& parameters,
+                                             const IdentifySettings& settings) {
+  const std::vector<double> values = parameters.Values(model);
+  std::vector<std::vector<double>> starts = {values};
+  std::mt19937_64 random(settings.seed);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  for (int s = 1; s < settings.starts; ++s) {
+    std::vector<double> x(values.size());
+    for (size_t i = 0; i < values.size(); ++i) {
+      const double lo = settings.bounds.empty() ? -kUnbounded : settings.bounds[i].first;
+      const double hi = settings.bounds.empty() ? kUnbounded : settings.bounds[i].second;
+      const bool positive = PositiveKind(parameters.field(static_cast<int>(i)).kind) && values[i] > 0 &&
+                            (lo > 0 || lo == -kUnbounded);
+      const double u = unit(random);
+      if (lo != -kUnbounded && hi != kUnbounded) {
+        x[i] = positive ? std::exp(0.5 * (std::log(lo) + std::log(hi)) + 0.5 * u * (std::log(hi) - std::log(lo)))
+                        : 0.5 * (lo + hi) + 0.5 * u * (hi - lo);
+      } else {
+        x[i] = positive ? values[i] * std::exp(u) : values[i] + u * (std::abs(values[i]) + 1.0);
+      }
+      x[i] = std::clamp(x[i], lo, hi);
+    }
+    starts.push_back(x);
+  }
+  return starts;
+}
+
+}  // namespace
+
+int AutomaticSegments(const Model<double>& model, const ParameterSet& parameters,
+                      const std::vector<Observations>& recordings, const IdentifySettings& settings) {
+  double end = 0.0;
+  for (const Observations& r : recordings) end = std::max(end, r.times.back());
+  for (const InequalityTarget& target : settings.inequalities) end = std::max(end, target.time);
+  double knot = INFINITY;
+  for (int i = 0; i < parameters.size(); ++i) {
+    const std::vector<double>* times = ScheduleTimes(model, parameters.field(i));
+    for (size_t j = 0; times && j + 1 < times->size(); ++j) knot = std::min(knot, (*times)[j + 1] - (*times)[j]);
+  }
+  if (!std::isfinite(knot) || !(end > 0.0)) return 10;
+  return std::clamp(static_cast<int>(std::lround(end / (4.0 * knot))), 2, 20);
+}
+
+IdentifyResult FitTrajectory(const Model<double>& model, const ParameterSet& parameters,
+                             const std::vector<Observations>& recordings, const IdentifySettings& settings) {
+  const auto begin = std::chrono::steady_clock::now();
+  IdentifyResult result;
+  result.initial = parameters.Values(model);
+  CheckStartWithinBounds(parameters, result.initial, settings);
+  if (!settings.inequalities.empty()) CheckConstrainedOptimizer(settings.optimizer.name);
+  IdentifySettings single = settings;
+  single.segments = 1;
+  const ShootingProblem at_scene(model, parameters, recordings, single);  // checks the targets before any run
+
+  const std::vector<std::vector<double>> starts = StartValues(model, parameters, settings);
+  const int automatic = settings.segments == 0 ? AutomaticSegments(model, parameters, recordings, settings) : 0;
+  std::vector<Attempt> attempts(starts.size());
+  std::atomic<int> next{0};
+  std::exception_ptr error;
+  std::mutex error_mutex;
+  const auto work = [&] {
+    for (int s = next++; s < static_cast<int>(starts.size()); s = next++) {
+      try {
+        Model<double> start = model;
+        parameters.Assign(starts[s], &start);
+        if (settings.segments > 0) {
+          attempts[s] = Run(start, parameters, recordings, settings, settings.segments);
+          continue;
+        }
+        attempts[s] = Run(start, parameters, recordings, settings, 1);
+        if (attempts[s].optimizer.violation <= 1.0) continue;
+        Attempt multiple = Run(start, parameters, recordings, settings, automatic);
+        multiple.optimizer.evaluations += attempts[s].optimizer.evaluations;
+        multiple.optimizer.seconds += attempts[s].optimizer.seconds;
+        if (Better(multiple, attempts[s])) attempts[s] = multiple;
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(error_mutex);
+        if (!error) error = std::current_exception();
+      }
+    }
+  };
+  const int threads = std::min<int>(static_cast<int>(starts.size()), std::max(1u, std::thread::hardware_concurrency()));
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(work);
+  work();
+  for (std::thread& t : pool) t.join();
+  if (error) std::rethrow_exception(error);
+
+  int best = 0;
+  for (int s = 1; s < static_cast<int>(attempts.size()); ++s) {
+    if (Better(attempts[s], attempts[best])) best = s;
+  }
+  const Attempt& kept = attempts[best];
+  result.estimate = kept.estimate;
+  result.optimizer = kept.optimizer;
+  result.optimizer.evaluations = 0;
+  for (const Attempt& a : attempts) result.optimizer.evaluations += a.optimizer.evaluations;
+  result.optimizer.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+  result.gradient_method = "jet";
+  result.segments = kept.segments;
+  result.starts = static_cast<int>(attempts.size());
+  result.best_start = best;
+  result.feasible_starts = static_cast<int>(
+      std::count_if(attempts.begin(), attempts.end(), [](const Attempt& a) { return a.optimizer.violation <= 1.0; }));
+
+  // the report: one run of the estimate from the scene's initial state, as a written scene runs
+  const int p = parameters.size();
+  std::vector<double> x(p);
+  for (int i = 0; i < p; ++i) x[i] = at_scene.ToUnknown(i, result.initial[i]);
+  Eigen::VectorXd r;
+  const auto objective = [&](const Eigen::VectorXd& rows) {
+    double cost = 0.0;
+    for (int i = 0; i < at_scene.FirstConstraintRow(); ++i) cost += 0.5 * rows[i] * rows[i];
+    return cost;
+  };
+  result.initial_cost = at_scene.Evaluate(x, &r, nullptr) ? objective(r) : INFINITY;
+  Model<double> estimated = model;
+  parameters.Assign(result.estimate, &estimated);
+  const ShootingProblem at_estimate(estimated, parameters, recordings, single);
+  for (int i = 0; i < p; ++i) x[i] = at_estimate.ToUnknown(i, result.estimate[i]);
+  result.standard_deviation.assign(p, NAN);
+  result.correlation = Eigen::MatrixXd::Constant(p, p, NAN);
+  result.condition_number = NAN;
+  result.residual_count = at_estimate.FirstConstraintRow();
+  if (!at_estimate.Evaluate(x, &r, nullptr)) {
+    result.failed = true;
+    result.feasible = false;
+    result.stopping_reason = "infeasible";
+    result.final_cost = INFINITY;
+    result.warnings.push_back("the best estimate diverges when run from the scene's initial state");
+    return result;
+  }
+  result.final_cost = objective(r);
+  result.residuals = at_estimate.Statistics(x);
+  double worst = 0.0;
+  std::string worst_text;
+  for (int c = 0; c < at_estimate.ConstraintCount(); ++c) {
+    const InequalityTarget& target = settings.inequalities[c];
+    const double residual = r[at_estimate.FirstConstraintRow() + c];
+    const double violation = at_estimate.ConstraintSign(c) * residual /
+                             (kConstraintTolerance * std::max(1.0, std::abs(target.value)));
+    result.constraints.push_back({target, target.value + residual, violation <= 1.0});
+    if (violation > worst) {
+      worst = violation;
+      std::ostringstream text;
+      text << target.text << " (simulated " << target.value + residual << ")";
+      worst_text = text.str();
+    }
+  }
+  result.feasible = worst <= 1.0;
+  result.stopping_reason = !result.feasible ? "infeasible" : kept.optimizer.hit_limit ? "iteration limit" : "converged";
+  if (!result.feasible) {
+    std::ostringstream message;
+    message << "the constraints are not met: of " << result.starts << " start" << (result.starts > 1 ? "s" : "")
+            << ", none reached them; the closest result misses " << worst_text << " (optimizer: "
+            << kept.optimizer.message << ")";
+    result.warnings.push_back(message.str());
+  }
+  const FitJudgement judgement = JudgeFit(recordings, result.residuals, {}, LengthScale(model), kept.optimizer);
+  result.warnings.insert(result.warnings.end(), judgement.warnings.begin(), judgement.warnings.end());
+  result.failed = !result.feasible || judgement.failed;
+  return result;
+}
+
+}  // namespace tether
