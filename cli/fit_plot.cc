@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "matplotlib_script.h"
 #include "tether/dynamics/errors.h"
@@ -14,7 +15,7 @@
 namespace tether::cli {
 namespace {
 
-// argv: fitted.csv output.png data.csv [data.csv ...]
+// argv: fitted.csv output.png [data.csv ...] [bound:COLUMN:T:VALUE:least|most ...]
 constexpr const char* kScript = R"PY(
 import csv, sys
 import matplotlib
@@ -26,10 +27,15 @@ def read(path):
         rows = list(csv.DictReader(f))
     return {k.strip(): [float(r[k]) if r[k].strip() else None for r in rows] for k in rows[0]}
 
-fitted, out, data = read(sys.argv[1]), sys.argv[2], [(p, read(p)) for p in sys.argv[3:]]
+fitted, out = read(sys.argv[1]), sys.argv[2]
+data = [(p, read(p)) for p in sys.argv[3:] if not p.startswith("bound:")]
+bounds = [b.split(":")[1:] for b in sys.argv[3:] if b.startswith("bound:")]
 columns = []
 for _, d in data:
     columns += [c for c in d if c != "t" and c not in columns]
+for b in bounds:
+    if b[0] not in columns:
+        columns.append(b[0])
 fig, axes = plt.subplots(len(columns), 1, figsize=(8, 2.2 * len(columns)), sharex=True, squeeze=False)
 for ax, column in zip(axes[:, 0], columns):
     ax.plot(fitted["t"], fitted[column], color="C0", lw=1.2, label="simulated with the estimates")
@@ -37,6 +43,10 @@ for ax, column in zip(axes[:, 0], columns):
         if column in d:
             pts = [(t, y) for t, y in zip(d["t"], d[column]) if y is not None]
             ax.plot([p[0] for p in pts], [p[1] for p in pts], ".", ms=3, color="C%d" % (k + 1), label=path.split("/")[-1])
+    for name, t, value, side in bounds:
+        if name == column:
+            ax.plot([float(t)], [float(value)], "^" if side == "least" else "v", color="C3", ms=7,
+                    label="at least" if side == "least" else "at most")
     ax.set_ylabel(column)
     ax.grid(alpha=0.3)
 axes[0, 0].legend(fontsize=7, loc="best")
@@ -47,7 +57,8 @@ fig.savefig(out, dpi=110)
 
 }  // namespace
 
-void PlotFit(const Model<double>& fitted, const std::vector<Observations>& recordings, const std::string& path) {
+void PlotFit(const Model<double>& fitted, const std::vector<Observations>& recordings,
+             const std::vector<InequalityTarget>& constraints, const std::string& path) {
   namespace fs = std::filesystem;
   const fs::path csv = fs::temp_directory_path() / ("tether-fitted-" + std::to_string(::getpid()) + ".csv");
   const std::string partial = path + ".partial" + fs::path(path).extension().string();
@@ -59,6 +70,12 @@ void PlotFit(const Model<double>& fitted, const std::vector<Observations>& recor
   }
   std::vector<std::string> args = {csv.string(), partial};
   for (const Observations& r : recordings) args.push_back(r.path);
+  for (const InequalityTarget& c : constraints) {
+    std::ostringstream bound;
+    bound.precision(17);
+    bound << "bound:" << c.column << ":" << c.time << ":" << c.value << ":" << (c.at_least ? "least" : "most");
+    args.push_back(bound.str());
+  }
   try {
     RunMatplotlib(kScript, args, "--plot");
   } catch (...) {

@@ -1,5 +1,6 @@
-// Plots of an identification or a fit: every observed column of every recording (dots) against the motion
-// simulated with the estimates (line), one panel per column, drawn by matplotlib (Debian's python3-matplotlib).
+// Plots of an identification or a fit: every observed column of every recording (dots) and every constrained
+// column's bound (a triangle at its time, pointing the way the column must lie) against the motion simulated with
+// the estimates (line), one panel per column, drawn by matplotlib (Debian's python3-matplotlib).
 #pragma once
 
 #include <string>
@@ -7,11 +8,13 @@
 
 #include "tether/autodiff/observations.h"
 #include "tether/dynamics/model.h"
+#include "tether/tuning/identification.h"
 
 namespace tether::cli {
 
 // Writes the PNG (or SVG, by the file name) at `path`, or throws InputError saying what is missing; nothing is
 // left at `path` on failure.
-void PlotFit(const Model<double>& fitted, const std::vector<Observations>& recordings, const std::string& path);
+void PlotFit(const Model<double>& fitted, const std::vector<Observations>& recordings,
+             const std::vector<InequalityTarget>& constraints, const std::string& path);
 
 }  // namespace tether::cli

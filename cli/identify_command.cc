@@ -74,7 +74,7 @@ class IdentifyCommand final : public Command {
     app_->add_option("--method", method_,
                      "derivatives for a gradient-based NLopt algorithm: auto (default: the adjoint from " +
                          std::to_string(kAdjointCrossover) + " unknowns on), jet or adjoint");
-    app_->add_option("--max-evaluations", max_evaluations_, "budget of residual evaluations for NLopt; Ceres gets half as many iterations (default 200)");
+    app_->add_option("--max-evaluations", max_evaluations_, "budget of residual evaluations for NLopt; Ceres gets half as many iterations (default 200; 1000 for a fit with constraints or starts)");
     app_->add_option("-o,--output", output_path_, "write the scene with the estimates in place");
     app_->add_option("--plot", plot_path_, "draw the data against the motion with the estimates (PNG or SVG)");
     if (fit) {
@@ -103,6 +103,8 @@ class IdentifyCommand final : public Command {
     const bool trajectory = !settings.inequalities.empty() || starts_ > 1;
     // constraints need a solver made for them (trajectory_fit.h); an explicit --optimizer is taken as given
     if (trajectory && app_->count("--optimizer") == 0) settings.optimizer.name = optimizer_ = "nlopt:LD_SLSQP";
+    // SLSQP meets the constraints as it converges: a budget of 200 often stops it just short of them
+    if (trajectory && app_->count("--max-evaluations") == 0) max_evaluations_ = 1000;
     if (data_paths_.empty() && settings.inequalities.empty()) {
       throw InputError("--data: fit needs targets: --data TARGETS.csv, or constraints (--at-least, --at-most)");
     }
@@ -156,7 +158,7 @@ class IdentifyCommand final : public Command {
       Model<double> fitted = scene.model;
       parameters.Assign(result.estimate, &fitted);
       try {
-        PlotFit(fitted, recordings, plot_path_);
+        PlotFit(fitted, recordings, settings.inequalities, plot_path_);
       } catch (const InputError& e) {
         std::cerr << "tether: error: " << e.what() << "\ntether: the results above are complete; only the plot is missing\n";
         return 1;
