@@ -319,7 +319,7 @@ bool ShootingProblem::ActsWithin(int i, int k) const {
   const std::vector<double>& t = *times;
   const double from = f.slot == 0 ? -INFINITY : t[f.slot - 1];
   const double to = f.slot + 1 == static_cast<int>(t.size()) ? INFINITY : t[f.slot + 1];
-  return from <= boundaries_[k + 1] && to >= boundaries_[k];
+  return from < boundaries_[k + 1] && to > boundaries_[k];
 }
 
 bool ShootingProblem::Evaluate(const std::vector<double>& x, Eigen::VectorXd* r, Eigen::MatrixXd* jacobian) const {

@@ -21,6 +21,12 @@ namespace {
 
 constexpr double kUnbounded = std::numeric_limits<double>::max();
 constexpr double kMargin = 10.0;  // MinimizeViolation aims this many tolerances inside an inequality
+// Random starts lie within this fraction of each bounded box's half-width about its middle (or of |value| + 1
+// about the value): full-width random torques jerk a motion about and start on the bounds (on the acrobot, no
+// start of eight reached the target with full-width starts, one to three with 0.3).
+constexpr double kStartSpread = 0.3;
+// The polish minimizes the cost from a feasible point with this fraction of the budget.
+constexpr int kPolishShare = 4;
 
 // What one start reached: single shooting's result from the scene's initial state.
 struct Attempt {
@@ -50,42 +56,26 @@ ConstraintRows RowsOf(const ShootingProblem& problem, const IdentifySettings& se
   return rows;
 }
 
-// Minimizes 1/2 sum of the squared violations by Levenberg-Marquardt: the equality rows, and the inequality rows
+// Minimizes 1/2 sum of the squared violations by Levenberg-Marquardt: the equality rows, the inequality rows
 // where they come within kMargin tolerances of their bound (so that the result meets them with room rather than
-// on the kink of max(0, g)). An unknown bounded on both sides is optimized as u with x = mid + half tanh(u), since
-// Ceres' bounds (steps projected onto the box) stall where many unknowns sit on their bounds, as a swing-up's
-// torques do.
+// on the kink of max(0, g)), and how far each unknown lies outside its bound (rows rather than Ceres' bounds, whose
+// steps projected onto the box stall where many unknowns sit on their bounds, as a swing-up's torques do; the
+// result is clamped into the box).
 OptimizerResult MinimizeViolation(const ResidualFunction& residuals, const ConstraintRows& rows,
                                   const std::vector<double>& start, const std::vector<double>& lower,
                                   const std::vector<double>& upper, const OptimizerSettings& settings) {
   const size_t n = start.size();
-  std::vector<bool> mapped(n);
-  std::vector<double> mid(n), half(n), u(n), lo(n), hi(n);
+  std::vector<int> bounded;  // the unknowns with a finite bound, each a row
   for (size_t i = 0; i < n; ++i) {
-    mapped[i] = lower[i] != -kUnbounded && upper[i] != kUnbounded;
-    mid[i] = 0.5 * (lower[i] + upper[i]);
-    half[i] = 0.5 * (upper[i] - lower[i]);
-    u[i] = mapped[i] ? std::atanh(std::clamp((start[i] - mid[i]) / half[i], -1.0 + 1e-6, 1.0 - 1e-6)) : start[i];
-    lo[i] = mapped[i] ? -kUnbounded : lower[i];
-    hi[i] = mapped[i] ? kUnbounded : upper[i];
+    if (lower[i] != -kUnbounded || upper[i] != kUnbounded) bounded.push_back(static_cast<int>(i));
   }
-  const auto unknowns = [&](const std::vector<double>& at) {
-    std::vector<double> x = at;
-    for (size_t i = 0; i < n; ++i) x[i] = mapped[i] ? mid[i] + half[i] * std::tanh(at[i]) : at[i];
-    return x;
-  };
-  const ResidualFunction violations = [&](const std::vector<double>& at, Eigen::VectorXd* v, Eigen::MatrixXd* jacobian) {
+  const size_t m = rows.equality.size() + rows.inequality.size() + bounded.size();
+  const ResidualFunction violations = [&](const std::vector<double>& x, Eigen::VectorXd* v, Eigen::MatrixXd* jacobian) {
     Eigen::VectorXd r;
     Eigen::MatrixXd j;
-    if (!residuals(unknowns(at), &r, jacobian ? &j : nullptr)) return false;
-    const size_t m = rows.equality.size() + rows.inequality.size();
+    if (!residuals(x, &r, jacobian ? &j : nullptr)) return false;
     v->setZero(m);
-    if (jacobian) {
-      for (size_t i = 0; i < n; ++i) {
-        if (mapped[i]) j.col(i) *= half[i] * (1.0 - std::tanh(at[i]) * std::tanh(at[i]));
-      }
-      jacobian->setZero(m, n);
-    }
+    if (jacobian) jacobian->setZero(m, n);
     for (size_t e = 0; e < rows.equality.size(); ++e) {
       (*v)[e] = r[rows.equality[e]];
       if (jacobian) jacobian->row(e) = j.row(rows.equality[e]);
@@ -97,13 +87,24 @@ OptimizerResult MinimizeViolation(const ResidualFunction& residuals, const Const
       (*v)[row] = g;
       if (jacobian) jacobian->row(row) = sign * j.row(rows.inequality[c]);
     }
+    for (size_t b = 0; b < bounded.size(); ++b) {  // how far an unknown lies outside its bound
+      const size_t row = rows.equality.size() + rows.inequality.size() + b;
+      const int i = bounded[b];
+      const double below = lower[i] - x[i], above = x[i] - upper[i];
+      if (below > 0.0) (*v)[row] = -below;
+      if (above > 0.0) (*v)[row] = above;
+      if (jacobian && (below > 0.0 || above > 0.0)) (*jacobian)(row, i) = 1.0;
+    }
     return true;
   };
   OptimizerSettings lm = settings;
   lm.name = "ceres";
   lm.loss = RobustLoss{};
-  OptimizerResult result = Minimize(violations, u, lo, hi, lm);
-  result.x = unknowns(result.x);
+  // single shooting of a sensitive motion needs steps far below 1e-8 of the unknowns to close the last gap
+  lm.relative_tolerance = 1e-15;
+  const std::vector<double> unbounded_lo(n, -kUnbounded), unbounded_hi(n, kUnbounded);
+  OptimizerResult result = Minimize(violations, start, unbounded_lo, unbounded_hi, lm);
+  for (size_t i = 0; i < n; ++i) result.x[i] = std::clamp(result.x[i], lower[i], upper[i]);
   return result;
 }
 
@@ -138,8 +139,10 @@ OptimizerResult Polish(const Model<double>& model, const ParameterSet& parameter
   problem.Box(&lower, &upper);
   const ResidualFunction residuals = [&problem](const std::vector<double>& x, Eigen::VectorXd* r,
                                                 Eigen::MatrixXd* jacobian) { return problem.Evaluate(x, r, jacobian); };
-  OptimizerResult result =
-      MinimizeConstrained(residuals, RowsOf(problem, settings), problem.Start(), lower, upper, settings.optimizer);
+  OptimizerSettings polish = settings.optimizer;
+  polish.max_evaluations = std::max(50, settings.optimizer.max_evaluations / kPolishShare);
+  polish.relative_tolerance = 1e-13;
+  OptimizerResult result = MinimizeConstrained(residuals, RowsOf(problem, settings), problem.Start(), lower, upper, polish);
   estimate->clear();
   for (int i = 0; i < parameters.size(); ++i) estimate->push_back(problem.ToParameter(i, result.x[i]));
   return result;
@@ -153,10 +156,15 @@ Attempt Run(const Model<double>& start, const ParameterSet& parameters, const st
   Model<double> model = start;
   int evaluations = 0;
   const auto begin = std::chrono::steady_clock::now();
-  if (segments > 1) {
+  // the constraints first by multiple shooting, then by single shooting from there (one run from the scene's
+  // initial state can part from the joined segments by their gaps grown along the motion)
+  std::vector<int> reaches = {1};
+  if (segments > 1) reaches.insert(reaches.begin(), segments);
+  for (const int k : reaches) {
+    if (k == 1 && settings.inequalities.empty()) break;  // nothing to reach: the polish fits the targets
     try {
-      parameters.Assign(Reach(model, parameters, recordings, settings, segments, &evaluations), &model);
-    } catch (const InputError&) {  // the start diverges: single shooting says so below
+      parameters.Assign(Reach(model, parameters, recordings, settings, k, &evaluations), &model);
+    } catch (const InputError&) {  // the start diverges: the polish says so below
     }
   }
   try {
@@ -186,7 +194,7 @@ std::vector<std::vector<double>> StartValues(const Model<double>& model, const P
       const double hi = settings.bounds.empty() ? kUnbounded : settings.bounds[i].second;
       const bool positive = PositiveKind(parameters.field(static_cast<int>(i)).kind) && values[i] > 0 &&
                             (lo > 0 || lo == -kUnbounded);
-      const double u = unit(random);
+      const double u = kStartSpread * unit(random);
       if (lo != -kUnbounded && hi != kUnbounded) {
         x[i] = positive ? std::exp(0.5 * (std::log(lo) + std::log(hi)) + 0.5 * u * (std::log(hi) - std::log(lo)))
                         : 0.5 * (lo + hi) + 0.5 * u * (hi - lo);
@@ -229,6 +237,8 @@ IdentifyResult FitTrajectory(const Model<double>& model, const ParameterSet& par
 
   const std::vector<std::vector<double>> starts = StartValues(model, parameters, settings);
   const int automatic = settings.segments == 0 ? AutomaticSegments(model, parameters, recordings, settings) : 0;
+  IdentifySettings trial = settings;  // where fit chooses: single shooting first, on a quarter of the budget
+  trial.optimizer.max_evaluations = std::max(50, settings.optimizer.max_evaluations / 4);
   std::vector<Attempt> attempts(starts.size());
   std::atomic<int> next{0};
   std::exception_ptr error;
@@ -242,7 +252,7 @@ IdentifyResult FitTrajectory(const Model<double>& model, const ParameterSet& par
           attempts[s] = Run(start, parameters, recordings, settings, settings.segments);
           continue;
         }
-        attempts[s] = Run(start, parameters, recordings, settings, 1);
+        attempts[s] = Run(start, parameters, recordings, trial, 1);
         if (attempts[s].optimizer.violation <= 1.0) continue;
         Attempt multiple = Run(start, parameters, recordings, settings, automatic);
         multiple.optimizer.evaluations += attempts[s].optimizer.evaluations;
