@@ -141,7 +141,6 @@ OptimizerResult Polish(const Model<double>& model, const ParameterSet& parameter
                                                 Eigen::MatrixXd* jacobian) { return problem.Evaluate(x, r, jacobian); };
   OptimizerSettings polish = settings.optimizer;
   polish.max_evaluations = std::max(50, settings.optimizer.max_evaluations / kPolishShare);
-  polish.relative_tolerance = 1e-13;
   OptimizerResult result = MinimizeConstrained(residuals, RowsOf(problem, settings), problem.Start(), lower, upper, polish);
   estimate->clear();
   for (int i = 0; i < parameters.size(); ++i) estimate->push_back(problem.ToParameter(i, result.x[i]));
