@@ -35,25 +35,6 @@ std::tuple<std::string, double, double> ParseBound(const std::string& text) {
   return {text.substr(0, equals), lo, hi};
 }
 
-// "COLUMN=VALUE@T" (after --at-least or --at-most) -> the target.
-InequalityTarget ParseInequality(const std::string& text, bool at_least) {
-  const std::string flag = at_least ? "--at-least" : "--at-most";
-  const size_t at = text.rfind('@'), equals = text.rfind('=', at);
-  if (at == std::string::npos || equals == std::string::npos || equals == 0) {
-    throw InputError(flag + ": '" + text + "' is not COLUMN=VALUE@T (e.g. tip.y=1.99@5)");
-  }
-  auto number = [&](const std::string& s) {
-    char* end = nullptr;
-    const double x = std::strtod(s.c_str(), &end);
-    if (s.empty() || end != s.c_str() + s.size() || !std::isfinite(x)) {
-      throw InputError(flag + ": '" + text + "': '" + s + "' is not a finite number");
-    }
-    return x;
-  };
-  return {text.substr(0, equals), number(text.substr(equals + 1, at - equals - 1)), number(text.substr(at + 1)),
-          at_least, flag + " " + text};
-}
-
 class IdentifyCommand final : public Command {
  public:
   IdentifyCommand(CLI::App* parent, bool fit) : fit_(fit) {
@@ -95,8 +76,8 @@ class IdentifyCommand final : public Command {
     settings.optimizer.name = optimizer_;
     CheckOptimizerName(optimizer_, "--optimizer");
     settings.method = ParseGradientMethod(method_, "--method");
-    for (const std::string& text : at_least_) settings.inequalities.push_back(ParseInequality(text, true));
-    for (const std::string& text : at_most_) settings.inequalities.push_back(ParseInequality(text, false));
+    for (const std::string& text : at_least_) settings.inequalities.push_back(ParseInequality(text, true, "--at-least"));
+    for (const std::string& text : at_most_) settings.inequalities.push_back(ParseInequality(text, false, "--at-most"));
     CheckCount(starts_, 1, kMaxStarts, "--starts");
     settings.starts = starts_;
     settings.seed = seed_;

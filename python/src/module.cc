@@ -181,6 +181,9 @@ std::string TuneScene(const Scene& scene, const std::string& objective, const st
   });
 }
 
+// The segments argument the Python fit passes for segments=None: fit chooses, as the command line does.
+constexpr int kAutomaticSegments = -1;
+
 struct Dataset {
   std::string source;
   std::vector<std::string> names;
@@ -191,16 +194,25 @@ std::string IdentifyParameters(const Scene& scene, const std::vector<Dataset>& d
                                const std::vector<std::string>& pointers,
                                const std::vector<std::tuple<std::string, double, double>>& bounds, int segments,
                                const std::string& loss, const std::string& optimizer, int max_evaluations,
-                               double smooth, const std::string& method, const std::vector<std::string>& ties) {
+                               double smooth, const std::string& method, const std::vector<std::string>& ties,
+                               double effort, const std::vector<std::string>& at_least,
+                               const std::vector<std::string>& at_most, int starts, unsigned seed) {
   IdentifySettings settings;
+  for (const std::string& text : at_least) settings.inequalities.push_back(ParseInequality(text, true, "at_least"));
+  for (const std::string& text : at_most) settings.inequalities.push_back(ParseInequality(text, false, "at_most"));
+  if (!(effort >= 0) || !std::isfinite(effort)) throw InputError("effort: must be >= 0");
+  CheckCount(starts, 1, kMaxStarts, "starts");
+  settings.effort = effort;
+  settings.starts = starts;
+  settings.seed = seed;
   CheckOptimizerName(optimizer, "optimizer");
   settings.optimizer.name = optimizer;
   settings.method = ParseGradientMethod(method, "method");
   if (!loss.empty()) settings.optimizer.loss = ParseRobustLoss(loss, "loss");
-  CheckCount(segments, 1, kMaxSegments, "segments");
+  if (segments != kAutomaticSegments) CheckCount(segments, 1, kMaxSegments, "segments");
   CheckCount(max_evaluations, 2, kMaxEvaluations, "max_evaluations");
   if (!(smooth >= 0) || !std::isfinite(smooth)) throw InputError("smooth: must be >= 0");
-  settings.segments = segments;
+  settings.segments = segments == kAutomaticSegments ? 0 : segments;  // fit's choice (trajectory_fit.h)
   settings.smooth = smooth;
   settings.optimizer.max_evaluations = max_evaluations;
   ParameterSet parameters(scene, pointers);

@@ -141,3 +141,21 @@ def test_study_as_the_cli(tmp_path):
     (tmp_path / "a_file").write_text("")
     with pytest.raises(tether.InputError, match=r"cannot make the folder"):
         tether.study(spec, tmp_path / "a_file" / "out")
+
+
+def test_trajectory_fit_as_the_cli(tmp_path):
+    scene = source("docs", "examples", "swing_up", "pendulum.json")
+    knots = "/effects/1/schedule/values/*"
+    at_least, at_most = ["axle.angle=3@3", "axle.omega=-0.2@3"], ["axle.angle=3.3@3", "axle.omega=0.2@3"]
+    flags = [f for t in at_least for f in ("--at-least", t)] + [f for t in at_most for f in ("--at-most", t)]
+    expected = cli_json("fit", scene, "--param", knots, "--bound", knots + "=-2:2", "--effort", "0.1", "--starts", "2",
+                        *flags)
+    got = tether.fit(scene, None, knots, bounds={knots: (-2, 2)}, effort=0.1, at_least=at_least, at_most=at_most,
+                     starts=2)
+    assert got["feasible"] and expected["feasible"]
+    assert got["parameters"] == expected["parameters"]
+    assert got["constraints"] == expected["constraints"]
+    with pytest.raises(tether.InputError, match=r"at_least: 'axle.angle=3' is not COLUMN=VALUE@T"):
+        tether.fit(scene, None, knots, at_least="axle.angle=3")
+    with pytest.raises(tether.InputError, match=r"data: fit needs targets"):
+        tether.fit(scene, None, knots)

@@ -262,12 +262,25 @@ def tune(scene, objective="reference", optimizer="ceres", samples=1, max_evaluat
     return json.loads(_tether.tune(_scene(scene), objective, optimizer, samples, max_evaluations))
 
 
-def _estimate(scene, data, params, bounds, segments, loss, optimizer, max_evaluations, smooth, method, ties):
-    result = json.loads(_tether.identify(_scene(scene), _datasets(data), _pointers(params), _bounds(bounds), segments,
-                                         loss or "", optimizer, max_evaluations, smooth, method, _ties(ties)))
+def _estimate(scene, data, params, bounds, segments, loss, optimizer, max_evaluations, smooth, method, ties,
+              effort=0.0, at_least=None, at_most=None, starts=1, seed=1):
+    result = json.loads(_tether.identify(_scene(scene), [] if data is None else _datasets(data), _pointers(params),
+                                         _bounds(bounds), segments, loss or "", optimizer, max_evaluations, smooth,
+                                         method, _ties(ties), effort, _targets(at_least, "at_least"),
+                                         _targets(at_most, "at_most"), starts, seed))
     if result["failed"]:  # where the command line exits with status 1
         warnings.warn("the estimate failed: " + "; ".join(result["warnings"]), EstimateFailed, stacklevel=3)
     return result
+
+
+def _targets(targets, name):
+    if targets is None:
+        return []
+    if isinstance(targets, str):
+        targets = [targets]
+    if not all(isinstance(t, str) for t in targets):
+        raise InputError(f"{name}: expected COLUMN=VALUE@T strings, e.g. ['tip.y=1.99@5']")
+    return list(targets)
 
 
 def identify(scene, data, params, bounds=None, segments=1, loss=None, optimizer="ceres", max_evaluations=200,
@@ -279,11 +292,23 @@ def identify(scene, data, params, bounds=None, segments=1, loss=None, optimizer=
     return _estimate(scene, data, params, bounds, segments, loss, optimizer, max_evaluations, 0.0, method, ties)
 
 
-def fit(scene, data, params, bounds=None, segments=1, loss=None, optimizer="ceres", max_evaluations=200,
-        smooth=0.0, method="auto", ties=None):
+def fit(scene, data, params, bounds=None, segments=None, loss=None, optimizer=None, max_evaluations=None,
+        smooth=0.0, method="auto", ties=None, effort=0.0, at_least=None, at_most=None, starts=1, seed=1):
     """Fits initial conditions or schedules to targets, as `tether fit` (smooth: the weight of the penalty on
-    changes between schedule values; method and ties as for identify)."""
-    return _estimate(scene, data, params, bounds, segments, loss, optimizer, max_evaluations, smooth, method, ties)
+    changes between schedule values; method and ties as for identify). Trajectory optimisation: effort (the weight
+    of the integral of the squared motor torques), at_least / at_most (constraints, "COLUMN=VALUE@T" strings as the
+    flags take), starts and seed; data may be None when there are constraints. segments=None lets fit choose, as
+    the command line does. The optimizer defaults to ceres, or nlopt:LD_SLSQP with constraints or starts;
+    max_evaluations to 200, or 1000 with constraints or starts."""
+    trajectory = bool(at_least) or bool(at_most) or starts > 1
+    if optimizer is None:
+        optimizer = "nlopt:LD_SLSQP" if trajectory else "ceres"
+    if max_evaluations is None:
+        max_evaluations = 1000 if trajectory else 200
+    if data is None and not trajectory:
+        raise InputError("data: fit needs targets: data, or constraints (at_least, at_most)")
+    return _estimate(scene, data, params, bounds, -1 if segments is None else segments, loss, optimizer,
+                     max_evaluations, smooth, method, ties, effort, at_least, at_most, starts, seed)
 
 
 def check(scene):

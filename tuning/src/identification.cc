@@ -5,14 +5,11 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
-#include <type_traits>
 
 #include "tether/autodiff/adjoint.h"
 #include "tether/autodiff/residuals.h"
-#include "tether/dynamics/configuration_space.h"
 #include "tether/dynamics/errors.h"
 #include "tether/dynamics/simulator.h"
-#include "tether/dynamics/trajectory.h"
 #include "fit_judgement.h"
 #include "shooting_problem.h"
 #include "trajectory_fit.h"

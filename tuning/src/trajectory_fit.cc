@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cstdlib>
 #include <cmath>
 #include <exception>
 #include <limits>
@@ -208,6 +209,23 @@ std::vector<std::vector<double>> StartValues(const Model<double>& model, const P
 }
 
 }  // namespace
+
+InequalityTarget ParseInequality(const std::string& text, bool at_least, const std::string& flag) {
+  const size_t at = text.rfind('@'), equals = text.rfind('=', at);
+  if (at == std::string::npos || equals == std::string::npos || equals == 0) {
+    throw InputError(flag + ": '" + text + "' is not COLUMN=VALUE@T (e.g. tip.y=1.99@5)");
+  }
+  const auto number = [&](const std::string& s) {
+    char* end = nullptr;
+    const double x = std::strtod(s.c_str(), &end);
+    if (s.empty() || end != s.c_str() + s.size() || !std::isfinite(x)) {
+      throw InputError(flag + ": '" + text + "': '" + s + "' is not a finite number");
+    }
+    return x;
+  };
+  return {text.substr(0, equals), number(text.substr(equals + 1, at - equals - 1)), number(text.substr(at + 1)),
+          at_least, flag + " " + text};
+}
 
 int AutomaticSegments(const Model<double>& model, const ParameterSet& parameters,
                       const std::vector<Observations>& recordings, const IdentifySettings& settings) {

@@ -56,6 +56,9 @@ struct InequalityTarget {
 };
 inline constexpr double kConstraintTolerance = 1e-6;
 
+// "COLUMN=VALUE@T" -> the target (the column is checked against the scene later); InputError naming `flag`.
+InequalityTarget ParseInequality(const std::string& text, bool at_least, const std::string& flag);
+
 struct IdentifySettings {
   OptimizerSettings optimizer;
   GradientMethod method = GradientMethod::kAuto;  // how a gradient-based NLopt algorithm gets its gradients
