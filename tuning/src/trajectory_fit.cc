@@ -109,7 +109,7 @@ OptimizerResult MinimizeViolation(const ResidualFunction& residuals, const Const
   return result;
 }
 
-// Multiple shooting with `segments` segments from `model`'s values: the constraints alone (continuity and the
+// Shooting with `segments` segments (1: one run) from `model`'s values: the constraints alone (continuity and the
 // inequality targets) met by Levenberg-Marquardt. The parameters found.
 std::vector<double> Reach(const Model<double>& model, const ParameterSet& parameters,
                           const std::vector<Observations>& recordings, const IdentifySettings& settings, int segments,
@@ -148,7 +148,7 @@ OptimizerResult Polish(const Model<double>& model, const ParameterSet& parameter
   return result;
 }
 
-// Multiple shooting with `segments` (when > 1), then single shooting from its parameters.
+// One start: reach by multiple shooting with `segments` (when > 1), reach by single shooting, polish.
 Attempt Run(const Model<double>& start, const ParameterSet& parameters, const std::vector<Observations>& recordings,
             const IdentifySettings& settings, int segments) {
   Attempt attempt;
@@ -180,7 +180,7 @@ Attempt Run(const Model<double>& start, const ParameterSet& parameters, const st
   return attempt;
 }
 
-// Start s: the scene's values (s = 0) or a random point (starts.h, trajectory_fit.h).
+// Start s: the scene's values (s = 0) or a random point (trajectory_fit.h).
 std::vector<std::vector<double>> StartValues(const Model<double>& model, const ParameterSet& parameters,
                                              const IdentifySettings& settings) {
   const std::vector<double> values = parameters.Values(model);
