@@ -5,7 +5,6 @@
 
 #include <chrono>
 #include <cmath>
-#include <limits>
 #include <nlopt.hpp>
 #include <stdexcept>
 
@@ -136,14 +135,11 @@ OptimizerResult MinimizeConstrained(const ResidualFunction& residuals, const Con
   for (int row : rows.inequality) context.objective_row[row] = false;
   const unsigned n = static_cast<unsigned>(start.size());
   nlopt::opt opt(static_cast<nlopt::algorithm>(nlopt_algorithm_from_string(algorithm.c_str())), n);
-  std::vector<double> lo = lower, hi = upper;  // NLopt takes only true infinities as unbounded
-  for (double& b : lo) b = std::abs(b) == std::numeric_limits<double>::max() ? -HUGE_VAL : b;
-  for (double& b : hi) b = std::abs(b) == std::numeric_limits<double>::max() ? HUGE_VAL : b;
   std::vector<double> x = start;
   double value = 0.0;
   try {
-    opt.set_lower_bounds(lo);
-    opt.set_upper_bounds(hi);
+    opt.set_lower_bounds(NloptBounds(lower));
+    opt.set_upper_bounds(NloptBounds(upper));
     opt.set_min_objective(Objective, &context);
     if (!rows.equality.empty()) opt.add_equality_mconstraint(Equalities, &context, rows.equality_tolerance);
     if (!rows.inequality.empty()) opt.add_inequality_mconstraint(Inequalities, &context, rows.inequality_tolerance);

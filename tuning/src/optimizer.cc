@@ -190,15 +190,8 @@ OptimizerResult MinimizeWithNlopt(const ResidualFunction& residuals, const CostG
     return value;
   };
   opt.set_min_objective(objective, &context);
-  // NLopt takes only true infinities as "unbounded" (with the largest double its first step would be ~1e308)
-  auto infinite = [](std::vector<double> bounds) {
-    for (double& b : bounds) {
-      if (std::abs(b) == std::numeric_limits<double>::max()) b = std::copysign(HUGE_VAL, b);
-    }
-    return bounds;
-  };
-  opt.set_lower_bounds(infinite(lower));
-  opt.set_upper_bounds(infinite(upper));
+  opt.set_lower_bounds(NloptBounds(lower));
+  opt.set_upper_bounds(NloptBounds(upper));
   opt.set_xtol_rel(settings.relative_tolerance);
   opt.set_ftol_rel(settings.relative_tolerance);
   opt.set_maxeval(settings.max_evaluations);
@@ -238,6 +231,13 @@ OptimizerResult MinimizeWithNlopt(const ResidualFunction& residuals, const CostG
 }
 
 }  // namespace
+
+std::vector<double> NloptBounds(std::vector<double> bounds) {
+  for (double& b : bounds) {
+    if (std::abs(b) == std::numeric_limits<double>::max()) b = std::copysign(HUGE_VAL, b);
+  }
+  return bounds;
+}
 
 RobustLoss ParseRobustLoss(const std::string& text, const std::string& flag) {
   const size_t colon = text.find(':');

@@ -128,7 +128,7 @@ ShootingProblem::ShootingProblem(const Model<double>& model, const ParameterSet&
     for (const Observations& r : recordings) {
       for (size_t row = 0; row < r.times.size(); ++row) {
         const double t = r.times[row];
-        if (!((t > boundaries_[k] || (k == 0 && t == boundaries_[k])) && t <= boundaries_[k + 1])) continue;
+        if (!InSegment(t, k)) continue;
         for (double value : r.values[row]) cells += std::isnan(value) ? 0 : 1;
       }
     }
@@ -146,12 +146,13 @@ ShootingProblem::ShootingProblem(const Model<double>& model, const ParameterSet&
       }
     }
   }
+  std::vector<double> penalties;
+  Penalties(model, &penalties);
+  penalty_count_ = static_cast<int>(penalties.size());
 }
 
-int ShootingProblem::PenaltyCount() const {
-  std::vector<double> penalties;
-  Penalties(model_, &penalties);
-  return static_cast<int>(penalties.size());
+bool ShootingProblem::InSegment(double t, int k) const {
+  return (t > boundaries_[k] || (k == 0 && t == boundaries_[k])) && t <= boundaries_[k + 1];
 }
 
 double ShootingProblem::ToUnknown(int i, double p) const { return log_space_[i] ? std::log(p) : p; }
@@ -232,11 +233,10 @@ ShootingProblem::SegmentOutput<T> ShootingProblem::RunSegment(const Model<T>& mo
     ContinueCoordinates(model, start.q, reference_coordinates_[k - 1], &segment);
   }
   const double begin = boundaries_[k], end = boundaries_[k + 1];
-  auto inside = [&](double t) { return (t > begin || (k == 0 && t == begin)) && t <= end; };
   std::vector<double> times;  // every observed time in (begin, end] (and t = 0 in the first segment)
   for (const Observations* r : observed_) {
     for (double t : r->times) {
-      if (inside(t)) times.push_back(t);
+      if (InSegment(t, k)) times.push_back(t);
     }
   }
   times.push_back(end);
@@ -256,7 +256,7 @@ ShootingProblem::SegmentOutput<T> ShootingProblem::RunSegment(const Model<T>& mo
     for (size_t i = 0; i < observed_.size(); ++i) {
       const Observations& r = *observed_[i];
       const auto row = std::lower_bound(r.times.begin(), r.times.end(), t);
-      if (row == r.times.end() || *row != t || !inside(t)) continue;
+      if (row == r.times.end() || *row != t || !InSegment(t, k)) continue;
       const size_t index = row - r.times.begin();
       ObservedResiduals(segment, r, index, s, [&](size_t c, const T& value) { cells[i][index].push_back({c, value}); });
     }

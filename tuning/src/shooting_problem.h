@@ -51,7 +51,7 @@ class ShootingProblem {
   bool LogSpace(int i) const { return log_space_[i]; }
   int DataCount() const { return segment_rows_.back(); }
   int ContinuityCount() const { return (Segments() - 1) * state_size_; }
-  int PenaltyCount() const;
+  int PenaltyCount() const { return penalty_count_; }
   int ConstraintCount() const { return static_cast<int>(targets_.size()); }
   // The constraint rows: the first and how each bounds its residual (+1: r <= 0, at most; -1: r >= 0, at least).
   int FirstConstraintRow() const { return DataCount() + ContinuityCount() + PenaltyCount(); }
@@ -109,6 +109,8 @@ class ShootingProblem {
                            Model<T>* segment) const;
   template <typename T>
   void Penalties(Model<T> model, std::vector<T>* out) const;
+  // Whether observation time t belongs to segment k: (begin, end], and t = 0 to the first.
+  bool InSegment(double t, int k) const;
   // Whether parameter i acts within segment k.
   bool ActsWithin(int i, int k) const;
   std::vector<State<double>> SegmentStarts();
@@ -128,6 +130,7 @@ class ShootingProblem {
   std::vector<State<double>> references_;  // the start states the offsets are taken from
   std::vector<std::vector<double>> reference_coordinates_;  // the joint coordinates of the run at those
   std::vector<std::pair<int, int>> smooth_pairs_;
+  int penalty_count_ = 0;  // rows of Penalties: the smoothing pairs and the effort pieces
 };
 
 }  // namespace tether

@@ -89,6 +89,10 @@ struct ConstraintRows {
   std::vector<int> equality, inequality;  // row indices
   std::vector<double> equality_tolerance, inequality_tolerance, inequality_sign;
 };
+// The bounds as NLopt takes them: +-the largest double (tether's "unbounded") as true infinities, since with the
+// largest double NLopt's first step would be ~1e308.
+std::vector<double> NloptBounds(std::vector<double> bounds);
+
 // Throws InputError naming --optimizer unless `name` is an NLopt algorithm (constraints need one).
 void CheckConstrainedOptimizer(const std::string& name);
 OptimizerResult MinimizeConstrained(const ResidualFunction& residuals, const ConstraintRows& rows,
