@@ -1,8 +1,8 @@
 // The residuals of identification and fitting as functions of the unknowns (tuning/src/shooting_problem.h): their
 // Jacobian, taken segment by segment by Jets over the unknowns each segment depends on, against central
 // differences of the residuals themselves, for the acrobot with multiple shooting (its segment start states among
-// the unknowns), an inequality target, smoothing and effort; and the effort rows against the integral they stand
-// for.
+// the unknowns, held to the constraints by their own rows), an inequality target, smoothing and effort; the
+// effort rows against the integral they stand for.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -37,14 +37,18 @@ struct Acrobot {
 TEST(ShootingProblem, JacobianBySegmentsMatchesCentralDifferences) {
   Acrobot acrobot;
   acrobot.settings.segments = 4;
-  const ShootingProblem problem(acrobot.scene.model, acrobot.parameters, acrobot.recordings, acrobot.settings);
+  const ShootingProblem problem(acrobot.scene.model, acrobot.parameters, acrobot.recordings, acrobot.settings,
+                                ShootingProblem::StartRows::kOnTheConstraints);
   ASSERT_EQ(problem.Unknowns(), 41 + 3 * 12);
+  ASSERT_EQ(problem.ContinuityCount(), 2 * 3 * 12);  // the gaps, then the starts' distances to the constraints
   std::vector<double> x = problem.Start();
-  for (size_t i = 41; i < x.size(); ++i) x[i] += 0.01 * std::sin(3.0 * i);  // segments that do not join
+  // segments that do not join, starting off the constraints
+  for (size_t i = 41; i < x.size(); ++i) x[i] += 0.01 * std::sin(3.0 * i);
   Eigen::VectorXd r;
   Eigen::MatrixXd jacobian;
   ASSERT_TRUE(problem.Evaluate(x, &r, &jacobian));
   ASSERT_EQ(r.size(), problem.FirstConstraintRow() + 2);
+  EXPECT_GT(r.segment(problem.DataCount() + 3 * 12, 3 * 12).lpNorm<Eigen::Infinity>(), 1e-3);  // off the constraints
   const double h = 1e-6;
   double worst = 0.0;
   for (int j = 0; j < problem.Unknowns(); ++j) {
@@ -80,6 +84,13 @@ TEST(ShootingProblem, SegmentsContinueTheJointCoordinatesOfTheRun) {
   EXPECT_GT(std::abs(whole[4]), 0.1);  // the shoulder has turned: a segment's own zero would show
   // a segment's start is moved onto the constraints (the run's drift, about 1e-8 m, is taken out)
   for (int i = 0; i < 6; ++i) EXPECT_NEAR(pieces[i], whole[i], 1e-6) << i;
+  // started from one run, the segments join and start on the constraints: every continuity row vanishes (to the
+  // run's own drift off the constraints, about 2e-6 here)
+  const ShootingProblem held(acrobot.scene.model, acrobot.parameters, acrobot.recordings, acrobot.settings,
+                             ShootingProblem::StartRows::kOnTheConstraints);
+  ASSERT_TRUE(held.Evaluate(held.Start(), &pieces, nullptr));
+  ASSERT_EQ(held.ContinuityCount(), 2 * 3 * 12);
+  EXPECT_LT(pieces.segment(held.DataCount(), held.ContinuityCount()).lpNorm<Eigen::Infinity>(), 1e-5);
 }
 
 // 1/2 (r1^2 + r2^2) summed over the effort rows is W int_0^D tau^2 dt, here by a fine midpoint rule.

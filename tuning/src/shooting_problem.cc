@@ -87,8 +87,13 @@ int ShootingProblem::Seeds::Slot(int unknown) const {
 }
 
 ShootingProblem::ShootingProblem(const Model<double>& model, const ParameterSet& parameters,
-                                 const std::vector<Observations>& recordings, const IdentifySettings& settings)
-    : model_(model), parameters_(parameters), recordings_(recordings), settings_(settings) {
+                                 const std::vector<Observations>& recordings, const IdentifySettings& settings,
+                                 StartRows start_rows)
+    : model_(model),
+      parameters_(parameters),
+      recordings_(recordings),
+      settings_(settings),
+      on_the_constraints_(start_rows == StartRows::kOnTheConstraints) {
   const std::vector<double> values = parameters.Values(model);
   for (int i = 0; i < parameters.size(); ++i) {
     const bool lower_positive =
@@ -240,6 +245,8 @@ ShootingProblem::SegmentOutput<T> ShootingProblem::RunSegment(const Model<T>& mo
     }
   }
   times.push_back(end);
+  const bool start_kept = k > 0 && on_the_constraints_;  // the start state as the run moved it onto the constraints
+  if (start_kept) times.push_back(begin);
   std::sort(times.begin(), times.end());
   times.erase(std::unique(times.begin(), times.end()), times.end());
   // the residuals are kept in recording, row, column order: collect them per stop first
@@ -260,6 +267,7 @@ ShootingProblem::SegmentOutput<T> ShootingProblem::RunSegment(const Model<T>& mo
       const size_t index = row - r.times.begin();
       ObservedResiduals(segment, r, index, s, [&](size_t c, const T& value) { cells[i][index].push_back({c, value}); });
     }
+    if (start_kept && s.stop == 0) out.start = {s.q, s.v};
     if (s.stop + 1 == static_cast<int>(times.size())) out.end = {s.q, s.v};
   });
   size_t group = 0;
@@ -330,13 +338,14 @@ bool ShootingProblem::Evaluate(const std::vector<double>& x, Eigen::VectorXd* r,
     // values: one double run of every segment
     std::vector<double> values(DataCount(), 0.0);
     std::vector<double> constraints(ConstraintCount(), 0.0);
-    std::vector<State<double>> ends;
+    std::vector<State<double>> ends, assembled;
     const Seeds none;
     for (int k = 0; k < segments; ++k) {
       SegmentOutput<double> s = RunSegment(guess, x, k, none);
       for (size_t j = 0; j < s.data.size(); ++j) values[segment_rows_[k] + j] = s.data[j].second;
       for (const auto& [c, value] : s.constraints) constraints[c] = value;
       ends.push_back(s.end);
+      assembled.push_back(s.start);
     }
     VecX<double> gap(nv);
     for (int k = 0; k + 1 < segments; ++k) {
@@ -344,6 +353,12 @@ bool ShootingProblem::Evaluate(const std::vector<double>& x, Eigen::VectorXd* r,
       Difference(guess, start.q, ends[k].q, &gap);
       values.insert(values.end(), gap.data(), gap.data() + nv);
       for (int i = 0; i < nv; ++i) values.push_back(ends[k].v[i] - start.v[i]);
+    }
+    for (int k = 1; k < segments && on_the_constraints_; ++k) {
+      const State<double> start = SegmentStart(guess, x, k, none);
+      Difference(guess, assembled[k].q, start.q, &gap);
+      values.insert(values.end(), gap.data(), gap.data() + nv);
+      for (int i = 0; i < nv; ++i) values.push_back(start.v[i] - assembled[k].v[i]);
     }
     Penalties(guess, &values);
     values.insert(values.end(), constraints.begin(), constraints.end());
@@ -373,6 +388,14 @@ bool ShootingProblem::Evaluate(const std::vector<double>& x, Eigen::VectorXd* r,
         const SegmentOutput<Jet> s = RunSegment(model, x, k, seeds);
         for (size_t j = 0; j < s.data.size(); ++j) fill(segment_rows_[k] + static_cast<int>(j), s.data[j].second, seeds);
         for (const auto& [c, value] : s.constraints) fill(constraint + c, value, seeds);
+        if (k > 0 && on_the_constraints_) {  // how far the start lies off the constraints
+          const State<Jet> start = SegmentStart(model, x, k, seeds);
+          VecX<Jet> off(nv);
+          Difference(model, s.start.q, start.q, &off);
+          const int row = continuity + (segments - 1 + k - 1) * state_size_;
+          for (int i = 0; i < nv; ++i) fill(row + i, off[i], seeds);
+          for (int i = 0; i < nv; ++i) fill(row + nv + i, start.v[i] - s.start.v[i], seeds);
+        }
         if (k + 1 == segments) return;
         const State<Jet> start = SegmentStart(model, x, k + 1, Seeds{});  // the next start, constant here
         VecX<Jet> jet_gap(nv);

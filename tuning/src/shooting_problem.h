@@ -4,7 +4,12 @@
 // state of every segment after the first: an offset d from its reference, q = q_ref (+) d, and the velocity v.
 // Residuals, in this order:
 //   data         simulated - observed, every observed cell of every recording, segment by segment;
-//   continuity   end state of segment k (-) start state of segment k + 1 (configuration, then velocity);
+//   continuity   end state of segment k (-) start state of segment k + 1 (configuration, then velocity), for
+//                every k; then, with kOnTheConstraints, for every segment after the first its start state (-)
+//                that state moved onto the constraints (zero where the segments join, since an end lies on them;
+//                without these rows a trajectory fit's steps drift off the constraints, where moving a state onto
+//                them can jump between branches: on the acrobot 2 of 8 starts reached the upright without, 5
+//                with; identification keeps without, its starts come from the data);
 //   penalties    smoothing sqrt(W_s) (s_{j+1} - s_j) of consecutive schedule values; effort, the integral
 //                W_e int_0^D tau(t)^2 dt of every joint motor's torque, exact for its piecewise linear schedule
 //                (held at its end values): over a piece of length L from a to b, W_e L (a^2 + a b + b^2) / 3 =
@@ -42,15 +47,17 @@ const std::vector<double>* ScheduleTimes(const Model<double>& model, const Field
 
 class ShootingProblem {
  public:
+  // Whether the continuity rows hold each segment's start state to the constraints as well (see above).
+  enum class StartRows { kContinuityOnly, kOnTheConstraints };
   // settings.segments >= 1 (Identify resolves an automatic choice before).
   ShootingProblem(const Model<double>& model, const ParameterSet& parameters, const std::vector<Observations>& recordings,
-                  const IdentifySettings& settings);
+                  const IdentifySettings& settings, StartRows start_rows = StartRows::kContinuityOnly);
 
   int Unknowns() const { return parameters_.size() + (Segments() - 1) * state_size_; }
   int Segments() const { return static_cast<int>(boundaries_.size()) - 1; }
   bool LogSpace(int i) const { return log_space_[i]; }
   int DataCount() const { return segment_rows_.back(); }
-  int ContinuityCount() const { return (Segments() - 1) * state_size_; }
+  int ContinuityCount() const { return (on_the_constraints_ ? 2 : 1) * (Segments() - 1) * state_size_; }
   int PenaltyCount() const { return penalty_count_; }
   int ConstraintCount() const { return static_cast<int>(targets_.size()); }
   // The constraint rows: the first and how each bounds its residual (+1: r <= 0, at most; -1: r >= 0, at least).
@@ -93,6 +100,7 @@ class ShootingProblem {
     std::vector<std::pair<size_t, T>> data;
     std::vector<std::pair<int, T>> constraints;
     State<T> end;
+    State<T> start;  // after the first segment: the start state as the run moved it onto the constraints
   };
 
   Model<double> WithParameters(const std::vector<double>& x) const;
@@ -120,6 +128,7 @@ class ShootingProblem {
   const ParameterSet& parameters_;
   const std::vector<Observations>& recordings_;
   const IdentifySettings& settings_;
+  bool on_the_constraints_ = false;  // StartRows::kOnTheConstraints
   std::vector<Observations> targets_;  // one per inequality target: its column at its time, the bound as value
   std::vector<const Observations*> observed_;  // the recordings, then the targets
   size_t data_groups_ = 0;                      // columns over the recordings

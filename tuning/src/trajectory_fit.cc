@@ -116,7 +116,7 @@ std::vector<double> Reach(const Model<double>& model, const ParameterSet& parame
                           int* evaluations) {
   IdentifySettings these = settings;
   these.segments = segments;
-  const ShootingProblem problem(model, parameters, recordings, these);
+  const ShootingProblem problem(model, parameters, recordings, these, ShootingProblem::StartRows::kOnTheConstraints);
   std::vector<double> lower, upper;
   problem.Box(&lower, &upper);
   const ResidualFunction residuals = [&problem](const std::vector<double>& x, Eigen::VectorXd* r,
@@ -254,8 +254,8 @@ IdentifyResult FitTrajectory(const Model<double>& model, const ParameterSet& par
 
   const std::vector<std::vector<double>> starts = StartValues(model, parameters, settings);
   const int automatic = settings.segments == 0 ? AutomaticSegments(model, parameters, recordings, settings) : 0;
-  IdentifySettings trial = settings;  // where fit chooses: single shooting first, on a quarter of the budget
-  trial.optimizer.max_evaluations = std::max(50, settings.optimizer.max_evaluations / 4);
+  IdentifySettings trial = settings;  // where fit chooses: single shooting first, on an eighth of the budget
+  trial.optimizer.max_evaluations = std::max(50, settings.optimizer.max_evaluations / 8);
   std::vector<Attempt> attempts(starts.size());
   std::atomic<int> next{0};
   std::exception_ptr error;

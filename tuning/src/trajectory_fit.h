@@ -7,8 +7,8 @@
 //
 // Each start runs in three steps.
 //   reach (multiple shooting, segments K > 1)  the constraints alone, as a least-squares feasibility problem
-//       solved by Levenberg-Marquardt (Ceres): the continuity rows (end of segment k = start of segment k + 1)
-//       and the inequality rows where they come within kMargin tolerances of their bound, plus how far each
+//       solved by Levenberg-Marquardt (Ceres): the continuity rows (end of segment k = start of segment k + 1,
+//       and each start on the scene's constraints: ShootingProblem::StartRows) and the inequality rows where they come within kMargin tolerances of their bound, plus how far each
 //       unknown lies outside its bound. A motion whose end is sensitive to its beginning (a swing-up: an early
 //       error grows by 1e5) is found piece by piece, and the joints close to about 1e-10.
 //   reach (single shooting)  the same from there on one run, which parts from the joined segments by their gaps
@@ -19,7 +19,7 @@
 // while lowering the cost; it is not the first step because from a random start (and with multiple shooting's
 // continuity as equalities) it wanders off: measured on the acrobot, it ended with gaps of 1 to 7 rad between the
 // segments where Levenberg-Marquardt closed them. Where the segments are left to fit (settings.segments 0),
-// single shooting runs first, on a quarter of the budget, and multiple shooting (AutomaticSegments) where it does
+// single shooting runs first, on an eighth of the budget, and multiple shooting (AutomaticSegments) where it does
 // not meet the constraints.
 //
 // Starts: the scene's values, then starts - 1 random points (seeded): uniform within kStartSpread of each bounded
