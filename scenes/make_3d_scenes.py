@@ -17,6 +17,8 @@ none of them needs assembling: python3 scenes/make_3d_scenes.py [OUT_DIR] (defau
                      on world hinges: three of its rows are redundant
   acrobot.json       the seed lecture's acrobot: two 1 m, 1 kg rods in the plane, the shoulder pinned to the world
                      and a motor at the elbow only (41 knots over 5 s), hanging at rest
+  cart_pole.json     a 1 kg cart on a rail (a prismatic joint with a motor: a force along it) and a 1 m, 0.5 kg
+                     pole hinged to it, hanging at rest (16 knots over 3 s)
 Standard library only.
 """
 import json
@@ -171,10 +173,27 @@ def acrobot():
             "simulation": {"integrator": "rk4", "step": 0.01, "duration": 5.0}}
 
 
+def cart_pole():
+    """A 1 kg cart on a rail along x (a prismatic joint with a motor: a force) and a 1 m, 0.5 kg pole hinged to it
+    about y, hanging at rest; 16 knots over 3 s."""
+    times = [0.2 * k for k in range(16)]
+    hanging = qaxis([0, 1, 0], math.pi / 2)  # the pole's body x (its length) along world -z
+    bodies = [rigid("cart", 1.0, [0.05, 0.05, 0.05], [0.0, 0.0, 0.0]),
+              rigid("pole", 0.5, rod(0.5, 1.0), [0.0, 0.0, -0.5], hanging)]
+    joints = [{"type": "prismatic", "name": "rail", "bodies": ["world", "cart"], "points": [[0, 0, 0], [0, 0, 0]],
+               "axis": [1, 0, 0]},
+              {"type": "hinge", "name": "pivot", "bodies": ["cart", "pole"], "points": [[0, 0, 0], [-0.5, 0, 0]],
+               "axis": [0, 1, 0]}]
+    effects = [{"type": "gravity", "acceleration": [0, 0, -G]},
+               {"type": "joint_torque", "joint": "rail", "schedule": {"times": times, "values": [0.0] * len(times)}}]
+    markers = [{"name": "tip", "body": "pole", "point": [0.5, 0, 0]}]
+    return scene(bodies, joints, effects, markers, step=0.01, duration=3.0)
+
+
 def main():
     out = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.abspath(__file__))
     for name, build in (("heavy_top", heavy_top), ("tumbling_box", tumbling_box), ("robot_arm", robot_arm),
-                        ("rssr", rssr), ("cardan", cardan), ("acrobot", acrobot)):
+                        ("rssr", rssr), ("cardan", cardan), ("acrobot", acrobot), ("cart_pole", cart_pole)):
         with open(os.path.join(out, name + ".json"), "w") as f:
             json.dump(build(), f, indent=1)
             f.write("\n")

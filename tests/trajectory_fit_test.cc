@@ -10,7 +10,9 @@
 //     starts reach it, at the cost single shooting reaches from the hanging pendulum;
 //   - an unreachable target: exit status 1, the closest result's JSON with "feasible": false and the stopping
 //     reason, a message on stderr, and no -o file;
-//   - bad flags: exit status 2 naming the flag.
+//   - bad flags: exit status 2 naming the flag;
+//   - examples on shipped 3D scenes: the cart-pole swung up by the force on its rail, the 7-joint arm's fingertip
+//     put into a 1 cm box; the written scenes reproduce the reported values.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -170,6 +172,62 @@ TEST_F(TrajectoryFitTest, BadFlagsExitTwoNamingTheFlag) {
     EXPECT_NE(run.err.find(named), std::string::npos) << flags << ": " << run.err;
     EXPECT_TRUE(run.out.empty()) << flags;
   }
+}
+
+// The examples on shipped scenes (3D joints: a prismatic joint's force motor, hinges; a marker target). They run
+// for seconds and exercise no code the tests above do not, so the sanitized run leaves them out (scripts/dev).
+class TrajectoryFitExamples : public TrajectoryFitTest {
+ protected:
+  // Fits `scene` with `flags` writing -o, checks the report feasible, then runs the written scene by `tether
+  // simulate`: each constrained column's last value is the reported one (to 1e-12) and within its bound.
+  void FitsAndTheWrittenSceneReproducesIt(const std::string& scene, const std::string& flags, int segments) const {
+    const std::string fitted = Path("fitted.json");
+    const Outcome run = Tether("fit '" + scene + "' " + flags + " -o '" + fitted + "'");
+    ASSERT_EQ(run.status, 0) << run.err;
+    const json out = json::parse(run.out);
+    EXPECT_TRUE(out["feasible"].get<bool>());
+    EXPECT_EQ(out["segments"], segments);
+    const Outcome simulated = Tether("simulate '" + fitted + "'");
+    ASSERT_EQ(simulated.status, 0) << simulated.err;
+    for (const json& c : out["constraints"]) {
+      const double last = LastValue(simulated.out, c["column"].get<std::string>());
+      EXPECT_NEAR(last, c["simulated"].get<double>(), 1e-12 * std::max(1.0, std::abs(last))) << c;
+      const double tolerance = 1e-6 * (1.0 + std::abs(last));
+      if (c.contains("at_least")) EXPECT_GE(last, c["at_least"].get<double>() - tolerance) << c;
+      if (c.contains("at_most")) EXPECT_LE(last, c["at_most"].get<double>() + tolerance) << c;
+    }
+  }
+};
+
+// scenes/cart_pole.json: a force on the rail swings the hanging pole up to within 0.05 rad of upright, pole and
+// cart at rest within 0.1 (rad or m)/s, the cart within 0.5 m of where it started, |force| <= 20 N.
+TEST_F(TrajectoryFitExamples, TheCartPoleSwingsUp) {
+  FitsAndTheWrittenSceneReproducesIt(
+      std::string(TETHER_SOURCE_DIR) + "/scenes/cart_pole.json",
+      "--param '/effects/1/schedule/values/*' --bound '/effects/1/schedule/values/*=-20:20' --effort 0.001 "
+      "--at-least pivot.angle=3.0916@3 --at-most pivot.angle=3.1916@3 --at-least pivot.omega=-0.1@3 "
+      "--at-most pivot.omega=0.1@3 --at-least rail.speed=-0.1@3 --at-most rail.speed=0.1@3 "
+      "--at-least rail.displacement=-0.5@3 --at-most rail.displacement=0.5@3 --max-evaluations 200",
+      1);
+}
+
+// scenes/robot_arm.json over 1 s at 10 ms steps, its motors' knots at 0, 0.5 and 1 s: the middle torques of
+// three joints put the fingertip marker into a 1 cm box about a point, with the least effort. Single shooting
+// does not get there from the scene's torques; fit goes to multiple shooting by itself.
+TEST_F(TrajectoryFitExamples, TheArmReachesAMarkerTarget) {
+  json arm = json::parse(ReadText(std::string(TETHER_SOURCE_DIR) + "/scenes/robot_arm.json"));
+  arm["simulation"]["step"] = 0.01;
+  arm["simulation"]["duration"] = 1.0;
+  for (json& effect : arm["effects"]) {
+    if (effect["type"] == "joint_torque") effect["schedule"]["times"] = {0.0, 0.5, 1.0};
+  }
+  FitsAndTheWrittenSceneReproducesIt(
+      Write("arm.json", arm.dump()),
+      "--param /effects/1/schedule/values/1 --param /effects/2/schedule/values/1 --param "
+      "/effects/4/schedule/values/1 --effort 0.001 --at-least fingertip.x=-0.059@1 --at-most fingertip.x=-0.049@1 "
+      "--at-least fingertip.y=0.452@1 --at-most fingertip.y=0.462@1 --at-least fingertip.z=-2.007@1 "
+      "--at-most fingertip.z=-1.997@1",
+      2);
 }
 
 }  // namespace

@@ -270,11 +270,14 @@ IdentifyResult FitTrajectory(const Model<double>& model, const ParameterSet& par
           continue;
         }
         attempts[s] = Run(start, parameters, recordings, trial, 1);
-        if (attempts[s].optimizer.violation <= 1.0) continue;
-        Attempt multiple = Run(start, parameters, recordings, settings, automatic);
-        multiple.optimizer.evaluations += attempts[s].optimizer.evaluations;
-        multiple.optimizer.seconds += attempts[s].optimizer.seconds;
-        if (Better(multiple, attempts[s])) attempts[s] = multiple;
+        // met: polished on the whole budget from there; not met: multiple shooting from the start
+        const bool met = attempts[s].optimizer.violation <= 1.0;
+        Model<double> from = start;
+        if (met) parameters.Assign(attempts[s].estimate, &from);
+        Attempt next = Run(from, parameters, recordings, settings, met ? 1 : automatic);
+        next.optimizer.evaluations += attempts[s].optimizer.evaluations;
+        next.optimizer.seconds += attempts[s].optimizer.seconds;
+        if (Better(next, attempts[s])) attempts[s] = next;
       } catch (...) {
         std::lock_guard<std::mutex> lock(error_mutex);
         if (!error) error = std::current_exception();

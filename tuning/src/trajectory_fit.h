@@ -19,8 +19,8 @@
 // while lowering the cost; it is not the first step because from a random start (and with multiple shooting's
 // continuity as equalities) it wanders off: measured on the acrobot, it ended with gaps of 1 to 7 rad between the
 // segments where Levenberg-Marquardt closed them. Where the segments are left to fit (settings.segments 0),
-// single shooting runs first, on an eighth of the budget, and multiple shooting (AutomaticSegments) where it does
-// not meet the constraints.
+// single shooting runs first, on an eighth of the budget; where it meets the constraints, it is polished again on
+// the whole budget from there, and where it does not, multiple shooting (AutomaticSegments) runs from the start.
 //
 // Starts: the scene's values, then starts - 1 random points (seeded): uniform within kStartSpread of each bounded
 // box's half-width about its middle (in log space for the positive kinds), or, for a parameter unbounded on a
