@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "shooting_problem.h"
 #include "tether/dynamics/scene_reader.h"
 
@@ -91,6 +93,38 @@ TEST(ShootingProblem, SegmentsContinueTheJointCoordinatesOfTheRun) {
   ASSERT_TRUE(held.Evaluate(held.Start(), &pieces, nullptr));
   ASSERT_EQ(held.ContinuityCount(), 2 * 3 * 12);
   EXPECT_LT(pieces.segment(held.DataCount(), held.ContinuityCount()).lpNorm<Eigen::Infinity>(), 1e-5);
+}
+
+// A 3D hinge's angle is continuous across segments however far their starts are from the first guess: a rotor
+// built at rest (the first guess's run never turns), its segments started as if spinning at 8 rad/s, measures 8 rad
+// after 1 s. Each segment's angle takes the branch nearest the previous segment's end; taken from the first guess,
+// the last segment (starting at 6 rad, past pi from the guess's 0) measured 8 - 2 pi.
+TEST(ShootingProblem, AHingeAngleContinuesAcrossSegmentsPastPi) {
+  const nlohmann::json document = {
+      {"dimension", 3},
+      {"bodies", {{{"name", "rotor"}, {"type", "rigid"}, {"mass", 1.0}, {"inertia", {0.5, 0.5, 0.5}},
+                   {"position", {0.0, 0.0, 0.0}}}}},
+      {"constraints", {{{"type", "hinge"}, {"name", "axle"}, {"bodies", {"world", "rotor"}},
+                        {"points", {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}}}, {"axis", {0.0, 0.0, 1.0}}}}},
+      {"effects", {{{"type", "joint_torque"}, {"joint", "axle"}, {"value", 0.0}}}},
+      {"simulation", {{"integrator", "rk4"}, {"step", 0.01}, {"duration", 1.0}}}};
+  const Scene scene = ParseScene(document, "rotor.json");
+  const ParameterSet parameters(scene, {"/effects/0/value"});
+  const std::vector<Observations> recordings = {
+      MakeObservations("angle", {"t", "axle.angle"}, {{1.0, 0.0}}, scene.model)};
+  IdentifySettings settings;
+  settings.segments = 4;
+  const ShootingProblem problem(scene.model, parameters, recordings, settings);
+  std::vector<double> x = problem.Start();
+  ASSERT_EQ(x.size(), 1u + 3 * 12);
+  const double omega = 8.0;
+  for (int k = 1; k < 4; ++k) {  // offset: the turn omega t_k about z; velocity: omega about z
+    x[1 + (k - 1) * 12 + 5] = omega * 0.25 * k;
+    x[1 + (k - 1) * 12 + 6 + 5] = omega;
+  }
+  Eigen::VectorXd r;
+  ASSERT_TRUE(problem.Evaluate(x, &r, nullptr));
+  EXPECT_NEAR(r[0], omega, 1e-9);  // the angle at 1 s minus the observed 0
 }
 
 // 1/2 (r1^2 + r2^2) summed over the effort rows is W int_0^D tau^2 dt, here by a fine midpoint rule.

@@ -228,14 +228,15 @@ State<T> ShootingProblem::SegmentStart(const Model<T>& model, const std::vector<
 
 template <typename T>
 ShootingProblem::SegmentOutput<T> ShootingProblem::RunSegment(const Model<T>& model, const std::vector<double>& x,
-                                                               int k, const Seeds& seeds) const {
+                                                               int k, const Seeds& seeds,
+                                                               const std::vector<double>& hint) const {
   Model<T> segment = model;
   segment.simulation.duration = boundaries_[k + 1] - boundaries_[k];
   RunOptions options;
   if (k > 0) {  // this segment's start state is an unknown, and it continues the joint coordinates
     const State<T> start = SegmentStart(model, x, k, seeds);
     segment = WithInitialState(segment, start.q, start.v);
-    ContinueCoordinates(model, start.q, reference_coordinates_[k - 1], &segment);
+    ContinueCoordinates(model, start.q, hint, &segment);
   }
   const double begin = boundaries_[k], end = boundaries_[k + 1];
   std::vector<double> times;  // every observed time in (begin, end] (and t = 0 in the first segment)
@@ -268,7 +269,9 @@ ShootingProblem::SegmentOutput<T> ShootingProblem::RunSegment(const Model<T>& mo
       ObservedResiduals(segment, r, index, s, [&](size_t c, const T& value) { cells[i][index].push_back({c, value}); });
     }
     if (start_kept && s.stop == 0) out.start = {s.q, s.v};
-    if (s.stop + 1 == static_cast<int>(times.size())) out.end = {s.q, s.v};
+    if (s.stop + 1 != static_cast<int>(times.size())) return;
+    out.end = {s.q, s.v};
+    for (int i = 0; i < s.coordinates.size(); ++i) out.end_coordinates.push_back(Value(s.coordinates[i]));
   });
   size_t group = 0;
   for (size_t i = 0; i < observed_.size(); ++i) {
@@ -339,9 +342,11 @@ bool ShootingProblem::Evaluate(const std::vector<double>& x, Eigen::VectorXd* r,
     std::vector<double> values(DataCount(), 0.0);
     std::vector<double> constraints(ConstraintCount(), 0.0);
     std::vector<State<double>> ends, assembled;
+    std::vector<std::vector<double>> hints(segments);  // each segment's start continues the previous one's end
     const Seeds none;
     for (int k = 0; k < segments; ++k) {
-      SegmentOutput<double> s = RunSegment(guess, x, k, none);
+      SegmentOutput<double> s = RunSegment(guess, x, k, none, hints[k]);
+      if (k + 1 < segments) hints[k + 1] = s.end_coordinates;
       for (size_t j = 0; j < s.data.size(); ++j) values[segment_rows_[k] + j] = s.data[j].second;
       for (const auto& [c, value] : s.constraints) constraints[c] = value;
       ends.push_back(s.end);
@@ -385,7 +390,7 @@ bool ShootingProblem::Evaluate(const std::vector<double>& x, Eigen::VectorXd* r,
       for (int i = 0; k > 0 && i < state_size_; ++i) unknowns.push_back(p + (k - 1) * state_size_ + i);
       chunks(unknowns, [&](const Seeds& seeds) {
         const Model<Jet> model = Seeded<Jet>(guess, seeds);
-        const SegmentOutput<Jet> s = RunSegment(model, x, k, seeds);
+        const SegmentOutput<Jet> s = RunSegment(model, x, k, seeds, hints[k]);
         for (size_t j = 0; j < s.data.size(); ++j) fill(segment_rows_[k] + static_cast<int>(j), s.data[j].second, seeds);
         for (const auto& [c, value] : s.constraints) fill(constraint + c, value, seeds);
         if (k > 0 && on_the_constraints_) {  // how far the start lies off the constraints
@@ -494,8 +499,11 @@ std::vector<ResidualStatistics> ShootingProblem::Statistics(const std::vector<do
   for (const Observations& r : recordings_) {
     for (const TrajectoryColumn& c : r.columns) stats.push_back({r.path, c.name});
   }
+  std::vector<double> hint;
   for (int k = 0; k < Segments(); ++k) {
-    for (const auto& [group, residual] : RunSegment(guess, x, k, Seeds{}).data) {
+    const SegmentOutput<double> segment = RunSegment(guess, x, k, Seeds{}, hint);
+    hint = segment.end_coordinates;
+    for (const auto& [group, residual] : segment.data) {
       ResidualStatistics& s = stats[group];
       ++s.count;
       s.rms += residual * residual;
@@ -511,9 +519,6 @@ std::vector<State<double>> ShootingProblem::SegmentStarts() {
   Model<double> whole = model_;
   whole.simulation.duration = boundaries_.back();
   std::vector<State<double>> guess(starts.size(), InitialState(model_));
-  RunReport unused;
-  const JointCoordinates<double> initial = BuildJointCoordinates(model_, AssembledInitialState(model_, &unused).q);
-  reference_coordinates_.assign(starts.size(), initial.last);
   RunOptions options;
   options.every = std::numeric_limits<int>::max();
   options.stops = starts;
@@ -521,7 +526,6 @@ std::vector<State<double>> ShootingProblem::SegmentStarts() {
     Simulate<double>(whole, options, [&](const Sample<double>& s) {
       if (s.stop < 0) return;
       guess[s.stop] = {s.q, s.v};
-      reference_coordinates_[s.stop].assign(s.coordinates.data(), s.coordinates.data() + s.coordinates.size());
     });
   } catch (const SimulationDiverged&) {  // the guess diverges: the later segments start from the initial state
   }

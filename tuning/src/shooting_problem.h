@@ -18,7 +18,9 @@
 // The segments' boundaries lie on the integrator's step grid (the K-th parts of [0, last target time], rounded),
 // so that the joined segments step exactly as one run of the scene does.
 // A segment after the first starts from its unknown state moved onto the constraints (as every run starts), and
-// continues the joint coordinates of the whole run (a joint's angle is measured from the scene's initial state).
+// continues the joint coordinates of the whole run (a joint's angle is measured from the scene's initial state; a
+// 3D hinge's angle takes the branch nearest its value at the previous segment's end, so that it turns continuously
+// however far the segment's start has moved from the first guess).
 //
 // Jacobian by Jets, segment by segment: segment k's residuals depend on the parameters that act within it (a
 // schedule value only between its neighbouring knots; any other parameter, and all of them when ties are
@@ -100,18 +102,22 @@ class ShootingProblem {
     std::vector<std::pair<size_t, T>> data;
     std::vector<std::pair<int, T>> constraints;
     State<T> end;
+    std::vector<double> end_coordinates;  // the joint coordinates at the end (joint_coordinates.h's order)
     State<T> start;  // after the first segment: the start state as the run moved it onto the constraints
   };
 
   Model<double> WithParameters(const std::vector<double>& x) const;
   template <typename T>
   Model<T> Seeded(const Model<double>& model, const Seeds& seeds) const;
+  // Segment k's run; `hint`: the joint coordinates at the previous segment's end, which this one continues.
   template <typename T>
-  SegmentOutput<T> RunSegment(const Model<T>& model, const std::vector<double>& x, int k, const Seeds& seeds) const;
+  SegmentOutput<T> RunSegment(const Model<T>& model, const std::vector<double>& x, int k, const Seeds& seeds,
+                              const std::vector<double>& hint) const;
   template <typename T>
   State<T> SegmentStart(const Model<T>& model, const std::vector<double>& x, int k, const Seeds& seeds) const;
   // Sets the joint angles of a segment's model (their values at its start, joint_coordinates.h) so that its joint
-  // coordinates continue those of the whole run from the scene's initial state; `hint` picks a 3D angle's branch.
+  // coordinates continue those of the whole run from the scene's initial state; `hint` (the previous segment's
+  // end) picks a 3D angle's branch.
   template <typename T>
   void ContinueCoordinates(const Model<T>& model, const VecX<T>& q_start, const std::vector<double>& hint,
                            Model<T>* segment) const;
@@ -137,7 +143,6 @@ class ShootingProblem {
   std::vector<int> segment_rows_;         // the first data row of each segment, and the data count last
   int state_size_ = 0;                    // unknowns per segment start: an offset d and a velocity (2 nv)
   std::vector<State<double>> references_;  // the start states the offsets are taken from
-  std::vector<std::vector<double>> reference_coordinates_;  // the joint coordinates of the run at those
   std::vector<std::pair<int, int>> smooth_pairs_;
   int penalty_count_ = 0;  // rows of Penalties: the smoothing pairs and the effort pieces
 };
