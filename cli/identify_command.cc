@@ -11,6 +11,7 @@
 #include "tether/dynamics/errors.h"
 #include "tether/dynamics/scene_reader.h"
 #include "tether/dynamics/trajectory_csv.h"
+#include "tether/tuning/identification.h"
 #include "tether/tuning/reports.h"
 
 namespace tether::cli {
@@ -82,10 +83,9 @@ class IdentifyCommand final : public Command {
     settings.starts = starts_;
     settings.seed = seed_;
     const bool trajectory = !settings.inequalities.empty() || starts_ > 1;
-    // constraints need a solver made for them (trajectory_fit.h); an explicit --optimizer is taken as given
-    if (trajectory && app_->count("--optimizer") == 0) settings.optimizer.name = optimizer_ = "nlopt:LD_SLSQP";
-    // SLSQP meets the constraints as it converges: a budget of 200 often stops it just short of them
-    if (trajectory && app_->count("--max-evaluations") == 0) max_evaluations_ = 1000;
+    // constraints need a solver made for them (identification.h); an explicit --optimizer is taken as given
+    if (trajectory && app_->count("--optimizer") == 0) settings.optimizer.name = optimizer_ = kTrajectoryOptimizer;
+    if (trajectory && app_->count("--max-evaluations") == 0) max_evaluations_ = kTrajectoryMaxEvaluations;
     if (data_paths_.empty() && settings.inequalities.empty()) {
       throw InputError("--data: fit needs targets: --data TARGETS.csv, or constraints (--at-least, --at-most)");
     }

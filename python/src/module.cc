@@ -26,6 +26,7 @@
 #include "tether/dynamics/simulator.h"
 #include "tether/dynamics/trajectory_columns.h"
 #include "tether/studies/study.h"
+#include "tether/tuning/identification.h"
 #include "tether/tuning/optimizer.h"
 #include "tether/tuning/reports.h"
 
@@ -245,6 +246,8 @@ PYBIND11_MODULE(_tether, m) {
   using namespace tether::python;
   m.doc() = "tether's C++ core; use the tether package (python/tether/__init__.py)";
   m.attr("__version__") = TETHER_VERSION;
+  m.attr("TRAJECTORY_OPTIMIZER") = kTrajectoryOptimizer;  // fit's defaults with constraints or starts
+  m.attr("TRAJECTORY_MAX_EVALUATIONS") = kTrajectoryMaxEvaluations;
   py::register_exception<InputError>(m, "InputError", PyExc_ValueError);
   py::register_exception<SimulationDiverged>(m, "SimulationDiverged", PyExc_RuntimeError);
   py::register_exception<OutputError>(m, "OutputError", PyExc_OSError);

@@ -302,9 +302,9 @@ def fit(scene, data, params, bounds=None, segments=None, loss=None, optimizer=No
     max_evaluations to 200, or 1000 with constraints or starts."""
     trajectory = bool(at_least) or bool(at_most) or starts > 1
     if optimizer is None:
-        optimizer = "nlopt:LD_SLSQP" if trajectory else "ceres"
+        optimizer = _tether.TRAJECTORY_OPTIMIZER if trajectory else "ceres"
     if max_evaluations is None:
-        max_evaluations = 1000 if trajectory else 200
+        max_evaluations = _tether.TRAJECTORY_MAX_EVALUATIONS if trajectory else 200
     if data is None and not trajectory:
         raise InputError("data: fit needs targets: data, or constraints (at_least, at_most)")
     return _estimate(scene, data, params, bounds, -1 if segments is None else segments, loss, optimizer,

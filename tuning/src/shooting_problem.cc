@@ -11,6 +11,7 @@
 #include "tether/dynamics/errors.h"
 #include "tether/dynamics/joint_coordinates.h"
 #include "tether/dynamics/kinematics.h"
+#include "tether/dynamics/schedule.h"
 #include "tether/dynamics/simulator.h"
 
 namespace tether {
@@ -34,25 +35,22 @@ bool ScheduleKind(Kind kind) {
   return kind == Kind::kForceSchedule || kind == Kind::kTorqueSchedule || kind == Kind::kJointTorqueSchedule;
 }
 
-// Calls piece(length, a, b) for the pieces of a schedule (held at its end values) over [0, duration].
+// Calls piece(length, a, b) for the pieces of [0, duration] on which a schedule (held at its end values) runs
+// linearly from a to b: those between its knots within the run, and the held ends.
 template <typename T, typename Piece>
 void SchedulePieces(const Schedule<T>& schedule, const T& constant, double duration, Piece piece) {
-  const std::vector<double>& t = schedule.times;
   if (schedule.empty()) {
     piece(duration, constant, constant);
     return;
   }
-  const auto value_at = [&](double s, size_t j) {  // on the piece from knot j to knot j + 1
-    const double w = (s - t[j]) / (t[j + 1] - t[j]);
-    return T((1.0 - w) * schedule.values[j] + w * schedule.values[j + 1]);
-  };
-  if (t.front() > 0.0) piece(std::min(t.front(), duration), schedule.values.front(), schedule.values.front());
-  for (size_t j = 0; j + 1 < t.size(); ++j) {
-    const double begin = std::max(t[j], 0.0), end = std::min(t[j + 1], duration);
-    if (!(end > begin)) continue;
-    piece(end - begin, value_at(begin, j), value_at(end, j));
+  std::vector<double> cuts = {0.0};
+  for (const double t : schedule.times) {
+    if (t > 0.0 && t < duration) cuts.push_back(t);
   }
-  if (t.back() < duration) piece(duration - std::max(t.back(), 0.0), schedule.values.back(), schedule.values.back());
+  cuts.push_back(duration);
+  for (size_t j = 0; j + 1 < cuts.size(); ++j) {
+    piece(cuts[j + 1] - cuts[j], ScheduleValue(schedule, cuts[j]), ScheduleValue(schedule, cuts[j + 1]));
+  }
 }
 
 }  // namespace

@@ -109,42 +109,56 @@ OptimizerResult MinimizeViolation(const ResidualFunction& residuals, const Const
   return result;
 }
 
+// A shooting problem with `segments` segments at `model`'s values, with its box and its residual function.
+struct Shooting {
+  Shooting(const Model<double>& model, const ParameterSet& parameters, const std::vector<Observations>& recordings,
+           const IdentifySettings& settings, int segments, ShootingProblem::StartRows start_rows)
+      : settings(WithSegments(settings, segments)), problem(model, parameters, recordings, this->settings, start_rows) {
+    problem.Box(&lower, &upper);
+  }
+  Shooting(const Shooting&) = delete;
+  Shooting& operator=(const Shooting&) = delete;
+
+  static IdentifySettings WithSegments(IdentifySettings settings, int segments) {
+    settings.segments = segments;
+    return settings;
+  }
+  // The parameters (in their own units) at unknowns x.
+  std::vector<double> Parameters(const std::vector<double>& x, int count) const {
+    std::vector<double> out;
+    for (int i = 0; i < count; ++i) out.push_back(problem.ToParameter(i, x[i]));
+    return out;
+  }
+
+  const IdentifySettings settings;  // the problem refers to it
+  const ShootingProblem problem;
+  std::vector<double> lower, upper;
+  const ResidualFunction residuals = [this](const std::vector<double>& x, Eigen::VectorXd* r,
+                                            Eigen::MatrixXd* jacobian) { return problem.Evaluate(x, r, jacobian); };
+};
+
 // Shooting with `segments` segments (1: one run) from `model`'s values: the constraints alone (continuity and the
 // inequality targets) met by Levenberg-Marquardt. The parameters found.
 std::vector<double> Reach(const Model<double>& model, const ParameterSet& parameters,
                           const std::vector<Observations>& recordings, const IdentifySettings& settings, int segments,
                           int* evaluations) {
-  IdentifySettings these = settings;
-  these.segments = segments;
-  const ShootingProblem problem(model, parameters, recordings, these, ShootingProblem::StartRows::kOnTheConstraints);
-  std::vector<double> lower, upper;
-  problem.Box(&lower, &upper);
-  const ResidualFunction residuals = [&problem](const std::vector<double>& x, Eigen::VectorXd* r,
-                                                Eigen::MatrixXd* jacobian) { return problem.Evaluate(x, r, jacobian); };
+  const Shooting s(model, parameters, recordings, settings, segments, ShootingProblem::StartRows::kOnTheConstraints);
   const OptimizerResult reached =
-      MinimizeViolation(residuals, RowsOf(problem, settings), problem.Start(), lower, upper, settings.optimizer);
+      MinimizeViolation(s.residuals, RowsOf(s.problem, settings), s.problem.Start(), s.lower, s.upper, settings.optimizer);
   *evaluations += reached.evaluations;
-  std::vector<double> found;
-  for (int i = 0; i < parameters.size(); ++i) found.push_back(problem.ToParameter(i, reached.x[i]));
-  return found;
+  return s.Parameters(reached.x, parameters.size());
 }
 
 // Single shooting from `model`'s values: the cost minimized subject to the inequality targets (SLSQP).
 OptimizerResult Polish(const Model<double>& model, const ParameterSet& parameters,
                        const std::vector<Observations>& recordings, const IdentifySettings& settings,
                        std::vector<double>* estimate) {
-  IdentifySettings single = settings;
-  single.segments = 1;
-  const ShootingProblem problem(model, parameters, recordings, single);
-  std::vector<double> lower, upper;
-  problem.Box(&lower, &upper);
-  const ResidualFunction residuals = [&problem](const std::vector<double>& x, Eigen::VectorXd* r,
-                                                Eigen::MatrixXd* jacobian) { return problem.Evaluate(x, r, jacobian); };
+  const Shooting s(model, parameters, recordings, settings, 1, ShootingProblem::StartRows::kContinuityOnly);
   OptimizerSettings polish = settings.optimizer;
   polish.max_evaluations = std::max(50, settings.optimizer.max_evaluations / kPolishShare);
-  OptimizerResult result = MinimizeConstrained(residuals, RowsOf(problem, settings), problem.Start(), lower, upper, polish);
-  estimate->clear();
-  for (int i = 0; i < parameters.size(); ++i) estimate->push_back(problem.ToParameter(i, result.x[i]));
+  OptimizerResult result =
+      MinimizeConstrained(s.residuals, RowsOf(s.problem, settings), s.problem.Start(), s.lower, s.upper, polish);
+  *estimate = s.Parameters(result.x, parameters.size());
   return result;
 }
 

@@ -51,11 +51,11 @@ TETHER_FLATTEN void AccumulateForces(const Model<T>& model, const JointCoordinat
   }
   for (const ForceEffect<T>& e : model.forces) {
     const PointMotion<T> p = MovePoint(model, frames, BodyPoint<T>{e.body, e.point}, q, v, false);
-    const Vec3<T> value = e.schedule.empty() ? e.value : Sample(e.schedule, t);
+    const Vec3<T> value = e.schedule.empty() ? e.value : ScheduleValue(e.schedule, t);
     AddScaled(model, PointGradient(model, frames, e.body, value, p), T(1.0), f);
   }
   for (const TorqueEffect<T>& e : model.torques) {
-    const Vec3<T> value = e.schedule.empty() ? e.value : Sample(e.schedule, t);
+    const Vec3<T> value = e.schedule.empty() ? e.value : ScheduleValue(e.schedule, t);
     BodyVector<T> g;
     g.body = e.body;
     g.rotation = RotationalPart(model, frames, e.body, value);
@@ -63,7 +63,7 @@ TETHER_FLATTEN void AccumulateForces(const Model<T>& model, const JointCoordinat
   }
   for (const JointTorqueEffect<T>& e : model.joint_torques) {
     const int k = coordinates.Find(e.joint, e.coordinate);
-    const T value = e.schedule.empty() ? e.value : Sample(e.schedule, t);
+    const T value = e.schedule.empty() ? e.value : ScheduleValue(e.schedule, t);
     if constexpr (std::is_same_v<T, Rev>) {
       if (RecordAngleTorque(model, coordinates, k, frames, value, f)) continue;
     }

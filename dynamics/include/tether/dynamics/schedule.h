@@ -9,7 +9,7 @@
 namespace tether {
 
 template <typename V>
-V Sample(const Schedule<V>& schedule, double t) {
+V ScheduleValue(const Schedule<V>& schedule, double t) {
   const std::vector<double>& times = schedule.times;
   if (t <= times.front()) return schedule.values.front();
   if (t >= times.back()) return schedule.values.back();

@@ -59,6 +59,12 @@ inline constexpr double kConstraintTolerance = 1e-6;
 // "COLUMN=VALUE@T" -> the target (the column is checked against the scene later); InputError naming `flag`.
 InequalityTarget ParseInequality(const std::string& text, bool at_least, const std::string& flag);
 
+// Trajectory optimisation's defaults (fit with constraints or several starts: trajectory_fit.h), for the command
+// line and Python alike: a solver made for constraints, and a budget at which SLSQP meets them (200 often stops it
+// just short).
+inline constexpr const char* kTrajectoryOptimizer = "nlopt:LD_SLSQP";
+inline constexpr int kTrajectoryMaxEvaluations = 1000;
+
 struct IdentifySettings {
   OptimizerSettings optimizer;
   GradientMethod method = GradientMethod::kAuto;  // how a gradient-based NLopt algorithm gets its gradients
