@@ -15,7 +15,7 @@
 namespace tether::cli {
 namespace {
 
-// argv: fitted.csv output.png [data.csv ...] [bound:COLUMN:T:VALUE:least|most ...]
+// argv: fitted.csv output.png [data.csv ...] [bound:COLUMN:FROM:T:VALUE:least|most ...] (FROM = T: at T)
 constexpr const char* kScript = R"PY(
 import csv, sys
 import matplotlib
@@ -43,10 +43,13 @@ for ax, column in zip(axes[:, 0], columns):
         if column in d:
             pts = [(t, y) for t, y in zip(d["t"], d[column]) if y is not None]
             ax.plot([p[0] for p in pts], [p[1] for p in pts], ".", ms=3, color="C%d" % (k + 1), label=path.split("/")[-1])
-    for name, t, value, side in bounds:
+    for name, start, t, value, side in bounds:
         if name == column:
-            ax.plot([float(t)], [float(value)], "^" if side == "least" else "v", color="C3", ms=7,
-                    label="at least" if side == "least" else "at most")
+            label = "at least" if side == "least" else "at most"
+            if float(start) < float(t):
+                ax.plot([float(start), float(t)], [float(value)] * 2, "-", color="C3", lw=2, label=label)
+            else:
+                ax.plot([float(t)], [float(value)], "^" if side == "least" else "v", color="C3", ms=7, label=label)
     ax.set_ylabel(column)
     ax.grid(alpha=0.3)
 axes[0, 0].legend(fontsize=7, loc="best")
@@ -73,7 +76,8 @@ void PlotFit(const Model<double>& fitted, const std::vector<Observations>& recor
   for (const InequalityTarget& c : constraints) {
     std::ostringstream bound;
     bound.precision(17);
-    bound << "bound:" << c.column << ":" << c.time << ":" << c.value << ":" << (c.at_least ? "least" : "most");
+    bound << "bound:" << c.column << ":" << c.from << ":" << c.time << ":" << c.value << ":"
+          << (c.at_least ? "least" : "most");
     args.push_back(bound.str());
   }
   try {

@@ -62,8 +62,8 @@ class IdentifyCommand final : public Command {
     if (fit) {
       app_->add_option("--smooth", smooth_, "weight W of the penalty on changes between schedule values");
       app_->add_option("--effort", effort_, "weight W of the joint motors' effort, W times the integral of torque^2");
-      app_->add_option("--at-least", at_least_, "COLUMN=VALUE@T: a constraint, COLUMN >= VALUE at time T (repeatable)");
-      app_->add_option("--at-most", at_most_, "COLUMN=VALUE@T: a constraint, COLUMN <= VALUE at time T (repeatable)");
+      app_->add_option("--at-least", at_least_, "COLUMN=VALUE@T: a constraint, COLUMN >= VALUE at time T; COLUMN=VALUE@T0:T1: at every step from T0 to T1 (repeatable)");
+      app_->add_option("--at-most", at_most_, "COLUMN=VALUE@T: a constraint, COLUMN <= VALUE at time T; COLUMN=VALUE@T0:T1: at every step from T0 to T1 (repeatable)");
       app_->add_option("--starts", starts_, "the scene's values and N - 1 random starts within the bounds (default 1)");
       app_->add_option("--seed", seed_, "seed of the random starts (default 1)");
     }

@@ -10,11 +10,14 @@
 //     starts reach it, at the cost single shooting reaches from the hanging pendulum;
 //   - an unreachable target: exit status 1, the closest result's JSON with "feasible": false and the stopping
 //     reason, a message on stderr, and no -o file;
+//   - the rotor's turn with its rate bounded over the whole run (a path constraint): the exact optimum, which
+//     accelerates to the bound, cruises on it and brakes;
 //   - bad flags: exit status 2 naming the flag;
 //   - examples on shipped 3D scenes: the cart-pole swung up by the force on its rail, the 7-joint arm's fingertip
 //     put into a 1 cm box; the written scenes reproduce the reported values.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
@@ -64,23 +67,33 @@ class TrajectoryFitTest : public ::testing::Test {
   testing::TempFolder folder_{"tether_trajectory_fit"};
 };
 
+// Every value of a CSV column, row by row.
+std::vector<double> Column(const std::string& csv, const std::string& column) {
+  std::istringstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> names;
+  std::istringstream header(line);
+  for (std::string cell; std::getline(header, cell, ',');) names.push_back(cell);
+  const size_t c = std::find(names.begin(), names.end(), column) - names.begin();
+  std::vector<double> values;
+  if (c == names.size()) {
+    ADD_FAILURE() << "no column " << column;
+    return values;
+  }
+  while (std::getline(in, line)) {
+    std::istringstream row(line);
+    std::vector<std::string> cells;
+    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+    if (c < cells.size()) values.push_back(std::stod(cells[c]));
+  }
+  return values;
+}
+
 // The value of a CSV column in the last row.
 double LastValue(const std::string& csv, const std::string& column) {
-  std::istringstream in(csv);
-  std::string header, line, last;
-  std::getline(in, header);
-  while (std::getline(in, line)) {
-    if (!line.empty()) last = line;
-  }
-  std::vector<std::string> names, cells;
-  std::istringstream h(header), l(last);
-  for (std::string cell; std::getline(h, cell, ',');) names.push_back(cell);
-  for (std::string cell; std::getline(l, cell, ',');) cells.push_back(cell);
-  for (size_t c = 0; c < names.size(); ++c) {
-    if (names[c] == column) return std::stod(cells[c]);
-  }
-  ADD_FAILURE() << "no column " << column;
-  return NAN;
+  const std::vector<double> values = Column(csv, column);
+  return values.empty() ? NAN : values.back();
 }
 
 TEST_F(TrajectoryFitTest, TheLeastEffortRotorTurnIsTheLinearTorqueAndTheWrittenSceneReproducesIt) {
@@ -110,6 +123,44 @@ TEST_F(TrajectoryFitTest, TheLeastEffortRotorTurnIsTheLinearTorqueAndTheWrittenS
   for (const json& c : out["constraints"]) {
     EXPECT_EQ(LastValue(simulated.out, c["column"].get<std::string>()), c["simulated"].get<double>()) << c;
   }
+}
+
+// The same turn with the rate held to at most 1.2 rad/s over the whole run (a path constraint, met at every
+// step): the exact optimum accelerates on u = I w (2 / t1 - 2 t / t1^2) until t1 = 0.25 s, where it meets the
+// bound (u continuous, so zero, at the junction; 1.2 (1 - 2 t1 / 3) = 1 rad), cruises, and mirrors that at the
+// end; its effort is 2 * 4 I^2 w^2 / (3 t1) = 3.84. Knots every 0.05 s hold this profile exactly.
+TEST_F(TrajectoryFitTest, APathConstraintHoldsAtEveryStepAndGivesTheExactBoundedOptimum) {
+  const std::string scene = Write("rotor.json", Rod(false, 1.0, 21).dump());
+  const std::string fitted = Path("rotor_fit.json");
+  const Outcome run = Tether("fit '" + scene + "' --param '/effects/0/schedule/values/*' --bound "
+                             "'/effects/0/schedule/values/*=-10:10' --effort 1 --at-least axle.angle=1@1 --at-most "
+                             "axle.angle=1.001@1 --at-least axle.omega=-0.001@1 --at-most axle.omega=0.001@1 "
+                             "--at-most axle.omega=1.2@0:1 -o '" + fitted + "'");
+  ASSERT_EQ(run.status, 0) << run.err;
+  const json out = json::parse(run.out);
+  EXPECT_TRUE(out["feasible"].get<bool>());
+  for (int k = 0; k <= 20; ++k) {
+    const double t = k / 20.0, exact = t < 0.25 ? 4.8 - 19.2 * t : t < 0.75 ? 0.0 : -19.2 * (t - 0.75);
+    const std::string pointer = "/effects/0/schedule/values/" + std::to_string(k);
+    EXPECT_NEAR(out["parameters"][pointer].get<double>(), exact, 0.02) << pointer;
+  }
+  EXPECT_NEAR(out["final_cost"].get<double>(), 3.84, 0.01);
+  // the path constraint, reported once, where it comes closest to its bound (on the cruise)
+  ASSERT_EQ(out["constraints"].size(), 5u);
+  const json& path = out["constraints"][4];
+  EXPECT_EQ(path["from"], 0.0);
+  EXPECT_EQ(path["t"], 1.0);
+  EXPECT_GE(path["at"].get<double>(), 0.25 - 1e-9);
+  EXPECT_LE(path["at"].get<double>(), 0.75 + 1e-9);
+  EXPECT_TRUE(path["met"].get<bool>());
+  // one run of the written scene stays under the bound at every step
+  const Outcome simulated = Tether("simulate '" + fitted + "'");
+  ASSERT_EQ(simulated.status, 0) << simulated.err;
+  const std::vector<double> rate = Column(simulated.out, "axle.omega");
+  ASSERT_EQ(rate.size(), 101u);
+  const double fastest = *std::max_element(rate.begin(), rate.end());
+  EXPECT_LE(fastest, 1.2 + 1.2e-6);
+  EXPECT_GT(fastest, 1.2 - 1e-3);  // the bound is active
 }
 
 TEST_F(TrajectoryFitTest, MultipleShootingSwingsAWeakPendulumUpFromEveryStart) {
@@ -161,6 +212,9 @@ TEST_F(TrajectoryFitTest, BadFlagsExitTwoNamingTheFlag) {
       {"--at-most axle.angle=x@1", "--at-most"},
       {"--at-least nothing.x=1@1", "--at-least"},
       {"--at-least axle.angle=1@2", "--at-least"},  // after the duration
+      {"--at-least axle.angle=1@0.5:0.2", "--at-least"},  // an interval backwards
+      {"--at-most axle.angle=1@0.101:0.102", "--at-most"},  // no step within the interval
+      {"--at-most axle.angle=1@0.5:2", "--at-most"},  // past the duration
       {"--at-least axle.angle=1@1 --starts 0", "--starts"},
       {"--at-least axle.angle=1@1 --effort -1", "--effort"},
       {"--at-least axle.angle=1@1 --optimizer ceres", "--optimizer"},

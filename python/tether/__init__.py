@@ -279,7 +279,7 @@ def _targets(targets, name):
     if isinstance(targets, str):
         targets = [targets]
     if not all(isinstance(t, str) for t in targets):
-        raise InputError(f"{name}: expected COLUMN=VALUE@T strings, e.g. ['tip.y=1.99@5']")
+        raise InputError(f"{name}: expected COLUMN=VALUE@T or COLUMN=VALUE@T0:T1 strings, e.g. ['tip.y=1.99@5']")
     return list(targets)
 
 
@@ -296,9 +296,9 @@ def fit(scene, data, params, bounds=None, segments=None, loss=None, optimizer=No
         smooth=0.0, method="auto", ties=None, effort=0.0, at_least=None, at_most=None, starts=1, seed=1):
     """Fits initial conditions or schedules to targets, as `tether fit` (smooth: the weight of the penalty on
     changes between schedule values; method and ties as for identify). Trajectory optimisation: effort (the weight
-    of the integral of the squared motor torques), at_least / at_most (constraints, "COLUMN=VALUE@T" strings as the
-    flags take), starts and seed; data may be None when there are constraints. segments=None lets fit choose, as
-    the command line does. The optimizer defaults to ceres, or nlopt:LD_SLSQP with constraints or starts;
+    of the integral of the squared motor torques), at_least / at_most (constraints, "COLUMN=VALUE@T" or
+    "COLUMN=VALUE@T0:T1" strings as the flags take), starts and seed; data may be None when there are constraints.
+    segments=None lets fit choose, as the command line does. The optimizer defaults to ceres, or nlopt:LD_SLSQP with constraints or starts;
     max_evaluations to 200, or 1000 with constraints or starts."""
     trajectory = bool(at_least) or bool(at_most) or starts > 1
     if optimizer is None:

@@ -78,11 +78,16 @@ nlohmann::json IdentifyJson(const ParameterSet& parameters, const IdentifyResult
     j["starts"] = {{"count", r.starts}, {"feasible", r.feasible_starts}, {"best", r.best_start}};
     j["constraints"] = nlohmann::json::array();
     for (const IdentifyResult::Constraint& c : r.constraints) {
-      j["constraints"].push_back({{"column", c.target.column},
-                                  {c.target.at_least ? "at_least" : "at_most", c.target.value},
-                                  {"t", c.target.time},
-                                  {"simulated", c.simulated},
-                                  {"met", c.met}});
+      nlohmann::json entry = {{"column", c.target.column},
+                              {c.target.at_least ? "at_least" : "at_most", c.target.value},
+                              {"t", c.target.time},
+                              {"simulated", c.simulated},
+                              {"met", c.met}};
+      if (c.target.from < c.target.time) {  // over an interval: simulated at its step closest to the bound
+        entry["from"] = c.target.from;
+        entry["at"] = c.at;
+      }
+      j["constraints"].push_back(entry);
     }
   }
   j["residuals"] = nlohmann::json::array();

@@ -227,7 +227,7 @@ std::vector<std::vector<double>> StartValues(const Model<double>& model, const P
 InequalityTarget ParseInequality(const std::string& text, bool at_least, const std::string& flag) {
   const size_t at = text.rfind('@'), equals = text.rfind('=', at);
   if (at == std::string::npos || equals == std::string::npos || equals == 0) {
-    throw InputError(flag + ": '" + text + "' is not COLUMN=VALUE@T (e.g. tip.y=1.99@5)");
+    throw InputError(flag + ": '" + text + "' is not COLUMN=VALUE@T or COLUMN=VALUE@T0:T1 (e.g. tip.y=1.99@5)");
   }
   const auto number = [&](const std::string& s) {
     char* end = nullptr;
@@ -237,8 +237,49 @@ InequalityTarget ParseInequality(const std::string& text, bool at_least, const s
     }
     return x;
   };
-  return {text.substr(0, equals), number(text.substr(equals + 1, at - equals - 1)), number(text.substr(at + 1)),
-          at_least, flag + " " + text};
+  const std::string when = text.substr(at + 1);
+  const size_t colon = when.find(':');
+  InequalityTarget target{text.substr(0, equals), number(text.substr(equals + 1, at - equals - 1)),
+                          number(when.substr(colon == std::string::npos ? 0 : colon + 1)), at_least,
+                          flag + " " + text};
+  target.from = colon == std::string::npos ? target.time : number(when.substr(0, colon));
+  if (!(target.from <= target.time)) {
+    throw InputError(flag + ": '" + text + "': the interval must run forward (T0 < T1)");
+  }
+  return target;
+}
+
+std::vector<InequalityTarget> AtEveryStep(const std::vector<InequalityTarget>& targets, double step,
+                                          double duration, std::vector<int>* origin) {
+  std::vector<InequalityTarget> out;
+  origin->clear();
+  for (size_t i = 0; i < targets.size(); ++i) {
+    const InequalityTarget& target = targets[i];
+    if (target.from == target.time) {
+      out.push_back(target);
+      origin->push_back(static_cast<int>(i));
+      continue;
+    }
+    if (target.from < 0.0 || target.time > duration) {
+      std::ostringstream message;
+      message << target.text << ": the interval must lie within the run [0, " << duration << "] s";
+      throw InputError(message.str());
+    }
+    const size_t before = out.size();
+    // the step times within [from, time], to a rounding of 1e-9 steps (as the simulator's stops)
+    for (long k = std::lround(std::ceil(target.from / step - 1e-9)); k * step <= target.time + 1e-9 * step; ++k) {
+      InequalityTarget at = target;
+      at.time = at.from = k * step;
+      out.push_back(at);
+      origin->push_back(static_cast<int>(i));
+    }
+    if (out.size() == before) {
+      std::ostringstream message;
+      message << target.text << ": no integrator step (of " << step << " s) lies within the interval";
+      throw InputError(message.str());
+    }
+  }
+  return out;
 }
 
 int AutomaticSegments(const Model<double>& model, const ParameterSet& parameters,
@@ -256,8 +297,11 @@ int AutomaticSegments(const Model<double>& model, const ParameterSet& parameters
 }
 
 IdentifyResult FitTrajectory(const Model<double>& model, const ParameterSet& parameters,
-                             const std::vector<Observations>& recordings, const IdentifySettings& settings) {
+                             const std::vector<Observations>& recordings, const IdentifySettings& given) {
   const auto begin = std::chrono::steady_clock::now();
+  std::vector<int> origin;  // the path constraints as a constraint at every step
+  IdentifySettings settings = given;
+  settings.inequalities = AtEveryStep(given.inequalities, model.simulation.step, model.simulation.duration, &origin);
   IdentifyResult result;
   result.initial = parameters.Values(model);
   CheckStartWithinBounds(parameters, result.initial, settings);
@@ -353,16 +397,23 @@ IdentifyResult FitTrajectory(const Model<double>& model, const ParameterSet& par
   result.residuals = at_estimate.Statistics(x);
   double worst = 0.0;
   std::string worst_text;
+  // each target as given, at its step closest to (or furthest past) its bound where it is an interval
+  std::vector<double> closest(given.inequalities.size(), -INFINITY);
+  result.constraints.resize(given.inequalities.size());
   for (int c = 0; c < at_estimate.ConstraintCount(); ++c) {
     const InequalityTarget& target = settings.inequalities[c];
     const double residual = r[at_estimate.FirstConstraintRow() + c];
     const double violation = at_estimate.ConstraintSign(c) * residual /
                              (kConstraintTolerance * std::max(1.0, std::abs(target.value)));
-    result.constraints.push_back({target, target.value + residual, violation <= 1.0});
+    if (violation > closest[origin[c]]) {
+      closest[origin[c]] = violation;
+      result.constraints[origin[c]] = {given.inequalities[origin[c]], target.value + residual, target.time,
+                                       violation <= 1.0};
+    }
     if (violation > worst) {
       worst = violation;
       std::ostringstream text;
-      text << target.text << " (simulated " << target.value + residual << ")";
+      text << target.text << " (simulated " << target.value + residual << " at t = " << target.time << ")";
       worst_text = text.str();
     }
   }

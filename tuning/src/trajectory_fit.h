@@ -42,6 +42,12 @@ inline constexpr double kContinuityTolerance = 1e-8;
 IdentifyResult FitTrajectory(const Model<double>& model, const ParameterSet& parameters,
                              const std::vector<Observations>& recordings, const IdentifySettings& settings);
 
+// The targets with each interval (a path constraint) replaced by one target at every integrator step of `step`
+// seconds within it; (*origin)[j] is the index of the target that result j comes from. InputError naming the flag
+// when an interval leaves the run [0, duration] or holds no step.
+std::vector<InequalityTarget> AtEveryStep(const std::vector<InequalityTarget>& targets, double step,
+                                          double duration, std::vector<int>* origin);
+
 // The segments fit chooses: about four knot intervals of the finest schedule among the parameters per segment
 // (a segment's Jacobian then takes few knots), between 2 and 20; 10 without scheduled parameters.
 int AutomaticSegments(const Model<double>& model, const ParameterSet& parameters,

@@ -53,10 +53,14 @@ struct InequalityTarget {
   double value = 0.0, time = 0.0;
   bool at_least = true;
   std::string text;  // as the user wrote it ("--at-least tip.y=1.99@5"), for messages
+  // A path constraint over [from, time] (from < time): met at every integrator step within it; from == time: a
+  // constraint at that time.
+  double from = 0.0;
 };
 inline constexpr double kConstraintTolerance = 1e-6;
 
-// "COLUMN=VALUE@T" -> the target (the column is checked against the scene later); InputError naming `flag`.
+// "COLUMN=VALUE@T" or "COLUMN=VALUE@T0:T1" (over an interval) -> the target (the column is checked against the
+// scene later); InputError naming `flag`.
 InequalityTarget ParseInequality(const std::string& text, bool at_least, const std::string& flag);
 
 // Trajectory optimisation's defaults (fit with constraints or several starts: trajectory_fit.h), for the command
@@ -110,7 +114,8 @@ struct IdentifyResult {
   // scene's initial state, and how the starts went.
   struct Constraint {
     InequalityTarget target;
-    double simulated = 0.0;
+    double simulated = 0.0;  // over an interval: at the step where it comes closest to (or furthest past) its bound
+    double at = 0.0;         // that step's time (the target's time for a point)
     bool met = true;
   };
   std::vector<Constraint> constraints;
