@@ -298,8 +298,8 @@ def fit(scene, data, params, bounds=None, segments=None, loss=None, optimizer=No
     changes between schedule values; method and ties as for identify). Trajectory optimisation: effort (the weight
     of the integral of the squared motor torques), at_least / at_most (constraints, "COLUMN=VALUE@T" or
     "COLUMN=VALUE@T0:T1" strings as the flags take), starts and seed; data may be None when there are constraints.
-    segments=None lets fit choose, as the command line does. The optimizer defaults to ceres, or nlopt:LD_SLSQP with constraints or starts;
-    max_evaluations to 200, or 1000 with constraints or starts."""
+    segments=None lets fit choose, as the command line does. The optimizer defaults to ceres, or nlopt:LD_SLSQP
+    with constraints or starts; max_evaluations to 200, or 1000 with constraints or starts."""
     trajectory = bool(at_least) or bool(at_most) or starts > 1
     if optimizer is None:
         optimizer = _tether.TRAJECTORY_OPTIMIZER if trajectory else "ceres"

@@ -113,7 +113,8 @@ OptimizerResult MinimizeViolation(const ResidualFunction& residuals, const Const
 struct Shooting {
   Shooting(const Model<double>& model, const ParameterSet& parameters, const std::vector<Observations>& recordings,
            const IdentifySettings& settings, int segments, ShootingProblem::StartRows start_rows)
-      : settings(WithSegments(settings, segments)), problem(model, parameters, recordings, this->settings, start_rows) {
+      : with_segments(WithSegments(settings, segments)),
+        problem(model, parameters, recordings, with_segments, start_rows) {
     problem.Box(&lower, &upper);
   }
   Shooting(const Shooting&) = delete;
@@ -130,7 +131,7 @@ struct Shooting {
     return out;
   }
 
-  const IdentifySettings settings;  // the problem refers to it
+  const IdentifySettings with_segments;  // the problem refers to it
   const ShootingProblem problem;
   std::vector<double> lower, upper;
   const ResidualFunction residuals = [this](const std::vector<double>& x, Eigen::VectorXd* r,
@@ -144,7 +145,8 @@ std::vector<double> Reach(const Model<double>& model, const ParameterSet& parame
                           int* evaluations) {
   const Shooting s(model, parameters, recordings, settings, segments, ShootingProblem::StartRows::kOnTheConstraints);
   const OptimizerResult reached =
-      MinimizeViolation(s.residuals, RowsOf(s.problem, settings), s.problem.Start(), s.lower, s.upper, settings.optimizer);
+      MinimizeViolation(s.residuals, RowsOf(s.problem, settings), s.problem.Start(), s.lower, s.upper,
+                        settings.optimizer);
   *evaluations += reached.evaluations;
   return s.Parameters(reached.x, parameters.size());
 }

@@ -8,8 +8,8 @@
 // Each start runs in three steps.
 //   reach (multiple shooting, segments K > 1)  the constraints alone, as a least-squares feasibility problem
 //       solved by Levenberg-Marquardt (Ceres): the continuity rows (end of segment k = start of segment k + 1,
-//       and each start on the scene's constraints: ShootingProblem::StartRows) and the inequality rows where they come within kMargin tolerances of their bound, plus how far each
-//       unknown lies outside its bound. A motion whose end is sensitive to its beginning (a swing-up: an early
+//       and each start on the scene's constraints: ShootingProblem::StartRows) and the inequality rows where they
+//       come within kMargin tolerances of their bound, plus how far each unknown lies outside its bound. A motion whose end is sensitive to its beginning (a swing-up: an early
 //       error grows by 1e5) is found piece by piece, and the joints close to about 1e-10.
 //   reach (single shooting)  the same from there on one run, which parts from the joined segments by their gaps
 //       grown along the motion; Gauss-Newton closes that from nearby, with steps far below 1e-8 of the unknowns.
