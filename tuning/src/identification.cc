@@ -153,7 +153,7 @@ IdentifyResult Identify(const Model<double>& model, const ParameterSet& paramete
   result.optimizer = Minimize(residuals, start, lower, upper, settings.optimizer,
                               CostGradientOf(problem, settings, &result.gradient_method));
   const std::vector<double>& x = result.optimizer.x;
-  for (int i = 0; i < p; ++i) result.estimate.push_back(problem.ToParameter(i, x[i]));
+  result.estimate = problem.Parameters(x);
   Eigen::VectorXd r;
   residuals(x, &r, nullptr);
   result.final_cost = RobustCost(settings.optimizer.loss, r);

@@ -161,6 +161,12 @@ bool ShootingProblem::InSegment(double t, int k) const {
 double ShootingProblem::ToUnknown(int i, double p) const { return log_space_[i] ? std::log(p) : p; }
 double ShootingProblem::ToParameter(int i, double x) const { return log_space_[i] ? std::exp(x) : x; }
 
+std::vector<double> ShootingProblem::Parameters(const std::vector<double>& x) const {
+  std::vector<double> out;
+  for (int i = 0; i < parameters_.size(); ++i) out.push_back(ToParameter(i, x[i]));
+  return out;
+}
+
 void ShootingProblem::Box(std::vector<double>* lower, std::vector<double>* upper) const {
   lower->assign(Unknowns(), -kUnbounded);
   upper->assign(Unknowns(), kUnbounded);

@@ -69,6 +69,8 @@ class ShootingProblem {
   // unknowns <-> parameters (in their own units)
   double ToUnknown(int i, double p) const;
   double ToParameter(int i, double x) const;
+  // The parameters (in their own units) at unknowns x.
+  std::vector<double> Parameters(const std::vector<double>& x) const;
 
   // The box on the unknowns from settings.bounds, in the unknowns' units (the start states are unbounded).
   void Box(std::vector<double>* lower, std::vector<double>* upper) const;

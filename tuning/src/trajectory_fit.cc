@@ -124,13 +124,6 @@ struct Shooting {
     settings.segments = segments;
     return settings;
   }
-  // The parameters (in their own units) at unknowns x.
-  std::vector<double> Parameters(const std::vector<double>& x, int count) const {
-    std::vector<double> out;
-    for (int i = 0; i < count; ++i) out.push_back(problem.ToParameter(i, x[i]));
-    return out;
-  }
-
   const IdentifySettings with_segments;  // the problem refers to it
   const ShootingProblem problem;
   std::vector<double> lower, upper;
@@ -148,7 +141,7 @@ std::vector<double> Reach(const Model<double>& model, const ParameterSet& parame
       MinimizeViolation(s.residuals, RowsOf(s.problem, settings), s.problem.Start(), s.lower, s.upper,
                         settings.optimizer);
   *evaluations += reached.evaluations;
-  return s.Parameters(reached.x, parameters.size());
+  return s.problem.Parameters(reached.x);
 }
 
 // Single shooting from `model`'s values: the cost minimized subject to the inequality targets (SLSQP).
@@ -160,7 +153,7 @@ OptimizerResult Polish(const Model<double>& model, const ParameterSet& parameter
   polish.max_evaluations = std::max(50, settings.optimizer.max_evaluations / kPolishShare);
   OptimizerResult result =
       MinimizeConstrained(s.residuals, RowsOf(s.problem, settings), s.problem.Start(), s.lower, s.upper, polish);
-  *estimate = s.Parameters(result.x, parameters.size());
+  *estimate = s.problem.Parameters(result.x);
   return result;
 }
 
