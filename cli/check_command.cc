@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <iostream>
+#include <string>
 
 #include "scene_overrides.h"
 #include "tether/dynamics/scene_check.h"
@@ -45,6 +46,19 @@ class CheckCommand final : public Command {
     }
     std::printf("conditioning of J M^-1/2: %.3g%s (the Schur complement's is its square); KKT path: %s\n",
                 c.condition_number, c.condition_estimated ? " (estimated by power and inverse iteration)" : "", c.solver.c_str());
+    for (const LimitCheck& l : c.limits) {
+      auto side = [](bool has, double bound) {
+        char text[32];
+        std::snprintf(text, sizeof text, "%.9g", bound);
+        return has ? std::string(text) : std::string("open");
+      };
+      std::printf("limit: /constraints/%d%s%s: %s %.9g in [%s, %s], %s\n", l.constraint, l.name.empty() ? "" : " ",
+                  l.name.c_str(), l.coordinate.c_str(), l.start, side(l.has_low, l.low).c_str(),
+                  side(l.has_high, l.high).c_str(),
+                  l.low_active    ? "active at the start on its low bound"
+                  : l.high_active ? "active at the start on its high bound"
+                                  : "inactive at the start");
+    }
     if (!c.assembly_error.empty()) {
       std::printf("cannot be assembled: %s\n", c.assembly_error.c_str());
       return 1;  // simulate refuses this scene

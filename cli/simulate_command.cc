@@ -22,19 +22,23 @@ class SimulateCommand final : public Command {
     overrides_.Register(app_);
     app_->add_option("--every", every_, "write every K-th step (default 1)");
     app_->add_option("-o,--output", output_path_, "CSV file to write (default: stdout)");
+    app_->add_option("--events", events_path_,
+                     "CSV file of the joint limits' events: t,kind,constraint,speed_before,speed_after");
   }
 
   CLI::App* app() const override { return app_; }
 
   int Run() override {
     CheckCount(every_, 1, std::numeric_limits<int>::max(), "--every");
-    CheckOutputs({{output_path_, "-o"}}, {scene_path_});
+    CheckOutputs({{output_path_, "-o"}, {events_path_, "--events"}}, {scene_path_});
     Scene scene = ReadSceneFile(scene_path_);
     overrides_.Apply(&scene.model);
 
     std::unique_ptr<AtomicOutputFile> file;
     std::ostringstream buffer;  // stdout gets the CSV only once the run has succeeded
     if (!output_path_.empty()) file = std::make_unique<AtomicOutputFile>(output_path_);
+    std::unique_ptr<AtomicOutputFile> events;
+    if (!events_path_.empty()) events = std::make_unique<AtomicOutputFile>(events_path_);
     std::ostream& out = file ? file->stream() : buffer;
     TrajectoryCsvWriter writer(scene.model, &out);
     RunReport report;
@@ -48,6 +52,10 @@ class SimulateCommand final : public Command {
       throw SimulationDiverged(scene_path_ + ": " + e.what(), e.time(), e.constraint());
     }
     for (const std::string& warning : report.warnings) std::cerr << "tether: warning: " << scene_path_ << ": " << warning << "\n";
+    if (events) {
+      WriteEventsCsv(report.events, &events->stream());
+      events->Commit();
+    }
     if (file) {
       file->Commit();
     } else {
@@ -58,7 +66,7 @@ class SimulateCommand final : public Command {
 
  private:
   CLI::App* app_;
-  std::string scene_path_, output_path_;
+  std::string scene_path_, output_path_, events_path_;
   SceneOverrides overrides_;
   int every_ = 1;
 };

@@ -24,9 +24,10 @@ namespace tether::cli {
 namespace {
 
 // Whether smaller is better for a metric, and whether ranking rows by it says something: the gains a row ran
-// with are settings, not results, and energy drift measures error only where the scene conserves energy.
+// with are settings, not results, the events a run had are neither better nor worse, and energy drift measures error
+// only where the scene conserves energy.
 bool Ranked(const StudySpec& spec, const std::string& metric) {
-  if (metric == "alpha" || metric == "beta") return false;
+  if (metric == "alpha" || metric == "beta" || metric == "events") return false;
   if (metric != "energy_drift") return true;
   for (const nlohmann::json& scene : spec.scenes) {
     if (!ConservesEnergy(ParseScene(scene, spec.path).model)) return false;

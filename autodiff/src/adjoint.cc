@@ -65,6 +65,11 @@ std::int64_t CheckpointInterval(std::int64_t steps, std::int64_t state_bytes, st
 
 LossGradient AdjointGradient(const Model<double>& given, const ParameterSet& parameters, const RunOptions& options,
                              const SampleLoss& loss, std::int64_t interval, AdjointReport* report) {
+  if (HasJointLimits(given)) {
+    throw InputError(
+        "the adjoint does not cross joint-limit events yet, and this scene has joint limits (a "
+        "\"range\"); take the gradient by Jets");
+  }
   Model<double> tied;  // the model with its tied fields set from the others, where there are ties
   if (parameters.tied()) {
     tied = given;

@@ -98,6 +98,8 @@ class Resolver {
     if (Is(2, "axis")) return {Kind::kJointAxis, k, 0, Index(3)};
     if (Is(2, "axes")) return {Index(3) == 0 ? Kind::kJointAxis : Kind::kJointAxisB, k, 0, Index(4)};
     if (Is(2, "angle")) return {Kind::kJointAngle, k};
+    if (Is(2, "range")) return {Kind::kJointRange, k, Index(3)};
+    if (Is(2, "restitution")) return {Kind::kJointRestitution, k};
     return NotDifferentiable();
   }
 
@@ -169,6 +171,8 @@ auto& FieldOf(M* m, const FieldRef& f) {
     case Kind::kJointAxis: return m->joints[f.index].axis[f.component];
     case Kind::kJointAxisB: return m->joints[f.index].axis_b[f.component];
     case Kind::kJointAngle: return m->joints[f.index].angle;
+    case Kind::kJointRange: return f.slot == 0 ? m->joints[f.index].range.low : m->joints[f.index].range.high;
+    case Kind::kJointRestitution: return m->joints[f.index].range.restitution;
     case Kind::kMarkerPoint: return m->markers[f.index].point.local[f.component];
     case Kind::kGravity: return m->gravity[f.index].acceleration[f.component];
     case Kind::kDampingCoefficient: return m->damping[f.index].coefficient;

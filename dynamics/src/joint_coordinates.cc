@@ -35,6 +35,20 @@ int JointCoordinates<T>::Find(int joint, JointCoordinate coordinate) const {
 }
 
 template <typename T>
+int CoordinateIndex(const Model<T>& model, int joint, JointCoordinate coordinate) {
+  int index = 0;
+  for (int j = 0; j < static_cast<int>(model.joints.size()); ++j) {
+    if (!TracksCoordinates(model.joints[j])) continue;
+    for (JointCoordinate c : {JointCoordinate::kAngle, JointCoordinate::kDisplacement}) {
+      if (!HasCoordinate(model, model.joints[j], c)) continue;
+      if (j == joint && c == coordinate) return index;
+      ++index;
+    }
+  }
+  return -1;
+}
+
+template <typename T>
 JointCoordinates<T> BuildJointCoordinates(const Model<T>& model, const VecX<T>& q) {
   using std::sqrt;
   JointCoordinates<T> out;
@@ -42,7 +56,7 @@ JointCoordinates<T> BuildJointCoordinates(const Model<T>& model, const VecX<T>& 
   UpdateFrames(model, q, q, false, &frames);
   for (size_t j = 0; j < model.joints.size(); ++j) {
     const Joint<T>& joint = model.joints[j];
-    if (joint.name.empty()) continue;
+    if (!TracksCoordinates(joint)) continue;
     for (JointCoordinate coordinate : {JointCoordinate::kAngle, JointCoordinate::kDisplacement}) {
       if (!HasCoordinate(model, joint, coordinate)) continue;
       CoordinateReference<T> r;
@@ -72,8 +86,14 @@ template <typename T>
 CoordinateRow<T> EvaluateCoordinate(const Model<T>& model, const JointCoordinates<T>& coordinates, int k,
                                     const BodyFrames<T>& frames, const VecX<T>& q, const VecX<T>& v,
                                     bool velocities) {
+  return EvaluateCoordinateAt(model, coordinates.references[k], coordinates.last[k], frames, q, v, velocities);
+}
+
+template <typename T>
+CoordinateRow<T> EvaluateCoordinateAt(const Model<T>& model, const CoordinateReference<T>& r, double branch,
+                                      const BodyFrames<T>& frames, const VecX<T>& q, const VecX<T>& v,
+                                      bool velocities) {
   using std::atan2;
-  const CoordinateReference<T>& r = coordinates.references[k];
   const Joint<T>& joint = model.joints[r.joint];
   const int a = joint.a.body, b = joint.b.body;
   CoordinateRow<T> row;
@@ -93,7 +113,7 @@ CoordinateRow<T> EvaluateCoordinate(const Model<T>& model, const JointCoordinate
     const Vec3<T> n_a = R_WA * r.normal_a;
     const Vec3<T> n_b = RotationOf(model, frames, b) * r.normal_b;
     const T raw = r.offset + atan2(n_a.cross(n_b).dot(axis_W), n_a.dot(n_b));
-    const double turns = std::round((coordinates.last[k] - Value(raw)) / (2.0 * M_PI));
+    const double turns = std::round((branch - Value(raw)) / (2.0 * M_PI));
     row.value = raw + T(2.0 * M_PI * turns);
     if (velocities) row.rate = (AngularVelocityOf(model, frames, b) - w_A).dot(axis_W);
     row.a.body = a;
@@ -114,6 +134,21 @@ CoordinateRow<T> EvaluateCoordinate(const Model<T>& model, const JointCoordinate
 }
 
 template <typename T>
+T CoordinateBias(const Model<T>& model, const CoordinateReference<T>& r, const BodyFrames<T>& frames, const VecX<T>& q,
+                 const VecX<T>& v) {
+  const Joint<T>& joint = model.joints[r.joint];
+  if (r.coordinate == JointCoordinate::kAngle && model.dimension == 2) return T(0.0);
+  const Vec3<T> w_A = AngularVelocityOf(model, frames, joint.a.body);
+  const Vec3<T> axis_W = RotationOf(model, frames, joint.a.body) * r.axis;
+  const Vec3<T> turn = w_A.cross(axis_W);
+  if (r.coordinate == JointCoordinate::kAngle) return (AngularVelocityOf(model, frames, joint.b.body) - w_A).dot(turn);
+  const PointMotion<T> pa = MovePoint(model, frames, joint.a, q, v, true);
+  const PointMotion<T> pb = MovePoint(model, frames, joint.b, q, v, true);
+  return axis_W.dot(pb.centripetal - pa.centripetal) + T(2.0) * turn.dot(Vec3<T>(pb.velocity - pa.velocity)) +
+         w_A.cross(turn).dot(Vec3<T>(pb.position - pa.position));
+}
+
+template <typename T>
 void TrackCoordinates(const Model<T>& model, const BodyFrames<T>& frames, const VecX<T>& q, const VecX<T>& v,
                       JointCoordinates<T>* coordinates) {
   for (size_t k = 0; k < coordinates->references.size(); ++k) {
@@ -121,12 +156,17 @@ void TrackCoordinates(const Model<T>& model, const BodyFrames<T>& frames, const 
   }
 }
 
-#define TETHER_INSTANTIATE_JOINT_COORDINATES(T)                                                               \
-  template struct JointCoordinates<T>;                                                                        \
-  template JointCoordinates<T> BuildJointCoordinates<T>(const Model<T>&, const VecX<T>&);                     \
-  template CoordinateRow<T> EvaluateCoordinate<T>(const Model<T>&, const JointCoordinates<T>&, int,           \
-                                                  const BodyFrames<T>&, const VecX<T>&, const VecX<T>&, bool); \
-  template void TrackCoordinates<T>(const Model<T>&, const BodyFrames<T>&, const VecX<T>&, const VecX<T>&,    \
+#define TETHER_INSTANTIATE_JOINT_COORDINATES(T)                                                                      \
+  template struct JointCoordinates<T>;                                                                               \
+  template int CoordinateIndex<T>(const Model<T>&, int, JointCoordinate);                                            \
+  template JointCoordinates<T> BuildJointCoordinates<T>(const Model<T>&, const VecX<T>&);                            \
+  template CoordinateRow<T> EvaluateCoordinate<T>(const Model<T>&, const JointCoordinates<T>&, int,                  \
+                                                  const BodyFrames<T>&, const VecX<T>&, const VecX<T>&, bool);       \
+  template CoordinateRow<T> EvaluateCoordinateAt<T>(const Model<T>&, const CoordinateReference<T>&, double,          \
+                                                    const BodyFrames<T>&, const VecX<T>&, const VecX<T>&, bool);     \
+  template T CoordinateBias<T>(const Model<T>&, const CoordinateReference<T>&, const BodyFrames<T>&, const VecX<T>&, \
+                               const VecX<T>&);                                                                      \
+  template void TrackCoordinates<T>(const Model<T>&, const BodyFrames<T>&, const VecX<T>&, const VecX<T>&,           \
                                     JointCoordinates<T>*);
 TETHER_FOR_EACH_SCALAR(TETHER_INSTANTIATE_JOINT_COORDINATES)
 

@@ -114,8 +114,17 @@ Model<U> CastModel(const Model<double>& m) {
     out.bodies.push_back(std::move(c));
   }
   for (const Joint<double>& j : m.joints) {
-    out.joints.push_back({j.scene_index, j.type, j.name, CastPoint<U>(j.a), CastPoint<U>(j.b), j.axis.cast<U>(),
-                          j.axis_b.cast<U>(), U(j.length), U(j.angle)});
+    const JointRange<double>& r = j.range;
+    out.joints.push_back({j.scene_index,
+                          j.type,
+                          j.name,
+                          CastPoint<U>(j.a),
+                          CastPoint<U>(j.b),
+                          j.axis.cast<U>(),
+                          j.axis_b.cast<U>(),
+                          U(j.length),
+                          U(j.angle),
+                          {r.has_low, r.has_high, U(r.low), U(r.high), U(r.restitution)}});
   }
   out.user_constraints = m.user_constraints;
   for (const Marker<double>& k : m.markers) out.markers.push_back({k.name, CastPoint<U>(k.point)});

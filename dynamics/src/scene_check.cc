@@ -2,10 +2,11 @@
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/QR>
-#include <Eigen/SVD>
-#include <Eigen/SparseCore>
 #include <Eigen/SPQRSupport>
+#include <Eigen/SVD>
 #include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+#include <algorithm>
 #include <cmath>
 #include <set>
 #include <stdexcept>
@@ -15,6 +16,7 @@
 #include "tether/dynamics/errors.h"
 #include "tether/dynamics/schur_solver.h"
 #include "tether/dynamics/simulator.h"
+#include "tether/dynamics/stepper.h"
 
 namespace tether {
 namespace {
@@ -47,6 +49,35 @@ double EstimatedCondition(const Eigen::SparseMatrix<double>& a, const std::vecto
   return std::sqrt(largest * smallest_inverse);
 }
 
+// The limited joints at the start of a run; assembles the initial state (InputError when it cannot).
+std::vector<LimitCheck> CheckLimits(const Model<double>& model) {
+  RunReport report;
+  AssembledInitialState(model, &report);
+  const bool limited = std::any_of(model.joints.begin(), model.joints.end(),
+                                   [](const Joint<double>& joint) { return joint.range.declared(); });
+  if (!limited) return {};
+  Stepper<double> stepper(model, RunOptions{}, [](const Sample<double>&) {});
+  std::vector<LimitCheck> out;
+  const LimitEvents<double>& sides = stepper.limits();
+  for (int i = 0; i < sides.size(); ++i) {
+    const Joint<double>& joint = model.joints[sides.side(i).joint];
+    if (out.empty() || out.back().constraint != joint.scene_index) {
+      LimitCheck c;
+      c.constraint = joint.scene_index;
+      c.name = joint.name;
+      c.coordinate = joint.type == JointType::kPrismatic ? "displacement" : "angle";
+      c.start = stepper.coordinates().last[sides.side(i).coordinate];
+      c.has_low = joint.range.has_low;
+      c.has_high = joint.range.has_high;
+      c.low = joint.range.low;
+      c.high = joint.range.high;
+      out.push_back(c);
+    }
+    (sides.side(i).side > 0 ? out.back().low_active : out.back().high_active) = sides.active(i);
+  }
+  return out;
+}
+
 }  // namespace
 
 SceneCheck CheckScene(const Model<double>& model) {
@@ -60,8 +91,7 @@ SceneCheck CheckScene(const Model<double>& model) {
   check.solver = ResolveSolver(model.simulation.solver) == KktSolver::kDense ? "dense" : "sparse";
   check.degrees_of_freedom = check.coordinates;
   try {
-    RunReport report;
-    AssembledInitialState(model, &report);
+    check.limits = CheckLimits(model);
   } catch (const InputError& e) {
     check.assembly_error = e.what();
   }
@@ -142,6 +172,20 @@ nlohmann::json SceneCheckJson(const SceneCheck& c) {
   if (c.worst_constraint >= 0) out["worst_constraint"] = c.worst_constraint;
   out["assembles"] = c.assembly_error.empty();
   if (!c.assembly_error.empty()) out["assembly_error"] = c.assembly_error;
+  out["limits"] = nlohmann::json::array();
+  for (const LimitCheck& l : c.limits) {
+    const nlohmann::json low = l.has_low ? nlohmann::json(l.low) : nlohmann::json(nullptr);
+    const nlohmann::json high = l.has_high ? nlohmann::json(l.high) : nlohmann::json(nullptr);
+    const nlohmann::json active = l.low_active    ? nlohmann::json("low")
+                                  : l.high_active ? nlohmann::json("high")
+                                                  : nlohmann::json(nullptr);
+    out["limits"].push_back({{"constraint", l.constraint},
+                             {"name", l.name},
+                             {"coordinate", l.coordinate},
+                             {"start", l.start},
+                             {"range", {low, high}},
+                             {"active", active}});
+  }
   return out;
 }
 

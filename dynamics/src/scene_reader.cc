@@ -132,7 +132,9 @@ class SceneBuilder {
   SceneBuilder(const json& document, const std::string& path) : doc_(document), check_(path) {}
 
   Model<double> Build() {
-    check_.Object(doc_, "", {"dimension", "bodies", "constraints", "effects", "markers", "simulation", "stabilization"});
+    check_.Object(
+        doc_, "",
+        {"dimension", "bodies", "constraints", "effects", "markers", "shapes", "simulation", "stabilization"});
     if (const json* d = check_.Optional(doc_, "dimension")) {
       const double dim = check_.Number(*d, "/dimension");
       if (dim != 2 && dim != 3) check_.Fail("/dimension", "must be 2 or 3, got " + Format(dim));
@@ -141,6 +143,7 @@ class SceneBuilder {
     ReadBodies(check_.Required(doc_, "", "bodies"));
     if (const json* c = check_.Optional(doc_, "constraints")) ReadConstraints(*c);
     if (const json* m = check_.Optional(doc_, "markers")) ReadMarkers(*m);
+    if (const json* shapes = check_.Optional(doc_, "shapes")) ReadShapes(*shapes);
     if (const json* e = check_.Optional(doc_, "effects")) ReadEffects(*e);
     if (const json* s = check_.Optional(doc_, "simulation")) ReadSimulation(*s);
     if (const json* s = check_.Optional(doc_, "stabilization")) ReadStabilization(*s);
@@ -341,12 +344,48 @@ class SceneBuilder {
     }
   }
 
-  // A joint's "range" [low, high] (rad or m): kept in the scene for joint limits, not simulated yet.
-  void CheckRange(const json& j, const std::string& at) const {
-    check_.Array(j, at);
-    if (j.size() != 2) check_.Fail(at, "expected [low, high], got " + std::to_string(j.size()) + " numbers");
-    const double low = check_.Number(j[0], Child(at, 0)), high = check_.Number(j[1], Child(at, 1));
-    if (!(low <= high)) check_.Fail(at, "low " + Format(low) + " must not exceed high " + Format(high));
+  // A joint's "range" [low, high] (rad or m, either side null for open) and "restitution" e in [0, 1]: its
+  // limits (limit_events.h). The coordinate at the start (a hinge's or pin's "angle" key, a prismatic joint's
+  // displacement from the initial positions) must lie within the range.
+  void ReadRange(const json& c, const std::string& at, Joint<double>* joint) const {
+    const json* range = check_.Optional(c, "range");
+    const json* restitution = check_.Optional(c, "restitution");
+    if (!range) {
+      if (restitution) check_.Fail(Child(at, "restitution"), "a restitution needs a \"range\" to act at");
+      return;
+    }
+    const std::string rp = Child(at, "range");
+    check_.Array(*range, rp);
+    if (range->size() != 2) check_.Fail(rp, "expected [low, high], got " + std::to_string(range->size()) + " numbers");
+    JointRange<double>& r = joint->range;
+    r.has_low = !(*range)[0].is_null();
+    r.has_high = !(*range)[1].is_null();
+    if (r.has_low) r.low = check_.Number((*range)[0], Child(rp, 0));
+    if (r.has_high) r.high = check_.Number((*range)[1], Child(rp, 1));
+    if (r.has_low && r.has_high && !(r.low <= r.high)) {
+      check_.Fail(rp, "low " + Format(r.low) + " must not exceed high " + Format(r.high));
+    }
+    if (restitution) {
+      const std::string ep = Child(at, "restitution");
+      r.restitution = check_.NonNegative(*restitution, ep);
+      if (!(r.restitution <= 1.0)) check_.Fail(ep, "must be <= 1 (Newton's restitution), got " + Format(r.restitution));
+    }
+    const bool angle = joint->type != JointType::kPrismatic;
+    if (!HasCoordinate(model_, *joint, angle ? JointCoordinate::kAngle : JointCoordinate::kDisplacement)) {
+      check_.Fail(rp,
+                  "a 2D pin has a range only between planar rigid bodies (or one and the world), which give it "
+                  "an angle");
+    }
+    const double start = angle ? joint->angle : InitialDisplacement(*joint);
+    if ((r.has_low && start < r.low) || (r.has_high && start > r.high)) {
+      check_.Fail(rp, std::string("the joint's ") + (angle ? "angle " : "displacement ") + Format(start) +
+                          " at the start lies outside its range");
+    }
+  }
+
+  // A prismatic joint's displacement (p_B - p_A) . u at the initial state, u its unit axis turned by A.
+  double InitialDisplacement(const Joint<double>& joint) const {
+    return InitialDirection(joint.a.body, joint.axis).dot(InitialPosition(joint.b) - InitialPosition(joint.a));
   }
 
   void ReadConstraints(const json& constraints) {
@@ -366,7 +405,7 @@ class SceneBuilder {
       } else if (type == "pin") {
         joint.type = JointType::kPin;
         if (Dim() == 2) {
-          check_.Object(c, at, {"type", "name", "bodies", "points", "angle"});
+          check_.Object(c, at, {"type", "name", "bodies", "points", "angle", "range", "restitution"});
         } else {
           check_.Object(c, at, {"type", "name", "bodies", "points"});
         }
@@ -375,7 +414,7 @@ class SceneBuilder {
         check_.Object(c, at, {"type", "name", "bodies", "points", "axis"});
       } else if (type == "hinge") {
         joint.type = JointType::kHinge;
-        check_.Object(c, at, {"type", "name", "bodies", "points", "axis", "angle", "range"});
+        check_.Object(c, at, {"type", "name", "bodies", "points", "axis", "angle", "range", "restitution"});
       } else if (type == "cylindrical") {
         joint.type = JointType::kCylindrical;
         check_.Object(c, at, {"type", "name", "bodies", "points", "axis", "angle"});
@@ -384,7 +423,7 @@ class SceneBuilder {
         check_.Object(c, at, {"type", "name", "bodies", "points", "axes"});
       } else if (type == "prismatic") {
         joint.type = JointType::kPrismatic;
-        check_.Object(c, at, {"type", "name", "bodies", "points", "axis", "range"});
+        check_.Object(c, at, {"type", "name", "bodies", "points", "axis", "range", "restitution"});
       } else if (type == "weld") {
         joint.type = JointType::kWeld;
         check_.Object(c, at, {"type", "name", "bodies", "points"});
@@ -402,7 +441,7 @@ class SceneBuilder {
         check_.Fail(at, "missing required key 'axis'");
       }
       if (const json* angle = check_.Optional(c, "angle")) joint.angle = check_.Number(*angle, Child(at, "angle"));
-      if (const json* range = check_.Optional(c, "range")) CheckRange(*range, Child(at, "range"));
+      ReadRange(c, at, &joint);
       if (joint.type == JointType::kUniversal || joint.type == JointType::kDoubleHinge) {
         const std::string ap = Child(at, "axes");
         const json& axes = check_.Array(check_.Required(c, at, "axes"), ap);
@@ -421,6 +460,17 @@ class SceneBuilder {
       }
       AddJoint(&model_, joint);
       if (!joint.name.empty()) joints_[joint.name] = static_cast<int>(model_.joints.size()) - 1;
+    }
+  }
+
+  // Contact shapes (CONTRACT.md) are not simulated yet: an empty list is the scene without them, and any shape is
+  // refused rather than silently left out of the motion.
+  void ReadShapes(const json& shapes) const {
+    check_.Array(shapes, "/shapes");
+    if (!shapes.empty()) {
+      check_.Fail("/shapes/0",
+                  "contact shapes are not simulated yet (joint limits are: a joint's \"range\"); "
+                  "remove \"shapes\" or leave it empty");
     }
   }
 

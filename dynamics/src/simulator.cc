@@ -21,6 +21,10 @@ namespace {
 
 // Projections stop at this violation, relative to the length scale.
 constexpr double kProjectionTolerance = 1e-12;
+// An event is located to this fraction of the step (the event function's root, bracketed).
+constexpr double kEventTimeTolerance = 1e-13;
+// More events than this within one step: a sequence of impacts that the capture rule did not end.
+constexpr int kMostEventsPerStep = 10000;
 // An initial state off its constraints by more than this (relative) is reported as moved.
 constexpr double kAssemblyWarning = 1e-10;
 // An assembly whose Gauss-Newton iteration stalls (round-off in the constraint values can sit above the
@@ -138,7 +142,8 @@ Stepper<T>::Stepper(const Model<T>& model, const RunOptions& options, Observer o
       state_(InitialState(model)),
       ws_(model, state_.q, options.factor_jet_matrices),
       scale_(LengthScale(model)),
-      h_(model.simulation.step) {
+      h_(model.simulation.step),
+      limits_(model) {
   if (options.every < 1) throw InputError("RunOptions::every must be >= 1, got " + std::to_string(options.every));
   const double duration = model.simulation.duration;
   const double t0 = options.start_time;
@@ -160,7 +165,8 @@ Stepper<T>::Stepper(const Model<T>& model, const RunOptions& options, Observer o
   q_projected_ = state_.q;
   v_projected_ = state_.v;
   settle_ = [this](double t, VecX<T>* q, VecX<T>* v) { return Settle(t, q, v); };
-}
+  if (!limits_.empty()) limits_.Resolve(t0, h_, -1, &state_.q, &state_.v, &ws_, &report_);  // at rest on a limit, or
+}  // moving into one
 
 template <typename T>
 SimulationDiverged Stepper<T>::Diverged(double t, const std::string& what) const {
@@ -232,9 +238,103 @@ bool Stepper<T>::Settle(double t, VecX<T>* q, VecX<T>* v) {
   return changed;
 }
 
-// one step of the run, with its stabilization and divergence checks
+// One step of the plan from t to t + dt, split at the events of the joint limits inside it (stepper.h).
 template <typename T>
 void Stepper<T>::Advance(double t, double dt) {
+  if (limits_.empty()) return AdvanceSmooth(t, dt);
+  const double t_end = t + dt;
+  for (int events = 0; events < kMostEventsPerStep; ++events) {
+    SaveInto(&before_);
+    AdvanceSmooth(t, t_end - t);
+    const double tau = FirstEvent(t, t_end - t);  // leaves the state at the event
+    if (tau < 0.0) return;
+    t += tau;
+    limits_.Resolve(t, h_, capture_, &state_.q, &state_.v, &ws_, &report_);
+    if (t_end - t <= kEventTimeTolerance * h_) {  // the event closes the step
+      if (t < t_end) AdvanceSmooth(t, t_end - t);
+      return;
+    }
+  }
+  throw Diverged(t, "more than " + std::to_string(kMostEventsPerStep) +
+                        " joint-limit events within one step (a sequence of impacts that does not end)");
+}
+
+// After a step from t of dt (the state saved in before_): the time from t of the first event within it, the
+// state left there (just past it: a gap closed, or a multiplier turned negative); -1 with the state at t + dt
+// when there is none.
+template <typename T>
+double Stepper<T>::FirstEvent(double t, double dt) {
+  due_.clear();
+  for (int i = 0; i < limits_.size(); ++i) {
+    if (!limits_.active(i) && limits_.GapFromTracked(i, ws_.coordinates) < 0.0) due_.push_back(i);
+  }
+  if (!limits_.active_order().empty()) {
+    limits_.Multipliers(t + dt, state_.q, state_.v, &ws_, &multipliers_);
+    for (size_t j = 0; j < multipliers_.size(); ++j) {
+      if (multipliers_[j] < 0.0) due_.push_back(limits_.active_order()[j]);
+    }
+  }
+  if (due_.empty()) return -1.0;
+  double first = dt;
+  capture_ = -1;
+  for (int i : due_) {
+    const double tau = Locate(i, t, first);
+    if (tau < first || (tau == 0.0 && first == 0.0)) {
+      first = tau;
+      capture_ = tau == 0.0 ? i : -1;
+    }
+  }
+  Restore(before_);
+  if (first > 0.0) AdvanceSmooth(t, first);
+  return first;
+}
+
+// The event time of side i within [0, dt]: the end of the final bracket where its event function is negative;
+// dt when the function is not negative there (no event before dt), 0 when a gap that has just opened closes
+// again within the first kCaptureFlight of the step (it is then captured).
+template <typename T>
+double Stepper<T>::Locate(int side, double t, double dt) {
+  auto value_after = [&](double tau) {
+    Restore(before_);
+    if (tau > 0.0) AdvanceSmooth(t, tau);
+    return limits_.EventValue(side, t + tau, state_.q, state_.v, &ws_);
+  };
+  double hi = dt, f_hi = value_after(dt);
+  if (!(f_hi < 0.0)) return dt;
+  double lo = 0.0, f_lo = value_after(0.0);
+  // a gap at zero at the start (it has just opened): bracket from the first probe where it is open
+  for (double probe = kCaptureFlight * dt; !(f_lo > 0.0) && probe < dt; probe *= 2.0) {
+    const double f = value_after(probe);
+    if (f > 0.0) {
+      lo = probe;
+      f_lo = f;
+    }
+  }
+  if (!(f_lo > 0.0)) return 0.0;  // closes again at once: resolved where it is (captured)
+  int stale = 0;                  // Illinois: halve the value of an end that stays
+  while (hi - lo > kEventTimeTolerance * dt) {
+    double mid = (f_lo * hi - f_hi * lo) / (f_lo - f_hi);
+    if (!(mid > lo && mid < hi) || std::abs(stale) > 2) mid = 0.5 * (lo + hi);
+    const double f = value_after(mid);
+    if (f > 0.0) {
+      lo = mid;
+      f_lo = f;
+      if (stale < 0) f_hi *= 0.5;
+      stale = stale < 0 ? stale - 1 : -1;
+    } else {
+      hi = mid;
+      f_hi = f;
+      if (f == 0.0) break;
+      if (stale > 0) f_lo *= 0.5;
+      stale = stale > 0 ? stale + 1 : 1;
+    }
+  }
+  return hi;
+}
+
+// one step of the run, with its stabilization and divergence checks
+template <typename T>
+void Stepper<T>::AdvanceSmooth(double t, double dt) {
   if (RunsCancelled()) throw RunInterrupted(Interrupted());
   VecX<T>& q = state_.q;
   VecX<T>& v = state_.v;
@@ -299,8 +399,22 @@ bool Stepper<T>::Step() {
 
 template <typename T>
 typename Stepper<T>::Carry Stepper<T>::Save() const {
-  return {state_.q,     state_.v,       step_, time_, next_stop_, ws_.rk45_step, ws_.solver.starts_regularized(),
-          ws_.coordinates.last};
+  Carry carry;
+  SaveInto(&carry);
+  return carry;
+}
+
+template <typename T>
+void Stepper<T>::SaveInto(Carry* carry) const {
+  carry->q = state_.q;
+  carry->v = state_.v;
+  carry->step = step_;
+  carry->time = time_;
+  carry->next_stop = next_stop_;
+  carry->rk45_step = ws_.rk45_step;
+  carry->starts_regularized = ws_.solver.starts_regularized();
+  carry->coordinate_branches = ws_.coordinates.last;
+  carry->active_limits = limits_.active_set();
 }
 
 template <typename T>
@@ -311,6 +425,7 @@ void Stepper<T>::Restore(const Carry& carry) {
   time_ = carry.time;
   next_stop_ = carry.next_stop;
   ws_.rk45_step = carry.rk45_step;
+  limits_.SetActiveSet(carry.active_limits, &ws_);  // before the solver's state: a new active set makes a new solver
   ws_.solver.set_starts_regularized(carry.starts_regularized);
   ws_.coordinates.last = carry.coordinate_branches;
 }

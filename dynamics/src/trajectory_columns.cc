@@ -1,5 +1,7 @@
 #include "tether/dynamics/trajectory_columns.h"
 
+#include "tether/dynamics/joint_coordinates.h"
+
 namespace tether {
 
 std::vector<TrajectoryColumn> TrajectoryColumns(const Model<double>& model) {
@@ -26,9 +28,14 @@ std::vector<TrajectoryColumn> TrajectoryColumns(const Model<double>& model) {
       }
     }
   }
-  int reference = 0;  // joint_coordinates.h's order: named joints in scene order, the angle before the displacement
+  int reference = 0;  // joint_coordinates.h's order: tracked joints in scene order, the angle before the displacement
   for (const Joint<double>& joint : model.joints) {
-    if (joint.name.empty()) continue;
+    if (!TracksCoordinates(joint)) continue;
+    if (joint.name.empty()) {  // a limited joint without a name: tracked, without columns
+      for (JointCoordinate c : {JointCoordinate::kAngle, JointCoordinate::kDisplacement})
+        reference += HasCoordinate(model, joint, c);
+      continue;
+    }
     if (HasCoordinate(model, joint, JointCoordinate::kAngle)) {
       columns.push_back({joint.name + ".angle", Kind::kJointCoordinate, reference});
       columns.push_back({joint.name + ".omega", Kind::kJointRate, reference++});

@@ -12,17 +12,44 @@ TrajectoryCsvWriter::TrajectoryCsvWriter(const Model<double>& model, std::ostrea
   *out_ << '\n';
 }
 
-void TrajectoryCsvWriter::Write(const Sample<double>& s) {
+namespace {
+
+// the shortest form of x that reads back as x, appended to *line after a comma unless it starts the line
+void AppendNumber(double x, std::string* line) {
   char number[32];
+  const std::to_chars_result end = std::to_chars(number, number + sizeof number, x);
+  if (!line->empty()) *line += ',';
+  line->append(number, end.ptr);
+}
+
+// a CSV field: quoted (quotes doubled) when it holds a comma, a quote or a line break
+std::string CsvField(const std::string& text) {
+  if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
+  std::string out = "\"";
+  for (char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
+}  // namespace
+
+void TrajectoryCsvWriter::Write(const Sample<double>& s) {
   line_.clear();
-  auto put = [&](double x) {
-    const std::to_chars_result end = std::to_chars(number, number + sizeof number, x);
-    if (!line_.empty()) line_ += ',';
-    line_.append(number, end.ptr);
-  };
-  for (const TrajectoryColumn& column : columns_) put(ColumnValue(model_, column, s));
+  for (const TrajectoryColumn& column : columns_) AppendNumber(ColumnValue(model_, column, s), &line_);
   line_ += '\n';
   *out_ << line_;
+}
+
+void WriteEventsCsv(const std::vector<RunEvent>& events, std::ostream* out) {
+  *out << "t,kind,constraint,speed_before,speed_after\n";
+  std::string line;
+  for (const RunEvent& e : events) {
+    line.clear();
+    AppendNumber(e.t, &line);
+    line += "," + e.kind + "," + CsvField(e.constraint);
+    AppendNumber(e.speed_before, &line);
+    AppendNumber(e.speed_after, &line);
+    *out << line << '\n';
+  }
 }
 
 }  // namespace tether

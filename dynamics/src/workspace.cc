@@ -55,7 +55,8 @@ Workspace<T>::Workspace(const Model<T>& model, const VecX<T>& q_start, bool fact
       solver(pattern, model.simulation.solver, factor_jet_matrices),
       inverse_mass(BuildInverseMass(model)),
       rows(infos.size()),
-      kkt(pattern, model.NumVelocities()) {
+      kkt(pattern, model.NumVelocities()),
+      factor_jet_matrices(factor_jet_matrices) {
   const int nq = model.NumCoordinates(), nv = model.NumVelocities();
   frames.resize(model.bodies.size());
   force.setZero(nv);
@@ -71,6 +72,16 @@ Workspace<T>::Workspace(const Model<T>& model, const VecX<T>& q_start, bool fact
   next_v.setZero(nv);
   error_q.setZero(nv);
   error_v.setZero(nv);
+}
+
+template <typename T>
+void Workspace<T>::SetActiveLimits(const Model<T>& model, const std::vector<LimitPrimitive<T>>& limits) {
+  constraints.limits = limits;
+  infos = DescribeRows(model, constraints);
+  pattern = SchurPattern(infos, layout);
+  solver = SchurSolver(pattern, model.simulation.solver, factor_jet_matrices);
+  rows.assign(infos.size(), ConstraintRow<T>());
+  kkt = KktSystem<T>(pattern, model.NumVelocities());
 }
 
 template <typename T>

@@ -322,6 +322,26 @@ class SceneBuilder {
     constraints_.push_back(weld);
   }
 
+  // A joint's limits: its range, active. A start outside it is refused where --joint set it, and the limits left
+  // out with a warning where the model starts there (MuJoCo's soft limits push such a joint back in).
+  void AddLimits(const PlacedJoint& placed, json* constraint) {
+    const TreeJoint& joint = *placed.joint;
+    const Eigen::Vector2d& range = *joint.range;
+    if (placed.value >= range[0] && placed.value <= range[1]) {
+      (*constraint)["range"] = {range[0], range[1]};
+      limits_kept_.push_back(joint.name);
+      return;
+    }
+    for (const auto& [name, value] : options_.joint_values) {
+      if (name != joint.name) continue;
+      std::ostringstream out;
+      out << "--joint " << name << "=" << value << ": outside the joint's range [" << range[0] << ", " << range[1]
+          << "], which it keeps as a joint limit";
+      throw InputError(out.str());
+    }
+    limits_outside_.push_back(joint.name);
+  }
+
   void EmitConstraint(const ConstraintSpec& spec, int a, int b) {
     json c = {{"type", spec.type}, {"name", Claim(Joined(spec.joints, "+"), "joint")}};
     c["bodies"] = {BodyName(a), BodyName(b)};
@@ -341,11 +361,8 @@ class SceneBuilder {
         kept_[joint->joint->name] = {name, "displacement", cylindrical};
       }
     }
-    if ((spec.type == "hinge" || spec.type == "prismatic") && spec.joints[0]->joint->range) {
-      const Eigen::Vector2d& range = *spec.joints[0]->joint->range;
-      c["range"] = {range[0], range[1]};
-      limits_kept_.push_back(spec.joints[0]->joint->name);
-    }
+    if ((spec.type == "hinge" || spec.type == "prismatic") && spec.joints[0]->joint->range)
+      AddLimits(*spec.joints[0], &c);
     constraints_.push_back(c);
   }
 
@@ -508,12 +525,15 @@ class SceneBuilder {
     }
   }
 
-  // One warning per kind of joint property that is dropped or kept without effect.
+  // One warning per kind of joint property that is dropped.
   void WarnAboutJoints() {
     std::vector<std::string> limits_dropped, armature, friction;
     for (const TreeLink& link : tree_.links) {
       for (const TreeJoint& joint : link.joints) {
-        const bool kept = std::find(limits_kept_.begin(), limits_kept_.end(), joint.name) != limits_kept_.end();
+        auto listed = [&joint](const std::vector<std::string>& names) {
+          return std::find(names.begin(), names.end(), joint.name) != names.end();
+        };
+        const bool kept = listed(limits_kept_) || listed(limits_outside_);
         if (joint.range && !kept) limits_dropped.push_back(joint.name);
         if (joint.armature != 0) armature.push_back(joint.name);
         if (joint.friction_loss != 0) friction.push_back(joint.name);
@@ -522,9 +542,8 @@ class SceneBuilder {
     const std::string without = " of joints without a coordinate of their own in the scene (combined into one "
                                 "constraint, which --split-joints avoids, or replaced by --fix) are dropped";
     const std::vector<std::pair<std::string, const std::vector<std::string>*>> kinds = {
-        {"joint limits are kept as the constraints' \"range\" keys but not enforced (tether has no joint limits "
-         "yet)", &limits_kept_},
         {"limits" + without, &limits_dropped},
+        {"limits of joints that start outside their range are dropped", &limits_outside_},
         {"stiffness and damping" + without, &springs_dropped_},
         {"motors" + without, &motors_dropped_},
         {"joint armature (rotor inertia) is dropped (tether has none)", &armature},
@@ -586,7 +605,7 @@ class SceneBuilder {
   std::map<std::string, KeptCoordinate> kept_;  // by model joint name
   json constraints_ = json::array(), markers_ = json::array(), effects_ = json::array();
   std::vector<std::string> warnings_, renamed_, split_, replaced_, dropped_sites_;
-  std::vector<std::string> limits_kept_, springs_dropped_, motors_dropped_;
+  std::vector<std::string> limits_kept_, limits_outside_, springs_dropped_, motors_dropped_;
 };
 
 }  // namespace

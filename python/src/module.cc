@@ -14,6 +14,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "tether/autodiff/gradient_method.h"
@@ -77,6 +78,7 @@ constexpr double kMaxRecordingBytes = 4.0 * (1 << 30);
 struct Recorded {
   std::vector<std::string> columns;
   py::array_t<double> table, q, v;
+  std::vector<std::tuple<double, std::string, std::string, double, double>> events;  // t, kind, constraint, g'-, g'+
 };
 
 // A run of the scene with `overrides` in place of its settings, every `every`-th step recorded.
@@ -98,10 +100,11 @@ Recorded SimulateScene(const Scene& scene, const SettingsOverrides& overrides, i
   q.reserve(expected_rows * nq);
   v.reserve(expected_rows * nv);
   size_t rows = 0;
+  RunReport report;
   OnScene(scene, [&] {
     RunOptions options;
     options.every = every;
-    Simulate<double>(model, options, [&](const Sample<double>& s) {
+    report = Simulate<double>(model, options, [&](const Sample<double>& s) {
       for (const TrajectoryColumn& column : columns) table.push_back(ColumnValue(model, column, s));
       q.insert(q.end(), s.q.data(), s.q.data() + nq);
       v.insert(v.end(), s.v.data(), s.v.data() + nv);
@@ -114,6 +117,8 @@ Recorded SimulateScene(const Scene& scene, const SettingsOverrides& overrides, i
   out.table = TakeMatrix(std::move(table), rows, columns.size());
   out.q = TakeMatrix(std::move(q), rows, nq);
   out.v = TakeMatrix(std::move(v), rows, nv);
+  for (const RunEvent& e : report.events)
+    out.events.emplace_back(e.t, e.kind, e.constraint, e.speed_before, e.speed_after);
   return out;
 }
 
@@ -143,7 +148,7 @@ std::string GradientOf(const Scene& scene, const std::vector<std::string>& names
   const Observations observations = Data("data", names, values, scene.model);
   return OnScene(scene, [&] {
     const auto start = std::chrono::steady_clock::now();
-    const GradientMethod used = ResolveGradientMethod(requested, parameters.size());
+    const GradientMethod used = ResolveGradientMethod(requested, parameters.size(), scene.model, "method");
     AdjointReport adjoint;
     const LossGradient result = LossGradientBy(used, scene.model, parameters, observations, &adjoint);
     bool finite = std::isfinite(result.loss);
@@ -263,7 +268,8 @@ PYBIND11_MODULE(_tether, m) {
       .def_readonly("columns", &Recorded::columns)
       .def_readonly("table", &Recorded::table)
       .def_readonly("q", &Recorded::q)
-      .def_readonly("v", &Recorded::v);
+      .def_readonly("v", &Recorded::v)
+      .def_readonly("events", &Recorded::events);
   py::class_<SettingsOverrides>(m, "SettingsOverrides")
       .def(py::init<>())
       .def_readwrite("duration", &SettingsOverrides::duration)

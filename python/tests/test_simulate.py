@@ -77,3 +77,30 @@ def test_a_diverging_run_raises_simulation_diverged():
     scene = tether.Scene.load(source("scenes", "chain20.json"))
     with pytest.raises(tether.SimulationDiverged, match=r"diverged at t = .* constraint"):
         scene.simulate(step=0.01, duration=2.0)
+
+
+def test_events_are_the_cli_events_file(tmp_path):
+    """A rod swinging into a stop at the vertical: trajectory.events is `tether simulate --events`'s table."""
+    import csv
+    import json
+    import math
+    a = -math.pi / 2 + math.pi / 3
+    scene = {"dimension": 2,
+             "bodies": [{"name": "rod", "type": "rigid", "mass": 1.0, "inertia": 1 / 12,
+                         "position": [0.5 * math.cos(a), 0.5 * math.sin(a)], "angle": a}],
+             "constraints": [{"type": "pin", "name": "hinge", "bodies": ["world", "rod"],
+                              "points": [[0.0, 0.0], [-0.5, 0.0]], "angle": math.pi / 3, "range": [0.0, None],
+                              "restitution": 0.5}],
+             "effects": [{"type": "gravity", "acceleration": [0.0, -9.81]}],
+             "simulation": {"duration": 1.5}}
+    path = tmp_path / "stop.json"
+    path.write_text(json.dumps(scene))
+    cli("simulate", path, "-o", tmp_path / "run.csv", "--events", tmp_path / "events.csv")
+    with open(tmp_path / "events.csv", newline="") as f:
+        rows = list(csv.reader(f))
+    run = tether.Scene.load(str(path)).simulate()
+    assert rows[0] == list(tether.Event._fields)
+    assert [(float(r[0]), r[1], r[2], float(r[3]), float(r[4])) for r in rows[1:]] == [tuple(e) for e in run.events]
+    assert len(run.events) == 2 and run.events[0].kind == "impact" and run.events[0].constraint == "hinge"
+    assert run.events[0].speed_after == pytest.approx(-0.5 * run.events[0].speed_before, rel=1e-9)
+    assert list(run.events_to_pandas().columns) == list(tether.Event._fields)

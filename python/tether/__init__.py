@@ -16,6 +16,7 @@ import csv
 import json
 import os
 import warnings
+from collections import namedtuple
 from collections.abc import Mapping
 
 import numpy as np
@@ -24,7 +25,7 @@ from . import _tether
 from ._tether import InputError, OutputError, SimulationDiverged
 from ._tether import __version__  # the project's (CMakeLists.txt), as `tether --version` names it
 
-__all__ = ["Scene", "Trajectory", "gradient", "tune", "identify", "fit", "check", "study", "InputError",
+__all__ = ["Scene", "Trajectory", "Event", "gradient", "tune", "identify", "fit", "check", "study", "InputError",
            "SimulationDiverged", "OutputError", "EstimateFailed"]
 for _error in (InputError, OutputError, SimulationDiverged):
     _error.__module__ = __name__  # shown as tether.InputError
@@ -122,12 +123,19 @@ class Scene:
         return f"tether.Scene({self.path!r})"
 
 
+Event = namedtuple("Event", ["t", "kind", "constraint", "speed_before", "speed_after"])
+Event.__doc__ = """An event of a joint limit, as a row of `tether simulate --events`: time (s), "impact" or "release",
+the joint's name (or /constraints/K), and the gap's rate just before and after (rad/s or m/s, positive opening)."""
+
+
 class Trajectory:
     """A run: every output row's time `t`, configuration `q` and velocity `v` (the model's layouts, rows x size),
     `constraint_error` and `energy`, and every CSV column by name (columns(), to_pandas()). The arrays are views of
-    the memory the run filled."""
+    the memory the run filled. `events` is the table of the joint limits' events (a list of Event rows, in time
+    order; events_to_pandas() as a DataFrame)."""
 
     def __init__(self, recorded):
+        self.events = [Event(*row) for row in recorded.events]
         self.table = recorded.table
         self.q = recorded.q
         self.v = recorded.v
@@ -156,6 +164,11 @@ class Trajectory:
         """A pandas DataFrame with the CSV's columns (needs pandas)."""
         import pandas
         return pandas.DataFrame(self.table, columns=self._names, copy=False)
+
+    def events_to_pandas(self):
+        """The events as a pandas DataFrame with the columns of `tether simulate --events` (needs pandas)."""
+        import pandas
+        return pandas.DataFrame(self.events, columns=Event._fields)
 
     def __len__(self):
         return self.table.shape[0]

@@ -101,6 +101,7 @@ StudyRow MeasureRow(const StudySpec& spec, int index, ReferenceCache* references
     if (name == "seconds_per_simulated_second") row.metrics[m] = seconds / scene.model.simulation.duration;
     if (name == "alpha") row.metrics[m] = alpha;
     if (name == "beta") row.metrics[m] = beta;
+    if (name == "events") row.metrics[m] = static_cast<double>(run.report.events.size());
     if (name == "rms_position_error") {
       try {
         row.metrics[m] = RmsPositionError(scene.model, references->Get(scene).get(), run);

@@ -21,8 +21,9 @@ TEST(ImportCli, WritesASceneThatSimulatesAsItIs) {
                                      folder);
   ASSERT_EQ(imported.status, 0) << imported.err;
   EXPECT_EQ(imported.out, "");
-  EXPECT_NE(imported.err.find("tether: warning: " + kArm + ": joint limits are kept"), std::string::npos);
+  EXPECT_EQ(imported.err.find("joint limits"), std::string::npos);  // kept, and enforced: nothing to warn about
   const Scene scene = ReadSceneFile(folder.Path("arm.json"));
+  EXPECT_TRUE(HasJointLimits(scene.model));
   EXPECT_EQ(scene.model.bodies.size(), 6u);
   const Outcome run = RunTether("simulate " + folder.Path("arm.json") + " --duration 0.1 -o " + folder.Path("arm.csv"), folder);
   EXPECT_EQ(run.status, 0) << run.err;
@@ -54,6 +55,8 @@ TEST(ImportCli, BadInputExitsTwoNamingTheFileOrFlagAndWritesNothing) {
       {"import " + kArm + " --joint elbow=x -o " + out, "--joint elbow=x: expected NAME=VALUE with a finite number"},
       {"import " + kArm + " --joint-velocity =1 -o " + out, "--joint-velocity =1: expected NAME=VALUE"},
       {"import " + kArm + " --joint knee=1 -o " + out, "--joint knee: the model has no joint named 'knee'"},
+      {"import " + kArm + " --joint shoulder_pitch=2.5 -o " + out,
+       "--joint shoulder_pitch=2.5: outside the joint's range [-2, 2]"},
       {"import " + kArm + " --fix tool0 -o " + out, "--fix tool0: no moving body of " + kArm + " is named 'tool0'"},
       {"import " + kArm + " --fix wrist -o " + out, "--fix wrist: the link 'wrist' of " + kArm + " has no mass"},
       {"import " + kArm + " -o " + kArm, "-o"},

@@ -49,13 +49,14 @@ MjModelPtr Load(const std::string& path) {
   return model;
 }
 
-// Only what tether simulates: no contacts, limits, actuators, armature, friction or fluid, and no joint springs
-// or dampers unless `springs` (then every joint must keep its own coordinate: single joints, or --split-joints);
-// RK4. The tree loses alike what MuJoCo loses.
+// Only what both simulate alike: no contacts, limits (MuJoCo's are soft, tether's hard), actuators, armature, friction
+// or fluid, and no joint springs or dampers unless `springs` (then every joint must keep its own coordinate: single
+// joints, or --split-joints); RK4. The tree loses alike what MuJoCo loses.
 void KeepRigidBodyDynamics(mjModel* m, KinematicTree* tree, bool springs) {
   for (TreeLink& link : tree->links) {
     for (TreeJoint& joint : link.joints) {
       joint.armature = joint.friction_loss = 0;
+      joint.range.reset();
       if (!springs) joint.stiffness = joint.damping = 0;
     }
   }
@@ -216,7 +217,10 @@ INSTANTIATE_TEST_SUITE_P(
 TEST(MujocoPlacement, JointValuesPlaceTheBodiesAsMujocoDoes) {
   const MjModelPtr m = Load(kModels + "humanoid/humanoid.xml");
   ASSERT_TRUE(m);
-  const KinematicTree tree = TreeFromMujoco(*m);
+  KinematicTree tree = TreeFromMujoco(*m);
+  for (TreeLink& link : tree.links) {  // the angles below may lie outside the joints' ranges
+    for (TreeJoint& joint : link.joints) joint.range.reset();
+  }
   MjDataPtr d(mj_makeData(m.get()), mj_deleteData);
   std::mt19937 random(3);
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);

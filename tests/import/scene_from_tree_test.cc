@@ -319,7 +319,7 @@ TEST(SceneFromTree, WarnsOncePerKindOfJointPropertyItCannotKeep) {
   KinematicTree tree = Tree({Link("upper", -1, Vector3d(0, 0, 1), {a, b}), Link("upper_joint", 0, Vector3d(0, 0, -0.3), {c})});
   tree.links[1].joints[0].name = "upper";  // a joint named like a body: renamed
   const ImportedScene imported = Import(tree);
-  EXPECT_TRUE(Warned(imported, "joint limits are kept as the constraints' \"range\" keys but not enforced"));
+  EXPECT_FALSE(Warned(imported, "range"));  // c's limits are kept, and enforced
   EXPECT_TRUE(Warned(imported, "limits of joints without a coordinate of their own in the scene (combined into one "
                                "constraint, which --split-joints avoids, or replaced by --fix) are dropped: a, b"));
   EXPECT_TRUE(Warned(imported, "joint armature (rotor inertia) is dropped (tether has none): a"));

@@ -25,7 +25,7 @@ struct FieldRef {
   enum class Kind {
     kMass, kInertia, kInertiaMoment, kInertiaProduct,
     kPosition, kAngle, kOrientation, kVelocity, kAngularVelocity,
-    kJointLength, kJointPoint, kJointAxis, kJointAxisB, kJointAngle, kMarkerPoint,
+    kJointLength, kJointPoint, kJointAxis, kJointAxisB, kJointAngle, kJointRange, kJointRestitution, kMarkerPoint,
     kGravity, kDampingCoefficient, kDampingAngular,
     kSpringStiffness, kSpringRestLength, kSpringDamping, kSpringPoint,
     kForceValue, kForcePoint, kForceSchedule, kTorqueValue, kTorqueSchedule,

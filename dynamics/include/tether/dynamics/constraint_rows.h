@@ -13,6 +13,10 @@
 //              J v = (w_A - w_B) . (u x w),
 //              Jdot v = (w_A - w_B) . ((w_A x u) x w + u x (w_B x w))
 //   user       any residual of two bodies' coordinates, derived automatically (user_constraint.h)
+//   limit      an active joint limit (limit_events.h), one-sided: the gap g = s (x - bound) >= 0 of a joint
+//              coordinate x (s = +1 at the low bound, -1 at the high one), J = s dx'/dv, Jdot v = s bias
+//              (joint_coordinates.h); its value is min(g, 0), the violation, so that the stabilization pushes
+//              the bodies apart where they overlap and never pulls them together
 //
 // The joints (model.h) as primitives; "at the start" is the state the set is built at:
 //   distance: distance    pin: point    slider: line
@@ -33,6 +37,7 @@
 
 #include <vector>
 
+#include "tether/dynamics/joint_coordinates.h"
 #include "tether/dynamics/kinematics.h"
 
 namespace tether {
@@ -49,14 +54,18 @@ struct ConstraintRow {
   BodyVector<T> b;   // J_i restricted to the second body
 };
 
-// What is known about a row before any evaluation: the constraint it belongs to and the bodies it touches.
-// Rows of one primitive are consecutive; `part` counts the primitives, so that a constraint's violation is the
-// largest norm over its primitives (metres and radians are not added).
+// A row's law (DESIGN.md): an equality C = 0, or a one-sided gap g >= 0 whose multiplier may push, never pull.
+enum class RowLaw { kEquality, kGap };
+
+// What is known about a row before any evaluation: the constraint it belongs to, the bodies it touches and its
+// law. Rows of one primitive are consecutive; `part` counts the primitives, so that a constraint's violation is
+// the largest norm over its primitives (metres and radians are not added).
 struct RowInfo {
   int scene_index = 0;
   int body_a = kWorld;
   int body_b = kWorld;
   int part = 0;
+  RowLaw law = RowLaw::kEquality;
 };
 
 template <typename T>
@@ -90,13 +99,25 @@ struct AnglePrimitive {
   T c[3];
 };
 
-// A run's constraint primitives, stored by kind; rows are laid out in this order, then the user constraints.
+// One side of a joint's range: the gap g = side (coordinate - bound) >= 0.
+template <typename T>
+struct LimitPrimitive {
+  int scene_index = 0;
+  int body_a = kWorld, body_b = kWorld;
+  CoordinateReference<T> coordinate;  // the joint's coordinate (joint_coordinates.h)
+  int side = 1;                       // +1: the low bound, -1: the high one
+  T bound = T(0.0);                   // rad or m
+};
+
+// A run's constraint primitives, stored by kind; rows are laid out in this order, then the user constraints,
+// then the active limits (set by the run as they engage and release: limit_events.h).
 template <typename T>
 struct ConstraintSet {
   std::vector<DistancePrimitive<T>> distances;
   std::vector<PointPrimitive<T>> points;
   std::vector<LinePrimitive<T>> lines;
   std::vector<AnglePrimitive<T>> angles;
+  std::vector<LimitPrimitive<T>> limits;
 };
 
 // The primitives of the model's constraints, with the quantities fixed at the start taken at configuration q.

@@ -275,8 +275,8 @@ template <typename T>
 std::vector<RowInfo> DescribeRows(const Model<T>& model, const ConstraintSet<T>& set) {
   std::vector<RowInfo> infos;
   int part = 0;
-  auto add = [&](int scene_index, int a, int b, int count) {
-    for (int k = 0; k < count; ++k) infos.push_back({scene_index, a, b, part});
+  auto add = [&](int scene_index, int a, int b, int count, RowLaw law = RowLaw::kEquality) {
+    for (int k = 0; k < count; ++k) infos.push_back({scene_index, a, b, part, law});
     ++part;
   };
   for (const auto& c : set.distances) add(c.scene_index, c.a.body, c.b.body, 1);
@@ -284,6 +284,7 @@ std::vector<RowInfo> DescribeRows(const Model<T>& model, const ConstraintSet<T>&
   for (const auto& c : set.lines) add(c.scene_index, c.a.body, c.b.body, c.rows);
   for (const auto& c : set.angles) add(c.scene_index, c.body_a, c.body_b, c.rows);
   for (const auto& c : model.user_constraints) add(c.scene_index, c.body_a, c.body_b, c.residual->NumRows());
+  for (const auto& c : set.limits) add(c.scene_index, c.body_a, c.body_b, 1, RowLaw::kGap);
   return infos;
 }
 
@@ -338,6 +339,20 @@ TETHER_FLATTEN void EvaluateConstraintRows(const Model<T>& model, const Constrai
       row->a = internal::GradientOf(model, c.body_a, out[i].gradient);
       row->b = internal::GradientOf(model, c.body_b, out[i].gradient + sa.v_size);
     }
+  }
+  for (const LimitPrimitive<T>& c : set.limits) {  // the branch of an active limit's angle is the one at its bound
+    const CoordinateRow<T> x = EvaluateCoordinateAt(model, c.coordinate, Value(c.bound), frames, q, v, vt);
+    const T side(static_cast<double>(c.side));
+    const T gap = side * (x.value - c.bound);
+    row->value = Value(gap) < 0.0 ? gap : T(0.0);
+    row->a = x.a;
+    row->b = x.b;
+    for (BodyVector<T>* block : {&row->a, &row->b}) {
+      block->translation *= side;
+      block->rotation *= side;
+    }
+    if (velocity_terms) row->bias = side * CoordinateBias(model, c.coordinate, frames, q, v);
+    ++row;
   }
 }
 

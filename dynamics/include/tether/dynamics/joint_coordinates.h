@@ -8,6 +8,11 @@
 //                last value), theta' = (w_B - w_A) . a
 //   pin (2D)     theta = theta_0 + (theta_B - theta_A) - (theta_B - theta_A)_start,   theta' = w_B - w_A
 //   displacement s = u . (p_B - p_A), u = R_WA a / |a|:  s' = u . (p_B' - p_A') + w_A . (u x (p_B - p_A))
+// and, for a joint limit's row (limit_events.h), the velocity product of the second derivative,
+// coordinate'' = (dq'/dv) v' + bias:
+//   hinge        bias = (w_B - w_A) . (w_A x a_W)          pin (2D)  bias = 0
+//   displacement bias = u . (c_B - c_A) + 2 (w_A x u) . d' + (w_A x (w_A x u)) . d   (d = p_B - p_A, c the
+//                points' centripetal accelerations: the line row's of constraint_rows.h with n = u)
 // theta_0 is the joint's "angle" key; "the start" is the state the references are built at (the assembled
 // initial state).
 #pragma once
@@ -36,14 +41,25 @@ struct CoordinateRow {
   BodyVector<T> a, b;
 };
 
+// Whether a joint's coordinates are tracked: a named joint's (its CSV columns) and a limited one's.
+template <typename T>
+bool TracksCoordinates(const Joint<T>& joint) {
+  return !joint.name.empty() || joint.range.declared();
+}
+
 template <typename T>
 struct JointCoordinates {
-  std::vector<CoordinateReference<T>> references;  // every coordinate of every named joint, in scene order
+  // every coordinate of every tracked joint, in scene order, the angle before the displacement
+  std::vector<CoordinateReference<T>> references;
   std::vector<double> last;                         // the last value of each (picks the branch of an angle)
 
   // The position in `references` of a joint's coordinate, -1 if it has none.
   int Find(int joint, JointCoordinate coordinate) const;
 };
+
+// The position of a joint's coordinate among the references BuildJointCoordinates makes, -1 if it has none.
+template <typename T>
+int CoordinateIndex(const Model<T>& model, int joint, JointCoordinate coordinate);
 
 template <typename T>
 JointCoordinates<T> BuildJointCoordinates(const Model<T>& model, const VecX<T>& q);
@@ -53,6 +69,16 @@ template <typename T>
 CoordinateRow<T> EvaluateCoordinate(const Model<T>& model, const JointCoordinates<T>& coordinates, int k,
                                     const BodyFrames<T>& frames, const VecX<T>& q, const VecX<T>& v,
                                     bool velocities);
+
+// The same for any reference, the branch of an angle taken nearest `branch`.
+template <typename T>
+CoordinateRow<T> EvaluateCoordinateAt(const Model<T>& model, const CoordinateReference<T>& reference, double branch,
+                                      const BodyFrames<T>& frames, const VecX<T>& q, const VecX<T>& v, bool velocities);
+
+// The coordinate's velocity product `bias` above at (q, v), frames updated there with velocities.
+template <typename T>
+T CoordinateBias(const Model<T>& model, const CoordinateReference<T>& reference, const BodyFrames<T>& frames,
+                 const VecX<T>& q, const VecX<T>& v);
 
 // Moves every `last` to the coordinates' values at (q, v) (after an accepted step).
 template <typename T>

@@ -80,6 +80,16 @@ enum class JointType { kDistance, kPin, kSlider, kHinge, kUniversal, kPrismatic,
 // "hinge", "pin", ...: the scene file's name of a joint type.
 const char* JointTypeName(JointType type);
 
+// A joint's limits on its coordinate (hinge, prismatic, 2D hinge pin): the gaps coordinate - low >= 0 and
+// high - coordinate >= 0, each side present or open; Newton's restitution e at an impact on either (limit_events.h).
+template <typename T>
+struct JointRange {
+  bool has_low = false, has_high = false;
+  T low = T(0.0), high = T(0.0);  // rad or m
+  T restitution = T(0.0);         // 0 <= e <= 1
+  bool declared() const { return has_low || has_high; }
+};
+
 template <typename T>
 struct Joint {
   int scene_index = 0;
@@ -90,6 +100,7 @@ struct Joint {
   Vec3<T> axis_b = Vec3<T>::UnitY();    // universal, double_hinge: B's axis in B's frame
   T length = T(1.0);                    // distance: m, > 0
   T angle = T(0.0);                     // hinge, cylindrical, 2D hinge pin: the angle coordinate at the start
+  JointRange<T> range;                  // hinge, prismatic, 2D hinge pin: limits on the coordinate
 };
 
 // The coordinates of a joint (CSV columns NAME.angle, NAME.omega; NAME.displacement, NAME.speed).
@@ -248,6 +259,15 @@ bool ConservesEnergy(const Model<T>& model) {
     if (s.damping != T(0.0)) return false;
   }
   return model.damping.empty() && model.forces.empty() && model.torques.empty() && model.joint_torques.empty();
+}
+
+// Whether any joint has a range (joint limits, limit_events.h).
+template <typename T>
+bool HasJointLimits(const Model<T>& model) {
+  for (const Joint<T>& joint : model.joints) {
+    if (joint.range.declared()) return true;
+  }
+  return false;
 }
 
 // Model<double> -> Model<U>: every quantity converted, derivatives (if any) zero.

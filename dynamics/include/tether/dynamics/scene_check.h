@@ -9,6 +9,8 @@
 //               constraints whose rows it leaves out after the first r pivots (one valid choice of rows to drop),
 //   condition   largest / smallest of the r singular values kept (the conditioning of the Schur complement
 //               S = J M^-1 J^T is its square).
+// Joint limits: each limited joint's coordinate at the assembled start, its range, and which side is active
+// there (resting on its bound and pressed into it: the run starts with that side's row).
 // The initial violation is the largest constraint violation at the initial state, before assembly; the assembly
 // error is what Simulate would refuse the scene with (AssembledInitialState, simulator.h), empty when it
 // assembles.
@@ -31,6 +33,16 @@ inline constexpr double kRankTolerance = 1e-10;
 // whose largest eigenvalues cluster, after 100 iterations each).
 inline constexpr int kDenseCheckRows = 1000;
 
+struct LimitCheck {
+  int constraint = 0;      // scene index
+  std::string name;        // the joint's name ("" when it has none)
+  std::string coordinate;  // "angle" or "displacement"
+  double start = 0.0;      // the coordinate at the assembled start, rad or m
+  bool has_low = false, has_high = false;
+  double low = 0.0, high = 0.0;
+  bool low_active = false, high_active = false;
+};
+
 struct SceneCheck {
   int coordinates = 0;                     // velocity coordinates (v's size)
   int constraint_rows = 0;
@@ -43,12 +55,14 @@ struct SceneCheck {
   bool condition_estimated = false;        // from the sparse QR's R (kDenseCheckRows)
   std::string solver;                      // the KKT path `auto` picks: dense or sparse
   std::string assembly_error;              // empty when the initial state can be assembled
+  std::vector<LimitCheck> limits;          // in scene order (when the scene assembles)
 };
 
 SceneCheck CheckScene(const Model<double>& model);
 
 // `tether check --json` (and the Python module's check): the fields above by name, `worst_constraint` only where
-// there is one, `assembles`, and `assembly_error` where it is not empty.
+// there is one, `assembles`, `assembly_error` where it is not empty, and `limits` (each with `constraint`, `name`,
+// `coordinate`, `start`, `range` with null for an open side, and `active`: "low", "high" or null).
 nlohmann::json SceneCheckJson(const SceneCheck& check);
 
 }  // namespace tether

@@ -53,9 +53,18 @@ struct RunOptions {
   bool energy = true;
 };
 
+// An event of a unilateral constraint (limit_events.h): the rows of `tether simulate --events`.
+struct RunEvent {
+  double t = 0.0;
+  std::string kind;                              // "impact" or "release"
+  std::string constraint;                        // the joint's name (or its pointer, /constraints/K, when it has none)
+  double speed_before = 0.0, speed_after = 0.0;  // the gap's rate g' just before and after
+};
+
 struct RunReport {
   std::int64_t steps = 0;
   std::vector<std::string> warnings;  // e.g. that the initial state was moved onto the constraints
+  std::vector<RunEvent> events;       // in time order
 };
 
 // The state a run starts from: the model's initial state moved onto its constraints (the mass-weighted nearest

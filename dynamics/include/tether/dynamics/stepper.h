@@ -5,7 +5,11 @@
 //
 // The plan of a run: the grid t_k = start_time + k h (the last step shortened to land on the duration), each
 // step split at a requested stop time that falls inside it. Step() takes one step of the plan (to the next grid
-// time or to a stop), stabilizes, checks for divergence, and emits the samples due there.
+// time or to a stop), stabilizes, checks for divergence, and emits the samples due there. A scene with joint
+// limits also splits a step at each event inside it (limit_events.h): the step is taken whole, and when a gap
+// closed or an active limit's multiplier turned negative in it, the first such event is located by root finding
+// on the step's size (Illinois' regula falsi on the event function, to kEventTimeTolerance of the step), the
+// step is taken again up to the event, the event resolved, and the rest of the step taken the same way.
 #pragma once
 
 #include <cstdint>
@@ -14,6 +18,7 @@
 
 #include "tether/dynamics/errors.h"
 #include "tether/dynamics/integrators.h"
+#include "tether/dynamics/limit_events.h"
 #include "tether/dynamics/simulator.h"
 
 namespace tether {
@@ -34,6 +39,7 @@ class Stepper {
     double rk45_step = 0.0;
     bool starts_regularized = false;
     std::vector<double> coordinate_branches;
+    std::vector<char> active_limits;  // per side of a joint range (limit_events.h)
   };
 
   // Validates the options, assembles the initial state onto the constraints (InputError when it cannot) and
@@ -49,8 +55,12 @@ class Stepper {
   bool done() const { return step_ >= steps_; }
   Carry Save() const;
   void Restore(const Carry& carry);
+  // Save into an existing carry, reusing its storage.
+  void SaveInto(Carry* carry) const;
   const RunReport& report() const { return report_; }
   const State<T>& state() const { return state_; }  // (q, v) now
+  const LimitEvents<T>& limits() const { return limits_; }  // the joint limits' sides and which are active
+  const JointCoordinates<T>& coordinates() const { return ws_.coordinates; }  // their values now (`last`)
   // The KKT log of the steps to come (kkt_log.h), or nullptr: a double stepper keeps its solves in it, a Rev
   // stepper replaying the same step takes them back.
   void set_kkt_log(KktLog* log) { ws_.kkt_log = log; }
@@ -58,6 +68,9 @@ class Stepper {
  private:
   void Emit(double t, bool output, int stop);
   void Advance(double t, double dt);
+  void AdvanceSmooth(double t, double dt);
+  double FirstEvent(double t, double dt);
+  double Locate(int side, double t, double dt);
   SimulationDiverged Diverged(double t, const std::string& what) const;
   void CheckViolation(double t, double largest) const;
   bool Settle(double t, VecX<T>* q, VecX<T>* v);
@@ -77,6 +90,11 @@ class Stepper {
   VecX<T> coordinates_, rates_, q_projected_, v_projected_;
   VecX<T> q_values_, v_values_;  // the state's values alone, for tracking the joint angles' branches
   SettleState<T> settle_;
+  LimitEvents<T> limits_;
+  std::vector<int> due_;             // the sides whose event lies within the step being taken
+  std::vector<double> multipliers_;  // the active sides' at its end
+  int capture_ = -1;                 // the side the located event captures, or -1
+  Carry before_;                     // the state at the start of the step being taken (events are located from it)
 };
 
 }  // namespace tether

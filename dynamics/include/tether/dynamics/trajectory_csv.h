@@ -26,4 +26,8 @@ class TrajectoryCsvWriter {
   std::string line_;
 };
 
+// The events CSV of `tether simulate --events`: the header t,kind,constraint,speed_before,speed_after, then a row
+// per event, numbers as above, a name holding a comma, quote or line break quoted.
+void WriteEventsCsv(const std::vector<RunEvent>& events, std::ostream* out);
+
 }  // namespace tether

@@ -48,6 +48,10 @@ struct Workspace {
   Workspace(const Workspace&) = delete;  // the solver points into the pattern
   Workspace& operator=(const Workspace&) = delete;
 
+  // Replaces the active joint limits (the last rows, limit_events.h) and what the row count shapes: the row
+  // layout, the Schur pattern and its analysis, the rows and the KKT system. Taken at events only (it allocates).
+  void SetActiveLimits(const Model<T>& model, const std::vector<LimitPrimitive<T>>& limits);
+
   ConstraintSet<T> constraints;         // the run's constraint primitives
   std::vector<RowInfo> infos;           // one per constraint row
   std::vector<BodyLayout> layout;       // the bodies' kinds and velocity offsets, compact
@@ -65,6 +69,8 @@ struct Workspace {
   // The adjoint's log of a step's KKT solves (kkt_log.h), or nullptr: a double run keeps its solves there, a
   // recorded replay takes them back.
   KktLog* kkt_log = nullptr;
+
+  bool factor_jet_matrices = false;  // RunOptions::factor_jet_matrices, for the solvers SetActiveLimits makes
 
   // integrator scratch: stage increments (v-shaped: Munthe-Kaas stage derivatives K and accelerations),
   // trial and next states

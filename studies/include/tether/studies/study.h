@@ -8,6 +8,7 @@
 //   seconds_per_simulated_second   seconds / the scene's duration
 //   alpha, beta                    the Baumgarte gains the run used (0 without Baumgarte; the default rule's when
 //                                  the scene names none; the tuner's for "tuned")
+//   events                         the joint limits' events of the run (impacts and releases, limit_events.h)
 // A row whose run diverges, or whose gains cannot be tuned (the simulation diverges at every starting gain),
 // gets NaN metrics and its message in `status`. Rows that differ only in integrator or
 // stabilization share one reference motion.
@@ -15,7 +16,8 @@
 // Rows run on `threads` threads and are written in row order, so the result does not depend on the thread
 // count. The run is resumable: every finished row is appended at once to DIR/results.partial.csv, a new run of
 // the same study (the same study file, scenes and binary: results_folder.h) reads it and skips those rows, and
-// DIR/results.csv (written whole at the end, atomically) replaces it. study_mpi.h spreads the rows over MPI ranks with the same result.
+// DIR/results.csv (written whole at the end, atomically) replaces it. study_mpi.h spreads the rows over MPI ranks with
+// the same result.
 #pragma once
 
 #include <functional>

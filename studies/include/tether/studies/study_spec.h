@@ -26,8 +26,14 @@ namespace tether {
 inline constexpr const char* kSceneColumn = "scene";
 
 // The metrics a study can ask for (study.h says what each measures).
-inline constexpr const char* kStudyMetrics[] = {"max_constraint_error", "rms_position_error", "energy_drift",
-                                                "seconds", "seconds_per_simulated_second", "alpha", "beta"};
+inline constexpr const char* kStudyMetrics[] = {"max_constraint_error",
+                                                "rms_position_error",
+                                                "energy_drift",
+                                                "seconds",
+                                                "seconds_per_simulated_second",
+                                                "alpha",
+                                                "beta",
+                                                "events"};
 
 struct StudySpec {
   std::string path;                                 // STUDY.json, for messages

@@ -1,0 +1,248 @@
+#include "tether/dynamics/limit_events.h"
+
+#include <algorithm>
+#include <cmath>
+#include <type_traits>
+
+#include "tether/dynamics/configuration_space.h"
+#include "tether/dynamics/constrained_dynamics.h"
+
+namespace tether {
+
+template <typename T>
+LimitEvents<T>::LimitEvents(const Model<T>& model) : model_(model) {
+  for (size_t j = 0; j < model.joints.size(); ++j) {
+    const Joint<T>& joint = model.joints[j];
+    if (!joint.range.declared()) continue;
+    const JointCoordinate kind =
+        joint.type == JointType::kPrismatic ? JointCoordinate::kDisplacement : JointCoordinate::kAngle;
+    const int k = CoordinateIndex(model, static_cast<int>(j), kind);
+    const std::string label = joint.name.empty() ? "/constraints/" + std::to_string(joint.scene_index) : joint.name;
+    if (joint.range.has_low) sides_.push_back({static_cast<int>(j), k, 1, label});
+    if (joint.range.has_high) sides_.push_back({static_cast<int>(j), k, -1, label});
+  }
+  active_.assign(sides_.size(), 0);
+  acceleration_.setZero(model.NumVelocities());
+}
+
+template <typename T>
+T LimitEvents<T>::Bound(const Side& side) const {
+  const JointRange<T>& range = model_.joints[side.joint].range;
+  return side.side > 0 ? range.low : range.high;
+}
+
+template <typename T>
+void LimitEvents<T>::Apply(Workspace<T>* ws) {
+  std::vector<LimitPrimitive<T>> limits;
+  active_order_.clear();
+  for (size_t i = 0; i < sides_.size(); ++i) {
+    if (!active_[i]) continue;
+    const Side& side = sides_[i];
+    const Joint<T>& joint = model_.joints[side.joint];
+    limits.push_back({joint.scene_index, joint.a.body, joint.b.body, ws->coordinates.references[side.coordinate],
+                      side.side, Bound(side)});
+    active_order_.push_back(static_cast<int>(i));
+  }
+  ws->SetActiveLimits(model_, limits);
+}
+
+template <typename T>
+void LimitEvents<T>::SetActiveSet(const std::vector<char>& active, Workspace<T>* ws) {
+  if (active == active_) return;
+  active_ = active;
+  Apply(ws);
+}
+
+template <typename T>
+double LimitEvents<T>::GapFromTracked(int i, const JointCoordinates<T>& coordinates) const {
+  const Side& side = sides_[i];
+  return side.side * (coordinates.last[side.coordinate] - Value(Bound(side)));
+}
+
+template <typename T>
+std::vector<typename LimitEvents<T>::GapState> LimitEvents<T>::Measure(const VecX<T>& q, const VecX<T>& v,
+                                                                       Workspace<T>* ws) const {
+  UpdateFrames(model_, q, v, true, &ws->frames);
+  std::vector<GapState> gaps(sides_.size());
+  for (size_t i = 0; i < sides_.size(); ++i) {
+    const Side& side = sides_[i];
+    const CoordinateRow<T> x = EvaluateCoordinate(model_, ws->coordinates, side.coordinate, ws->frames, q, v, true);
+    gaps[i] = {side.side * (Value(x.value) - Value(Bound(side))), side.side * Value(x.rate)};
+  }
+  return gaps;
+}
+
+template <typename T>
+bool LimitEvents<T>::Multipliers(double t, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws,
+                                 std::vector<double>* mu) {
+  mu->clear();
+  if (!ComputeAcceleration(model_, t, q, v, ws, &acceleration_)) return false;
+  const size_t first = ws->rows.size() - active_order_.size();
+  for (size_t j = 0; j < active_order_.size(); ++j) mu->push_back(-Value(ws->kkt.lambda[first + j]));
+  return true;
+}
+
+template <typename T>
+double LimitEvents<T>::EventValue(int i, double t, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws) {
+  if (!active_[i]) return GapFromTracked(i, ws->coordinates);
+  std::vector<double> mu;
+  if (!Multipliers(t, q, v, ws, &mu)) return 0.0;
+  const auto position = std::find(active_order_.begin(), active_order_.end(), i) - active_order_.begin();
+  return mu[position];
+}
+
+template <typename T>
+double LimitEvents<T>::GapAcceleration(int i, double t, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws) {
+  if (!ComputeAcceleration(model_, t, q, v, ws, &acceleration_)) return 0.0;
+  const Side& side = sides_[i];
+  const CoordinateRow<T> x = EvaluateCoordinate(model_, ws->coordinates, side.coordinate, ws->frames, q, v, true);
+  const T rate = Dot(model_, x.a, acceleration_) + Dot(model_, x.b, acceleration_) +
+                 CoordinateBias(model_, ws->coordinates.references[side.coordinate], ws->frames, q, v);
+  return side.side * Value(rate);
+}
+
+template <typename T>
+typename LimitEvents<T>::Gap LimitEvents<T>::GapOf(int i, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws) const {
+  const Side& side = sides_[i];
+  UpdateFrames(model_, q, v, true, &ws->frames);
+  const CoordinateRow<T> x = EvaluateCoordinate(model_, ws->coordinates, side.coordinate, ws->frames, q, v, true);
+  const T s(static_cast<double>(side.side));
+  return {s * (x.value - Bound(side)), s * x.rate};
+}
+
+template <typename T>
+void LimitEvents<T>::MoveAlongMotion(double t, const T& dt, VecX<T>* q, VecX<T>* v, Workspace<T>* ws) {
+  if (!ComputeAcceleration(model_, t, *q, *v, ws, &acceleration_)) return;
+  const VecX<T> increment = *v * dt;
+  VecX<T> moved(q->size());
+  Integrate(model_, *q, increment, 1.0, &moved);
+  *q = moved;
+  *v += acceleration_ * dt;
+}
+
+template <typename T>
+T LimitEvents<T>::EventTimeSensitivity(double t, int i, VecX<T>* q, VecX<T>* v, Workspace<T>* ws, RunReport* report) {
+  const Gap gap = GapOf(i, *q, *v, ws);
+  if (std::abs(Value(gap.rate)) < kGrazingSpeed) {
+    if constexpr (std::is_same_v<T, double>) return T(0.0);  // nothing is differentiated
+    report->warnings.push_back("a grazing impact on " + sides_[i].label + " at t = " + std::to_string(t) +
+                               " s (approach speed below " + std::to_string(kGrazingSpeed) +
+                               "): the derivatives leave out its time's dependence on the parameters");
+    return T(0.0);
+  }
+  T dt = -gap.g / gap.rate;
+  dt -= T(Value(dt));
+  MoveAlongMotion(t, dt, q, v, ws);
+  return dt;
+}
+
+template <typename T>
+void LimitEvents<T>::Impulse(const std::vector<int>& impacting, const std::vector<T>& target, bool capture, VecX<T>* q,
+                             VecX<T>* v, Workspace<T>* ws) {
+  const std::vector<char> held = active_;
+  std::vector<T> wanted(sides_.size(), T(0.0));  // g'+ of every side in the solve
+  for (size_t k = 0; k < impacting.size(); ++k) {
+    active_[impacting[k]] = 1;
+    wanted[impacting[k]] = target[k];
+  }
+  const int most = static_cast<int>(sides_.size()) + 1;
+  for (int attempt = 0; attempt < most; ++attempt) {
+    Apply(ws);
+    EvaluateRows(model_, *q, *v, false, ws);
+    const size_t first = ws->rows.size() - active_order_.size();
+    for (size_t r = 0; r < ws->rows.size(); ++r) {  // equality rows keep J v; sides leave at their target rate
+      const T rate = Dot(model_, ws->rows[r].a, *v) + Dot(model_, ws->rows[r].b, *v);
+      ws->kkt.rhs[r] = r < first ? T(0.0) : wanted[active_order_[r - first]] - rate;
+    }
+    AssembleSchur(ws);
+    if (!ws->solver.Solve(ws->kkt.schur, ws->kkt.rhs, &ws->kkt.lambda)) break;
+    int pulling = -1;  // the side whose impulse pulls hardest
+    double most_negative = 0.0;
+    for (size_t j = 0; j < active_order_.size(); ++j) {
+      const double impulse = Value(ws->kkt.lambda[first + j]);
+      const bool captured =
+          capture && std::find(impacting.begin(), impacting.end(), active_order_[j]) != impacting.end();
+      if (impulse < most_negative && !captured) {
+        most_negative = impulse;
+        pulling = active_order_[j];
+      }
+    }
+    if (pulling >= 0) {
+      active_[pulling] = 0;
+      continue;
+    }
+    ws->reaction.setZero();  // v+ = v + M^-1 J^T P
+    for (size_t r = 0; r < ws->rows.size(); ++r) {
+      AddScaled(model_, ws->rows[r].a, ws->kkt.lambda[r], &ws->reaction);
+      AddScaled(model_, ws->rows[r].b, ws->kkt.lambda[r], &ws->reaction);
+    }
+    ApplyInverseMass(model_, ws->inverse_mass, ws->reaction, &ws->reaction);
+    *v += ws->reaction;
+    break;
+  }
+  active_ = held;
+  Apply(ws);
+}
+
+template <typename T>
+void LimitEvents<T>::Resolve(double t, double step, int capture, VecX<T>* q, VecX<T>* v, Workspace<T>* ws,
+                             RunReport* report) {
+  const std::vector<char> was_active = active_;
+  std::vector<GapState> gaps = Measure(*q, *v, ws);
+  if (capture >= 0) {  // held where it touches, at rest
+    Impulse({capture}, {T(0.0)}, true, q, v, ws);
+    report->events.push_back({t, "impact", sides_[capture].label, gaps[capture].rate, 0.0});
+    gaps = Measure(*q, *v, ws);
+  }
+  std::vector<int> impacting;
+  for (int i = 0; i < size(); ++i) {
+    if (!active_[i] && gaps[i].g <= kTouching && gaps[i].rate < -kRestingSpeed) impacting.push_back(i);
+  }
+  // derivatives cross the event through its time: the state is moved along the motion before it by the time's
+  // sensitivity dt* (a zero value), resolved, and moved back along the motion after it (the saltation matrix)
+  // (doubles take the same steps with a zero that is exactly zero: one sequence of solves for every scalar, which
+  // the adjoint's replay of a double run relies on)
+  T event_time(0.0);
+  if (!impacting.empty()) event_time = EventTimeSensitivity(t, impacting.front(), q, v, ws, report);
+  if (!impacting.empty()) {
+    std::vector<T> target;  // Newton's law, g'+ = -e g'-
+    for (int i : impacting)
+      target.push_back(-model_.joints[sides_[i].joint].range.restitution * GapOf(i, *q, *v, ws).rate);
+    Impulse(impacting, target, false, q, v, ws);
+    std::vector<GapState> after = Measure(*q, *v, ws);
+    for (int i : impacting) {  // a rebound that would land again within a sliver of the step is captured
+      if (!(after[i].rate > kRestingSpeed)) continue;
+      const double fall = GapAcceleration(i, t, *q, *v, ws);
+      if (fall < 0.0 && 2.0 * after[i].rate / -fall < kCaptureFlight * step) Impulse({i}, {T(0.0)}, true, q, v, ws);
+    }
+    after = Measure(*q, *v, ws);
+    for (int i : impacting) {
+      report->events.push_back({t, "impact", sides_[i].label, gaps[i].rate, after[i].rate});
+    }
+    gaps = after;
+  }
+  // the active set: touching sides at rest, less those whose multiplier would pull
+  std::vector<char> candidate(sides_.size(), 0);
+  for (int i = 0; i < size(); ++i) {
+    const bool resting = std::abs(gaps[i].rate) <= kRestingSpeed;
+    candidate[i] = active_[i] ? gaps[i].rate <= kRestingSpeed : gaps[i].g <= kTouching && resting;
+  }
+  std::vector<double> mu;
+  for (int attempt = 0; attempt <= size(); ++attempt) {
+    SetActiveSet(candidate, ws);
+    if (active_order_.empty() || !Multipliers(t, *q, *v, ws, &mu)) break;
+    const auto lowest = std::min_element(mu.begin(), mu.end());
+    if (*lowest > 0.0) break;
+    candidate[active_order_[lowest - mu.begin()]] = 0;
+  }
+  if (!impacting.empty()) MoveAlongMotion(t, -event_time, q, v, ws);
+  for (int i = 0; i < size(); ++i) {
+    if (was_active[i] && !active_[i])
+      report->events.push_back({t, "release", sides_[i].label, gaps[i].rate, gaps[i].rate});
+  }
+}
+
+#define TETHER_INSTANTIATE_LIMIT_EVENTS(T) template class LimitEvents<T>;
+TETHER_FOR_EACH_SCALAR(TETHER_INSTANTIATE_LIMIT_EVENTS)
+
+}  // namespace tether
