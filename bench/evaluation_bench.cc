@@ -52,7 +52,7 @@ struct Evaluated {
 void Part(benchmark::State& state, Mechanism mechanism, const std::string& part) {
   Evaluated e(mechanism);
   Workspace<double>& ws = *e.workspace;
-  SparseLdlt factor(ws.pattern);
+  SparseLdlt factor(*ws.pattern);
   factor.Factor(ws.kkt.schur);
   VecX<double> x = ws.kkt.rhs, q = e.q, v = e.v;
   const std::function<void()> run = [&]() -> std::function<void()> {

@@ -37,7 +37,7 @@ class GradientCommand final : public Command {
     const Observations observations = ReadObservations(data_path_, scene.model);
 
     const auto start = std::chrono::steady_clock::now();
-    const GradientMethod method = ResolveGradientMethod(requested, parameters.size(), scene.model, "--method");
+    const GradientMethod method = ResolveGradientMethod(requested, parameters.size());
     LossGradient result;
     AdjointReport adjoint;
     try {

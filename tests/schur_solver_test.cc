@@ -116,7 +116,7 @@ Solution LibrarySolve(Model<T> model, KktSolver kind, const VecX<T>& q, const Ve
                       VecX<T>* lambda_out = nullptr) {
   model.simulation.solver = kind;
   Workspace<T> ws(model, q);  // pins and rods fix nothing at the start
-  EXPECT_EQ(ws.solver.kind(), kind);
+  EXPECT_EQ(ws.solver->kind(), kind);
   ws.alpha = T(kAlpha);
   ws.beta = T(kBeta);
   VecX<T> a(model.NumVelocities());
@@ -254,7 +254,7 @@ bool SawNearSingular(double angle, bool duplicate_first_rod, KktSolver kind) {
   Workspace<double> ws(model, initial.q);
   Eigen::VectorXd acceleration(model.NumVelocities());
   EXPECT_TRUE(ComputeAcceleration(model, 0.0, initial.q, initial.v, &ws, &acceleration));
-  return ws.solver.saw_near_singular();
+  return ws.solver->saw_near_singular();
 }
 
 TEST(SchurSolver, FlagsRowsNearDependenceButNotRedundantOrWellConditionedOnes) {
@@ -291,7 +291,7 @@ TEST(SchurSolver, DoesNotFlagALongStraightChainOfRods) {
     Workspace<double> ws(model, initial.q);
     Eigen::VectorXd acceleration(model.NumVelocities());
     ASSERT_TRUE(ComputeAcceleration(model, 0.0, initial.q, initial.v, &ws, &acceleration));
-    EXPECT_FALSE(ws.solver.saw_near_singular()) << (kind == KktSolver::kDense ? "dense" : "sparse");
+    EXPECT_FALSE(ws.solver->saw_near_singular()) << (kind == KktSolver::kDense ? "dense" : "sparse");
   }
 }
 

@@ -21,12 +21,7 @@ void RecordInputs(Tape* tape, const PlainCarry& plain, RecordedCarry* carry) {
   carry->v.resize(plain.v.size());
   for (int i = 0; i < plain.q.size(); ++i) carry->q[i] = tape->Variable(plain.q[i]);
   for (int i = 0; i < plain.v.size(); ++i) carry->v[i] = tape->Variable(plain.v[i]);
-  carry->step = plain.step;
-  carry->time = plain.time;
-  carry->next_stop = plain.next_stop;
-  carry->rk45_step = plain.rk45_step;
-  carry->starts_regularized = plain.starts_regularized;
-  carry->coordinate_branches = plain.coordinate_branches;
+  carry->memory = plain.memory;
 }
 
 void AddAdjoints(Tape* tape, const State<Rev>& state, const Eigen::VectorXd& q_bar, const Eigen::VectorXd& v_bar) {
@@ -42,9 +37,9 @@ void ReadAdjoints(const Tape& tape, const RecordedCarry& carry, Eigen::VectorXd*
 // What one kept state takes: the carry, its vectors' values and their heap blocks (glibc's chunk headers).
 std::int64_t StateBytes(const PlainCarry& carry) {
   constexpr std::int64_t kHeapBlock = 16;
-  const std::int64_t values = carry.q.size() + carry.v.size() + static_cast<std::int64_t>(carry.coordinate_branches.size());
+  const std::int64_t values = carry.q.size() + carry.v.size();
   return static_cast<std::int64_t>(sizeof(PlainCarry)) + values * static_cast<std::int64_t>(sizeof(double)) +
-         3 * kHeapBlock;
+         carry.memory.HeapBytes() + 4 * kHeapBlock;
 }
 
 }  // namespace
@@ -65,11 +60,6 @@ std::int64_t CheckpointInterval(std::int64_t steps, std::int64_t state_bytes, st
 
 LossGradient AdjointGradient(const Model<double>& given, const ParameterSet& parameters, const RunOptions& options,
                              const SampleLoss& loss, std::int64_t interval, AdjointReport* report) {
-  if (HasJointLimits(given)) {
-    throw InputError(
-        "the adjoint does not cross joint-limit events yet, and this scene has joint limits (a "
-        "\"range\"); take the gradient by Jets");
-  }
   Model<double> tied;  // the model with its tied fields set from the others, where there are ties
   if (parameters.tied()) {
     tied = given;

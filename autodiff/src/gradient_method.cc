@@ -31,20 +31,9 @@ GradientMethod ResolveGradientMethod(GradientMethod method, int parameters) {
   return parameters >= kAdjointCrossover ? GradientMethod::kAdjoint : GradientMethod::kJet;
 }
 
-GradientMethod ResolveGradientMethod(GradientMethod method, int parameters, const Model<double>& model,
-                                     const std::string& where) {
-  if (!HasJointLimits(model)) return ResolveGradientMethod(method, parameters);
-  if (method == GradientMethod::kAdjoint) {
-    throw InputError(where +
-                     " adjoint: the adjoint does not cross joint-limit events yet, and this scene has joint "
-                     "limits (a \"range\"); use jet (auto chooses it)");
-  }
-  return method == GradientMethod::kAuto ? GradientMethod::kJet : method;
-}
-
 LossGradient LossGradientBy(GradientMethod method, const Model<double>& model, const ParameterSet& parameters,
                             const Observations& observations, AdjointReport* adjoint) {
-  switch (ResolveGradientMethod(method, parameters.size(), model, "method")) {
+  switch (ResolveGradientMethod(method, parameters.size())) {
     case GradientMethod::kAdjoint:
       return AdjointLossGradient(model, parameters, observations, 0, adjoint);
     case GradientMethod::kCentral:

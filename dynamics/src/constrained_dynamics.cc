@@ -50,10 +50,10 @@ bool KktAcceleration(const Model<S>& model, const std::vector<BodyLayout>& layou
 
 template <typename T>
 bool SolveKkt(const Model<T>& model, const VecX<T>& v, Workspace<T>* ws, VecX<T>* a) {
-  const bool solved = KktAcceleration(model, ws->layout, ws->pattern, &ws->solver, ws->rows, ws->inverse_mass, v,
+  const bool solved = KktAcceleration(model, ws->layout, *ws->pattern, ws->solver, ws->rows, ws->inverse_mass, v,
                                       ws->alpha, ws->beta, &ws->force, &ws->kkt, a);
   if constexpr (std::is_same_v<T, double>) {
-    if (solved && ws->kkt_log) ws->kkt_log->Keep(ws->kkt.lambda, ws->solver);
+    if (solved && ws->kkt_log) ws->kkt_log->Keep(ws->kkt.lambda, *ws->solver);
   }
   return solved;
 }

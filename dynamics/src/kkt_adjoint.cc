@@ -125,6 +125,7 @@ struct KktRecord {
   VecX<int> diagonal_nodes;
   std::vector<Mat3<int>> rotational_nodes;
   std::optional<KktSystem<double>> system;  // the solve's S, where this record solves it
+  const SchurPattern* system_pattern = nullptr;  // the pattern `system` is sized for
   VecX<double> lambda;                      // the multipliers
   VecX<double> f, v, y, a;
   VecX<int> f_nodes, v_nodes;
@@ -239,7 +240,7 @@ bool SolveKkt<Rev>(const Model<Rev>& model, const VecX<Rev>& v, Workspace<Rev>* 
   r.model = &model;
   r.layout = &ws->layout;
   r.dimension = model.dimension;
-  r.solver = &ws->solver;
+  r.solver = ws->solver;
   const size_t m = ws->rows.size();
   r.jacobian.Clear(m);
   r.constraint.resize(static_cast<Eigen::Index>(m));
@@ -284,7 +285,7 @@ bool SolveKkt<Rev>(const Model<Rev>& model, const VecX<Rev>& v, Workspace<Rev>* 
     r.factorization.sparse.inverse_d.swap(kept->factorization.sparse.inverse_d);
     std::swap(r.factorization.dense, kept->factorization.dense);
     r.regularized = kept->regularized;
-    ws->solver.RestoreConditioning(kept->regularized, kept->near_singular);
+    ws->solver->RestoreConditioning(kept->regularized, kept->near_singular);
     for (size_t i = 0; i < m; ++i) r.jacobian.AddTransposed(static_cast<int>(i), -r.lambda[i], &r.y);  // f - J^T lambda
     ApplyInverseMass(model, r.inverse_mass, r.y, &r.a);
   } else {
@@ -293,16 +294,16 @@ bool SolveKkt<Rev>(const Model<Rev>& model, const VecX<Rev>& v, Workspace<Rev>* 
       const ConstraintRow<Rev>& row = ws->rows[i];
       r.rows[i] = {row.value.a, row.bias.a, Values(row.a), Values(row.b)};
     }
-    if (!r.system || r.system->u_plus_alpha_v.size() != r.f.size() ||
-        r.system->schur.size() != static_cast<size_t>(ws->pattern.nonzeros())) {
-      r.system.emplace(ws->pattern, static_cast<int>(r.f.size()));
+    if (!r.system || r.system_pattern != ws->pattern || r.system->u_plus_alpha_v.size() != r.f.size()) {
+      r.system.emplace(*ws->pattern, static_cast<int>(r.f.size()));
+      r.system_pattern = ws->pattern;
     }
-    solved = KktAcceleration(model, ws->layout, ws->pattern, &ws->solver, r.rows, r.inverse_mass, r.v, r.alpha, r.beta,
+    solved = KktAcceleration(model, ws->layout, *ws->pattern, ws->solver, r.rows, r.inverse_mass, r.v, r.alpha, r.beta,
                              &r.y, &*r.system, &r.a);
     if (solved && recorded) {
       r.lambda = r.system->lambda;
-      r.regularized = ws->solver.starts_regularized();
-      ws->solver.SaveFactorization(&r.factorization);
+      r.regularized = ws->solver->starts_regularized();
+      ws->solver->SaveFactorization(&r.factorization);
     }
   }
   if (!solved || !recorded) {

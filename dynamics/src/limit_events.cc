@@ -155,7 +155,7 @@ void LimitEvents<T>::Impulse(const std::vector<int>& impacting, const std::vecto
       ws->kkt.rhs[r] = r < first ? T(0.0) : wanted[active_order_[r - first]] - rate;
     }
     AssembleSchur(ws);
-    if (!ws->solver.Solve(ws->kkt.schur, ws->kkt.rhs, &ws->kkt.lambda)) break;
+    if (!ws->solver->Solve(ws->kkt.schur, ws->kkt.rhs, &ws->kkt.lambda)) break;
     int pulling = -1;  // the side whose impulse pulls hardest
     double most_negative = 0.0;
     for (size_t j = 0; j < active_order_.size(); ++j) {

@@ -53,9 +53,7 @@ double EstimatedCondition(const Eigen::SparseMatrix<double>& a, const std::vecto
 std::vector<LimitCheck> CheckLimits(const Model<double>& model) {
   RunReport report;
   AssembledInitialState(model, &report);
-  const bool limited = std::any_of(model.joints.begin(), model.joints.end(),
-                                   [](const Joint<double>& joint) { return joint.range.declared(); });
-  if (!limited) return {};
+  if (!HasJointLimits(model)) return {};
   Stepper<double> stepper(model, RunOptions{}, [](const Sample<double>&) {});
   std::vector<LimitCheck> out;
   const LimitEvents<double>& sides = stepper.limits();

@@ -224,7 +224,7 @@ bool Stepper<T>::Settle(double t, VecX<T>* q, VecX<T>* v) {
       throw Diverged(t, "the projection onto the constraints did not converge");
     }
     changed = true;
-  } else if (method == Stabilization::kBaumgarte && ws_.solver.saw_near_singular()) {
+  } else if (method == Stabilization::kBaumgarte && ws_.solver->saw_near_singular()) {
     q_projected_ = *q;
     v_projected_ = *v;
     if (ProjectPositions(model_, kProjectionTolerance * scale_, &ws_, &q_projected_).converged &&
@@ -234,7 +234,7 @@ bool Stepper<T>::Settle(double t, VecX<T>* q, VecX<T>* v) {
       changed = true;
     }
   }
-  ws_.solver.ForgetConditioning();  // the next step starts afresh (the projection's own solves included)
+  ws_.solver->ForgetConditioning();  // the next step starts afresh (the projection's own solves included)
   return changed;
 }
 
@@ -338,7 +338,7 @@ void Stepper<T>::AdvanceSmooth(double t, double dt) {
   if (RunsCancelled()) throw RunInterrupted(Interrupted());
   VecX<T>& q = state_.q;
   VecX<T>& v = state_.v;
-  ws_.solver.ForgetConditioning();
+  ws_.solver->ForgetConditioning();
   const StepStatus status = tether::Advance(model_, t, dt, &ws_, &q, &v, settle_);
   const double t_next = t + dt;
   if (status == StepStatus::kSolveFailed) throw Diverged(t_next, "the constraint system became singular or non-finite");
@@ -408,26 +408,28 @@ template <typename T>
 void Stepper<T>::SaveInto(Carry* carry) const {
   carry->q = state_.q;
   carry->v = state_.v;
-  carry->step = step_;
-  carry->time = time_;
-  carry->next_stop = next_stop_;
-  carry->rk45_step = ws_.rk45_step;
-  carry->starts_regularized = ws_.solver.starts_regularized();
-  carry->coordinate_branches = ws_.coordinates.last;
-  carry->active_limits = limits_.active_set();
+  Memory& memory = carry->memory;
+  memory.step = step_;
+  memory.time = time_;
+  memory.next_stop = next_stop_;
+  memory.rk45_step = ws_.rk45_step;
+  memory.starts_regularized = ws_.solver->starts_regularized();
+  memory.coordinate_branches = ws_.coordinates.last;
+  memory.active_limits = limits_.active_set();
 }
 
 template <typename T>
 void Stepper<T>::Restore(const Carry& carry) {
   state_.q = carry.q;
   state_.v = carry.v;
-  step_ = carry.step;
-  time_ = carry.time;
-  next_stop_ = carry.next_stop;
-  ws_.rk45_step = carry.rk45_step;
-  limits_.SetActiveSet(carry.active_limits, &ws_);  // before the solver's state: a new active set makes a new solver
-  ws_.solver.set_starts_regularized(carry.starts_regularized);
-  ws_.coordinates.last = carry.coordinate_branches;
+  const Memory& memory = carry.memory;
+  step_ = memory.step;
+  time_ = memory.time;
+  next_stop_ = memory.next_stop;
+  ws_.rk45_step = memory.rk45_step;
+  limits_.SetActiveSet(memory.active_limits, &ws_);  // before the solver's state: the set picks the solver
+  ws_.solver->set_starts_regularized(memory.starts_regularized);
+  ws_.coordinates.last = memory.coordinate_branches;
 }
 
 template <typename T>

@@ -1,6 +1,7 @@
 #include "tether/dynamics/workspace.h"
 
 #include <Eigen/LU>  // 3 x 3 inverses
+#include <algorithm>
 
 #include "tether/dynamics/effects.h"
 
@@ -46,17 +47,29 @@ void ApplyInverseMass(const Model<S>& model, const InverseMass<T>& inverse, cons
   }
 }
 
+namespace {
+
+SchurShapes FirstShape(const std::vector<RowInfo>& infos, const std::vector<BodyLayout>& layout, KktSolver kind,
+                       bool factor_jets) {
+  SchurShapes shapes;
+  shapes.emplace_back(std::vector<int>{}, std::make_unique<SchurShape>(infos, layout, kind, factor_jets));
+  return shapes;
+}
+
+}  // namespace
+
 template <typename T>
 Workspace<T>::Workspace(const Model<T>& model, const VecX<T>& q_start, bool factor_jet_matrices)
     : constraints(BuildConstraintSet(model, q_start)),
       infos(DescribeRows(model, constraints)),
       layout(LayoutOf(model)),
-      pattern(infos, layout),
-      solver(pattern, model.simulation.solver, factor_jet_matrices),
+      factor_jet_matrices(factor_jet_matrices),
+      shapes(FirstShape(infos, layout, model.simulation.solver, factor_jet_matrices)),
+      pattern(&shapes[0].second->pattern),
+      solver(&shapes[0].second->solver),
       inverse_mass(BuildInverseMass(model)),
       rows(infos.size()),
-      kkt(pattern, model.NumVelocities()),
-      factor_jet_matrices(factor_jet_matrices) {
+      kkt(*pattern, model.NumVelocities()) {
   const int nq = model.NumCoordinates(), nv = model.NumVelocities();
   frames.resize(model.bodies.size());
   force.setZero(nv);
@@ -78,15 +91,22 @@ template <typename T>
 void Workspace<T>::SetActiveLimits(const Model<T>& model, const std::vector<LimitPrimitive<T>>& limits) {
   constraints.limits = limits;
   infos = DescribeRows(model, constraints);
-  pattern = SchurPattern(infos, layout);
-  solver = SchurSolver(pattern, model.simulation.solver, factor_jet_matrices);
+  std::vector<int> key;  // the active sides
+  for (const LimitPrimitive<T>& limit : limits) key.push_back(2 * limit.scene_index + (limit.side > 0));
+  auto shape = std::find_if(shapes.begin(), shapes.end(), [&key](const auto& s) { return s.first == key; });
+  if (shape == shapes.end()) {
+    shapes.emplace_back(key, std::make_unique<SchurShape>(infos, layout, model.simulation.solver, factor_jet_matrices));
+    shape = shapes.end() - 1;
+  }
+  pattern = &shape->second->pattern;
+  solver = &shape->second->solver;
   rows.assign(infos.size(), ConstraintRow<T>());
-  kkt = KktSystem<T>(pattern, model.NumVelocities());
+  kkt = KktSystem<T>(*pattern, model.NumVelocities());
 }
 
 template <typename T>
 void AssembleSchur(Workspace<T>* ws) {
-  AssembleSchur(ws->layout, ws->pattern, ws->rows, ws->inverse_mass.diagonal, ws->inverse_mass.rotational,
+  AssembleSchur(ws->layout, *ws->pattern, ws->rows, ws->inverse_mass.diagonal, ws->inverse_mass.rotational,
                 &ws->kkt.assembly_scratch, &ws->kkt.schur);
 }
 

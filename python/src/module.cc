@@ -148,7 +148,7 @@ std::string GradientOf(const Scene& scene, const std::vector<std::string>& names
   const Observations observations = Data("data", names, values, scene.model);
   return OnScene(scene, [&] {
     const auto start = std::chrono::steady_clock::now();
-    const GradientMethod used = ResolveGradientMethod(requested, parameters.size(), scene.model, "method");
+    const GradientMethod used = ResolveGradientMethod(requested, parameters.size());
     AdjointReport adjoint;
     const LossGradient result = LossGradientBy(used, scene.model, parameters, observations, &adjoint);
     bool finite = std::isfinite(result.loss);

@@ -47,8 +47,7 @@ CostGradientFunction CostGradientOf(const ShootingProblem& problem, const Identi
     throw InputError("--method adjoint: multiple shooting (--segments) takes its derivatives by Jets");
   }
   const bool adjoint = gradient_based && problem.Segments() == 1 &&
-                       ResolveGradientMethod(settings.method, problem.Unknowns(), problem.model(), "--method") ==
-                           GradientMethod::kAdjoint;
+                       ResolveGradientMethod(settings.method, problem.Unknowns()) == GradientMethod::kAdjoint;
   *used = adjoint ? "adjoint" : gradient_based || optimizer == "ceres" ? "jet" : "none";
   if (!adjoint) return nullptr;
   return [&problem, &settings](const std::vector<double>& x, double* cost, std::vector<double>* gradient) {
@@ -66,7 +65,7 @@ LossGradient IdentifyCostGradient(const Model<double>& model, const ParameterSet
   const ShootingProblem problem(model, parameters, recordings, single);
   const std::vector<double> x = problem.Start();
   LossGradient result;
-  if (ResolveGradientMethod(method, parameters.size(), model, "--method") == GradientMethod::kAdjoint) {
+  if (ResolveGradientMethod(method, parameters.size()) == GradientMethod::kAdjoint) {
     if (!problem.CostGradient(x, settings.optimizer.loss, &result.loss, &result.gradient)) {
       throw SimulationDiverged("the simulation diverges at the scene's parameters", 0.0, -1);
     }

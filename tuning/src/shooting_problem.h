@@ -57,7 +57,6 @@ class ShootingProblem {
 
   int Unknowns() const { return parameters_.size() + (Segments() - 1) * state_size_; }
   int Segments() const { return static_cast<int>(boundaries_.size()) - 1; }
-  const Model<double>& model() const { return model_; }
   bool LogSpace(int i) const { return log_space_[i]; }
   int DataCount() const { return segment_rows_.back(); }
   int ContinuityCount() const { return (on_the_constraints_ ? 2 : 1) * (Segments() - 1) * state_size_; }

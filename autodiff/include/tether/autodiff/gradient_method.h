@@ -24,10 +24,6 @@ std::string GradientMethodName(GradientMethod method);
 
 // The method `method` stands for with `parameters` parameters (auto resolved; the others as they are).
 GradientMethod ResolveGradientMethod(GradientMethod method, int parameters);
-// The same for a model: the adjoint does not cross joint-limit events yet, so a model with joint limits takes
-// Jets under auto, and asking it for the adjoint is an InputError naming `where` (a flag, a keyword argument).
-GradientMethod ResolveGradientMethod(GradientMethod method, int parameters, const Model<double>& model,
-                                     const std::string& where);
 
 // The loss against the observations and its gradient by `method` (auto resolved); *adjoint, when given, gets
 // what the adjoint kept if it ran.

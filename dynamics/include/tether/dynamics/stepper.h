@@ -23,23 +23,34 @@
 
 namespace tether {
 
+// What a step depends on besides the model and the state: plain data, the same for every scalar (a Rev
+// replay takes a double run's as it is): the position in the plan, rk45's step size, the Schur solver's memory,
+// the joint angles' branches and the active joint limits. (rk45's first stage carries over only between the
+// internal steps of one step: Advance starts each step afresh.)
+struct StepperMemory {
+  std::int64_t step = 0;  // grid steps taken
+  double time = 0.0;
+  size_t next_stop = 0;
+  double rk45_step = 0.0;
+  bool starts_regularized = false;
+  std::vector<double> coordinate_branches;
+  std::vector<char> active_limits;  // per side of a joint range (limit_events.h)
+  // bytes held besides the struct itself
+  std::int64_t HeapBytes() const {
+    return static_cast<std::int64_t>(coordinate_branches.size() * sizeof(double) + active_limits.size());
+  }
+};
+
 template <typename T>
 class Stepper {
  public:
   using Observer = std::function<void(const Sample<T>&)>;
+  using Memory = StepperMemory;
 
-  // Everything a step depends on besides the model: the state (q, v) and plain data: the position in the plan,
-  // rk45's step size, the Schur solver's memory and the joint angles' branches. (rk45's first stage carries over
-  // only between the internal steps of one step: Advance starts each step afresh.)
+  // Everything a step depends on besides the model: the state (q, v) and the memory.
   struct Carry {
     VecX<T> q, v;
-    std::int64_t step = 0;  // grid steps taken
-    double time = 0.0;
-    size_t next_stop = 0;
-    double rk45_step = 0.0;
-    bool starts_regularized = false;
-    std::vector<double> coordinate_branches;
-    std::vector<char> active_limits;  // per side of a joint range (limit_events.h)
+    Memory memory;
   };
 
   // Validates the options, assembles the initial state onto the constraints (InputError when it cannot) and

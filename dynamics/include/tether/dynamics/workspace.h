@@ -2,9 +2,14 @@
 // (Pinocchio's Model/Data split). It holds the run's constraint primitives (their fixed quantities taken at the
 // start), the row layout, the Schur pattern and its factorization (analyzed once), M^-1, the joint coordinates,
 // the bodies' frames at the last evaluation, the gains in use, and scratch vectors for the integrators.
+// With joint limits the rows change at events (limit_events.h): each set of active limits the run meets gets its
+// pattern and solver once (SchurShape), kept for the run, so that a set met again costs no analysis and a Rev
+// record of a KKT solve keeps the solver it was made with.
 #pragma once
 
 #include <array>
+#include <memory>
+#include <utility>
 #include <vector>
 
 #include "tether/dynamics/constraint_rows.h"
@@ -40,23 +45,40 @@ struct KktSystem {
   VecX<T> u_plus_alpha_v;           // M^-1 f + alpha v: J of it serves the Schur right-hand side (size nv)
 };
 
+// The Schur pattern of one row layout and its solver (which points into it), at a fixed address.
+struct SchurShape {
+  SchurShape(const std::vector<RowInfo>& infos, const std::vector<BodyLayout>& layout, KktSolver kind,
+             bool factor_jet_matrices)
+      : pattern(infos, layout), solver(pattern, kind, factor_jet_matrices) {}
+  SchurShape(const SchurShape&) = delete;
+  SchurShape& operator=(const SchurShape&) = delete;
+  SchurPattern pattern;
+  SchurSolver solver;
+};
+
+// Every row layout's pattern and solver met in a run, by its active limits' (scene index, side) pairs.
+using SchurShapes = std::vector<std::pair<std::vector<int>, std::unique_ptr<SchurShape>>>;
+
 template <typename T>
 struct Workspace {
   // `q_start` fixes the constraints' quantities taken at the start (model.h); factor_jet_matrices: see
   // RunOptions (a test oracle; the default applies the implicit function theorem).
   Workspace(const Model<T>& model, const VecX<T>& q_start, bool factor_jet_matrices = false);
-  Workspace(const Workspace&) = delete;  // the solver points into the pattern
+  Workspace(const Workspace&) = delete;  // pattern and solver point into shapes
   Workspace& operator=(const Workspace&) = delete;
 
-  // Replaces the active joint limits (the last rows, limit_events.h) and what the row count shapes: the row
-  // layout, the Schur pattern and its analysis, the rows and the KKT system. Taken at events only (it allocates).
+  // Replaces the active joint limits (the last rows, limit_events.h) and what the rows shape: the row layout,
+  // the Schur pattern and its solver (from `shapes`, analyzed the first time the set is met), the rows and the
+  // KKT system. Taken at events only (it allocates).
   void SetActiveLimits(const Model<T>& model, const std::vector<LimitPrimitive<T>>& limits);
 
   ConstraintSet<T> constraints;         // the run's constraint primitives
   std::vector<RowInfo> infos;           // one per constraint row
   std::vector<BodyLayout> layout;       // the bodies' kinds and velocity offsets, compact
-  SchurPattern pattern;                 // of S = J M^-1 J^T
-  SchurSolver solver;                   // its factorization
+  bool factor_jet_matrices = false;     // RunOptions::factor_jet_matrices, for the solvers SetActiveLimits makes
+  SchurShapes shapes;                   // the first without active limits
+  SchurPattern* pattern;                // of S = J M^-1 J^T for the current rows (in shapes)
+  SchurSolver* solver;                  // its factorization
   InverseMass<T> inverse_mass;
   JointCoordinates<T> coordinates;      // references set once the initial state is assembled
   T alpha = T(0.0), beta = T(0.0);      // Baumgarte gains in use (0 unless the method is baumgarte)
@@ -69,8 +91,6 @@ struct Workspace {
   // The adjoint's log of a step's KKT solves (kkt_log.h), or nullptr: a double run keeps its solves there, a
   // recorded replay takes them back.
   KktLog* kkt_log = nullptr;
-
-  bool factor_jet_matrices = false;  // RunOptions::factor_jet_matrices, for the solvers SetActiveLimits makes
 
   // integrator scratch: stage increments (v-shaped: Munthe-Kaas stage derivatives K and accelerations),
   // trial and next states
