@@ -2,23 +2,14 @@
 
 #include <algorithm>
 
+#include "tether/dynamics/integrator_descriptor.h"
+
 namespace tether {
 
-double RealStabilityLimit(Integrator integrator) {
-  switch (integrator) {
-    case Integrator::kEuler:
-    case Integrator::kSymplecticEuler:
-      return 2.0;
-    case Integrator::kRk4:
-      return 2.785;
-    case Integrator::kRk45:
-      return 3.307;
-  }
-  return 2.0;
-}
+double RealStabilityLimit(Integrator integrator) { return Describe(integrator).real_stability_limit; }
 
 Gains DefaultGains(Integrator integrator, double step) {
-  const bool first_order = integrator == Integrator::kEuler || integrator == Integrator::kSymplecticEuler;
+  const bool first_order = Describe(integrator).order == 1;
   const double cap = first_order ? kFirstOrderMaxOmega : kHighOrderMaxOmega;
   const double omega = std::min(cap, kDefaultStabilityFraction * RealStabilityLimit(integrator) / step);
   return {2.0 * omega, omega * omega};

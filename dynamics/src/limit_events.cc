@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <type_traits>
 
 #include "tether/dynamics/configuration_space.h"
@@ -125,9 +126,10 @@ T LimitEvents<T>::EventTimeSensitivity(double t, int i, VecX<T>* q, VecX<T>* v, 
   const Gap gap = GapOf(i, *q, *v, ws);
   if (std::abs(Value(gap.rate)) < kGrazingSpeed) {
     if constexpr (std::is_same_v<T, double>) return T(0.0);  // nothing is differentiated
-    report->warnings.push_back("a grazing impact on " + sides_[i].label + " at t = " + std::to_string(t) +
-                               " s (approach speed below " + std::to_string(kGrazingSpeed) +
-                               "): the derivatives leave out its time's dependence on the parameters");
+    std::ostringstream out;
+    out << "a grazing impact on " << sides_[i].label << " at t = " << t << " s (approach speed " << Value(gap.rate)
+        << ", below " << kGrazingSpeed << "): the derivatives leave out its time's dependence on the parameters";
+    report->warnings.push_back(out.str());
     return T(0.0);
   }
   T dt = -gap.g / gap.rate;
@@ -137,8 +139,8 @@ T LimitEvents<T>::EventTimeSensitivity(double t, int i, VecX<T>* q, VecX<T>* v, 
 }
 
 template <typename T>
-void LimitEvents<T>::Impulse(const std::vector<int>& impacting, const std::vector<T>& target, bool capture, VecX<T>* q,
-                             VecX<T>* v, Workspace<T>* ws) {
+void LimitEvents<T>::Impulse(const std::vector<int>& impacting, const std::vector<T>& target, bool capture,
+                             const VecX<T>& q, VecX<T>* v, Workspace<T>* ws) {
   const std::vector<char> held = active_;
   std::vector<T> wanted(sides_.size(), T(0.0));  // g'+ of every side in the solve
   for (size_t k = 0; k < impacting.size(); ++k) {
@@ -148,7 +150,7 @@ void LimitEvents<T>::Impulse(const std::vector<int>& impacting, const std::vecto
   const int most = static_cast<int>(sides_.size()) + 1;
   for (int attempt = 0; attempt < most; ++attempt) {
     Apply(ws);
-    EvaluateRows(model_, *q, *v, false, ws);
+    EvaluateRows(model_, q, *v, false, ws);
     const size_t first = ws->rows.size() - active_order_.size();
     for (size_t r = 0; r < ws->rows.size(); ++r) {  // equality rows keep J v; sides leave at their target rate
       const T rate = Dot(model_, ws->rows[r].a, *v) + Dot(model_, ws->rows[r].b, *v);
@@ -190,7 +192,7 @@ void LimitEvents<T>::Resolve(double t, double step, int capture, VecX<T>* q, Vec
   const std::vector<char> was_active = active_;
   std::vector<GapState> gaps = Measure(*q, *v, ws);
   if (capture >= 0) {  // held where it touches, at rest
-    Impulse({capture}, {T(0.0)}, true, q, v, ws);
+    Impulse({capture}, {T(0.0)}, true, *q, v, ws);
     report->events.push_back({t, "impact", sides_[capture].label, gaps[capture].rate, 0.0});
     gaps = Measure(*q, *v, ws);
   }
@@ -198,47 +200,61 @@ void LimitEvents<T>::Resolve(double t, double step, int capture, VecX<T>* q, Vec
   for (int i = 0; i < size(); ++i) {
     if (!active_[i] && gaps[i].g <= kTouching && gaps[i].rate < -kRestingSpeed) impacting.push_back(i);
   }
-  // derivatives cross the event through its time: the state is moved along the motion before it by the time's
-  // sensitivity dt* (a zero value), resolved, and moved back along the motion after it (the saltation matrix)
-  // (doubles take the same steps with a zero that is exactly zero: one sequence of solves for every scalar, which
-  // the adjoint's replay of a double run relies on)
-  T event_time(0.0);
-  if (!impacting.empty()) event_time = EventTimeSensitivity(t, impacting.front(), q, v, ws, report);
-  if (!impacting.empty()) {
-    std::vector<T> target;  // Newton's law, g'+ = -e g'-
-    for (int i : impacting)
-      target.push_back(-model_.joints[sides_[i].joint].range.restitution * GapOf(i, *q, *v, ws).rate);
-    Impulse(impacting, target, false, q, v, ws);
-    std::vector<GapState> after = Measure(*q, *v, ws);
-    for (int i : impacting) {  // a rebound that would land again within a sliver of the step is captured
-      if (!(after[i].rate > kRestingSpeed)) continue;
-      const double fall = GapAcceleration(i, t, *q, *v, ws);
-      if (fall < 0.0 && 2.0 * after[i].rate / -fall < kCaptureFlight * step) Impulse({i}, {T(0.0)}, true, q, v, ws);
-    }
-    after = Measure(*q, *v, ws);
-    for (int i : impacting) {
-      report->events.push_back({t, "impact", sides_[i].label, gaps[i].rate, after[i].rate});
-    }
-    gaps = after;
+  if (impacting.empty()) {
+    HoldTouching(t, gaps, *q, *v, ws);
+  } else {
+    // derivatives cross the impact through its time: the state is moved along the motion before it by the time's
+    // sensitivity dt* (a zero value), resolved, and moved back along the motion after it (the saltation matrix);
+    // doubles take the same steps with a zero that is exactly zero, one sequence of KKT solves for every scalar,
+    // which the adjoint's replay of a double run relies on
+    const T event_time = EventTimeSensitivity(t, impacting.front(), q, v, ws, report);
+    gaps = Impacts(t, step, impacting, gaps, *q, v, ws, report);
+    HoldTouching(t, gaps, *q, *v, ws);
+    MoveAlongMotion(t, -event_time, q, v, ws);
   }
-  // the active set: touching sides at rest, less those whose multiplier would pull
-  std::vector<char> candidate(sides_.size(), 0);
+  for (int i = 0; i < size(); ++i) {
+    if (was_active[i] && !active_[i]) {
+      report->events.push_back({t, "release", sides_[i].label, gaps[i].rate, gaps[i].rate});
+    }
+  }
+}
+
+template <typename T>
+std::vector<typename LimitEvents<T>::GapState> LimitEvents<T>::Impacts(double t, double step,
+                                                                       const std::vector<int>& impacting,
+                                                                       const std::vector<GapState>& before,
+                                                                       const VecX<T>& q, VecX<T>* v, Workspace<T>* ws,
+                                                                       RunReport* report) {
+  std::vector<T> target;  // Newton's law, g'+ = -e g'-
+  for (int i : impacting)
+    target.push_back(-model_.joints[sides_[i].joint].range.restitution * GapOf(i, q, *v, ws).rate);
+  Impulse(impacting, target, false, q, v, ws);
+  std::vector<GapState> after = Measure(q, *v, ws);
+  for (int i : impacting) {  // a rebound that would land again within a sliver of the step is captured
+    if (!(after[i].rate > kRestingSpeed)) continue;
+    const double fall = GapAcceleration(i, t, q, *v, ws);
+    if (fall < 0.0 && 2.0 * after[i].rate / -fall < kCaptureFlight * step) Impulse({i}, {T(0.0)}, true, q, v, ws);
+  }
+  after = Measure(q, *v, ws);
+  for (int i : impacting) report->events.push_back({t, "impact", sides_[i].label, before[i].rate, after[i].rate});
+  return after;
+}
+
+template <typename T>
+void LimitEvents<T>::HoldTouching(double t, const std::vector<GapState>& gaps, const VecX<T>& q, const VecX<T>& v,
+                                  Workspace<T>* ws) {
+  std::vector<char> candidate(sides_.size(), 0);  // touching sides at rest, and the held ones that stay
   for (int i = 0; i < size(); ++i) {
     const bool resting = std::abs(gaps[i].rate) <= kRestingSpeed;
     candidate[i] = active_[i] ? gaps[i].rate <= kRestingSpeed : gaps[i].g <= kTouching && resting;
   }
   std::vector<double> mu;
-  for (int attempt = 0; attempt <= size(); ++attempt) {
+  for (int attempt = 0; attempt <= size(); ++attempt) {  // less those whose multiplier would pull, one at a time
     SetActiveSet(candidate, ws);
-    if (active_order_.empty() || !Multipliers(t, *q, *v, ws, &mu)) break;
+    if (active_order_.empty() || !Multipliers(t, q, v, ws, &mu)) return;
     const auto lowest = std::min_element(mu.begin(), mu.end());
-    if (*lowest > 0.0) break;
+    if (*lowest > 0.0) return;
     candidate[active_order_[lowest - mu.begin()]] = 0;
-  }
-  if (!impacting.empty()) MoveAlongMotion(t, -event_time, q, v, ws);
-  for (int i = 0; i < size(); ++i) {
-    if (was_active[i] && !active_[i])
-      report->events.push_back({t, "release", sides_[i].label, gaps[i].rate, gaps[i].rate});
   }
 }
 

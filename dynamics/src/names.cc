@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "tether/dynamics/errors.h"
+#include "tether/dynamics/integrator_descriptor.h"
 
 namespace tether {
 namespace {
@@ -23,11 +24,9 @@ E Lookup(const std::vector<std::pair<const char*, E>>& table, const std::string&
 }  // namespace
 
 Integrator ParseIntegrator(const std::string& name, const std::string& where) {
-  return Lookup<Integrator>({{"euler", Integrator::kEuler},
-                             {"symplectic_euler", Integrator::kSymplecticEuler},
-                             {"rk4", Integrator::kRk4},
-                             {"rk45", Integrator::kRk45}},
-                            name, where, "integrator");
+  std::vector<std::pair<const char*, Integrator>> table;
+  for (const IntegratorDescriptor& d : kIntegrators) table.emplace_back(d.name, d.integrator);
+  return Lookup<Integrator>(table, name, where, "integrator");
 }
 
 KktSolver ParseKktSolver(const std::string& name, const std::string& where) {

@@ -16,6 +16,7 @@
 #include "csv_line.h"
 #include "tether/dynamics/default_gains.h"
 #include "tether/dynamics/errors.h"
+#include "tether/dynamics/integrator_descriptor.h"
 #include "tether/dynamics/interrupts.h"
 #include "tether/dynamics/simulator.h"
 #include "tether/tuning/gain_objective.h"
@@ -117,10 +118,7 @@ StudyRow MeasureRow(const StudySpec& spec, int index, ReferenceCache* references
 
 double RowCost(const StudySpec& spec, int index) {
   const SimulationSettings& simulation = SceneOfRow(spec, Combination(spec, index), "row").model.simulation;
-  const double evaluations = simulation.integrator == Integrator::kRk4    ? 4.0
-                             : simulation.integrator == Integrator::kRk45 ? 7.0
-                                                                           : 1.0;
-  return evaluations * static_cast<double>(StepCount(simulation));
+  return Describe(simulation.integrator).evaluations_per_step * static_cast<double>(StepCount(simulation));
 }
 
 void RunRows(const StudySpec& spec, const std::vector<int>& indices, int threads,

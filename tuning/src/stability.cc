@@ -4,6 +4,8 @@
 #include <cmath>
 #include <complex>
 
+#include "tether/dynamics/integrator_descriptor.h"
+
 namespace tether {
 namespace {
 
@@ -14,26 +16,18 @@ Matrix2 Amplification(Integrator integrator, double x, double zeta) {
   k << 0.0, 1.0, -1.0, -2.0 * zeta;
   const Matrix2 z = x * k;
   const Matrix2 identity = Matrix2::Identity();
-  switch (integrator) {
-    case Integrator::kEuler:
-      return identity + z;
-    case Integrator::kSymplecticEuler: {
-      Matrix2 m;
-      m << 1.0 - x * x, x * (1.0 - 2.0 * zeta * x), -x, 1.0 - 2.0 * zeta * x;
-      return m;
-    }
-    case Integrator::kRk4:
-    case Integrator::kRk45: {
-      Matrix2 sum = identity, power = identity;
-      for (int k = 1; k <= (integrator == Integrator::kRk4 ? 4 : 5); ++k) {
-        power = power * z / k;
-        sum += power;
-      }
-      if (integrator == Integrator::kRk45) sum += (power * z) / 5.0;  // z^6 / 600 = (z^5 / 120) z / 5
-      return sum;
-    }
+  const IntegratorDescriptor& method = Describe(integrator);
+  if (method.stability_terms == 0) {  // symplectic Euler, a partitioned method (integrator_descriptor.h)
+    Matrix2 m;
+    m << 1.0 - x * x, x * (1.0 - 2.0 * zeta * x), -x, 1.0 - 2.0 * zeta * x;
+    return m;
   }
-  return identity;
+  Matrix2 sum = identity, power = identity;  // R(Z) = I + Z/d_1 + Z^2/(d_1 d_2) + ...
+  for (int k = 0; k < method.stability_terms; ++k) {
+    power = power * z / method.stability_divisors[k];
+    sum += power;
+  }
+  return sum;
 }
 
 }  // namespace

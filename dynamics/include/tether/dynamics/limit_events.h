@@ -97,8 +97,16 @@ class LimitEvents {
   // Impulses on the equality rows, the active sides and the sides in `impacting` so that each impacting side
   // leaves at its target rate; a side whose impulse would pull is left out, unless `capture` (the sides in
   // `impacting` are then held at their target, a capture's last, tiny pull).
-  void Impulse(const std::vector<int>& impacting, const std::vector<T>& target, bool capture, VecX<T>* q, VecX<T>* v,
-               Workspace<T>* ws);
+  void Impulse(const std::vector<int>& impacting, const std::vector<T>& target, bool capture, const VecX<T>& q,
+               VecX<T>* v, Workspace<T>* ws);
+  // Newton's law on the sides in `impacting` (their gaps `before`), rebounds too slow to follow captured, the
+  // events reported; returns the gaps after.
+  std::vector<GapState> Impacts(double t, double step, const std::vector<int>& impacting,
+                                const std::vector<GapState>& before, const VecX<T>& q, VecX<T>* v, Workspace<T>* ws,
+                                RunReport* report);
+  // The active set at (q, v): the touching sides at rest and the held ones still at rest, less those whose
+  // multiplier would pull.
+  void HoldTouching(double t, const std::vector<GapState>& gaps, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws);
   // g and g' of side i at (q, v), in T.
   Gap GapOf(int i, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws) const;
   // (q, v) <- (q (+) v dt, v + v' dt) with the current active set.
