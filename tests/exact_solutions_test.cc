@@ -13,6 +13,7 @@
 namespace tether {
 namespace {
 
+using testing::EllipticK;
 using testing::Record;
 using testing::Recording;
 using testing::SceneFromJson;
@@ -24,17 +25,6 @@ std::string Num(double x) {
   char text[32];
   std::snprintf(text, sizeof text, "%.17g", x);
   return text;
-}
-
-// Complete elliptic integral of the first kind K(k) = pi / (2 AGM(1, sqrt(1 - k^2))).
-double EllipticK(double k) {
-  double a = 1.0, b = std::sqrt(1.0 - k * k);
-  for (int i = 0; i < 40 && std::abs(a - b) > 1e-16 * a; ++i) {
-    const double mean = 0.5 * (a + b);
-    b = std::sqrt(a * b);
-    a = mean;
-  }
-  return M_PI / (2.0 * a);
 }
 
 // A bob on a rod of length L from the origin, released at rest at angle theta0 from the downward vertical.

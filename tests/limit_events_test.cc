@@ -13,7 +13,6 @@
 #include "test_files.h"
 #include "test_scenes.h"
 #include "tether/autodiff/adjoint.h"
-#include "tether/autodiff/gradient_method.h"
 #include "tether/autodiff/residuals.h"
 #include "tether/dynamics/scene_reader.h"
 #include "tether/dynamics/stepper.h"
@@ -22,20 +21,11 @@ namespace tether {
 namespace {
 
 using nlohmann::json;
+using testing::EllipticK;
 using testing::SceneFromJson;
 
 constexpr double kG = 9.81;
 constexpr double kInertiaAtPin = 1.0 / 3.0, kArm = 0.5;  // a uniform 1 kg, 1 m rod about its end
-
-double EllipticK(double k) {
-  double a = 1.0, b = std::sqrt(1.0 - k * k);
-  for (int i = 0; i < 40 && std::abs(a - b) > 1e-16 * a; ++i) {
-    const double mean = 0.5 * (a + b);
-    b = std::sqrt(a * b);
-    a = mean;
-  }
-  return M_PI / (2.0 * a);
-}
 
 // the time from amplitude theta to the vertical
 double QuarterSwing(double theta) { return std::sqrt(kInertiaAtPin / (kG * kArm)) * EllipticK(std::sin(theta / 2)); }

@@ -172,6 +172,24 @@ TEST_F(StudyTest, MetricsMatchTheirDefinitionsAndRankTheIntegratorsByAccuracy) {
   EXPECT_GT(rows[2].metrics[2], 10.0 * rows[0].metrics[2]);
 }
 
+// `events` counts a run's joint-limit events: the README's rod against its stop (docs/examples/limits), four impacts
+// in 3 s at e = 0.75, and at e = 0.5 as many as a plain run of that scene reports.
+TEST_F(StudyTest, EventsCountsTheJointLimitsImpactsAndReleases) {
+  nlohmann::json scene =
+      nlohmann::json::parse(ReadText(std::string(TETHER_SOURCE_DIR) + "/docs/examples/limits/stop.json"));
+  folder_.Write("stop.json", scene.dump());
+  const std::string study = folder_.Write(
+      "study.json",
+      R"({"scene": "stop.json", "sweep": {"/constraints/0/restitution": [0.5, 0.75]}, "metrics": ["events"]})");
+  const std::vector<StudyRow> rows = Run(study, out_);
+  ASSERT_EQ(rows.size(), 2u);
+  scene["constraints"][0]["restitution"] = 0.5;
+  const RunReport half =
+      Simulate<double>(ParseScene(scene, "stop.json").model, RunOptions{}, [](const Sample<double>&) {});
+  EXPECT_EQ(rows[0].metrics[0], static_cast<double>(half.events.size()));
+  EXPECT_EQ(rows[1].metrics[0], 4.0);
+}
+
 TEST_F(StudyTest, DivergedRowHasNanMetricsAndItsStatusWhileTheOthersAreUnaffected) {
   // euler at h = 0.01 with beta = 1e8: h^2 beta = 1e4, the Baumgarte term blows up within a few steps
   const std::string study = WriteStudy(R"({"/simulation/integrator": ["euler"], "/stabilization/beta": [25.0, 1.0e8]})",

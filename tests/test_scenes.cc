@@ -46,4 +46,14 @@ Model<double> Pendulum60(const std::string& integrator, double step, double dura
   return model;
 }
 
+double EllipticK(double k) {
+  double a = 1.0, b = std::sqrt(1.0 - k * k);
+  for (int i = 0; i < 40 && std::abs(a - b) > 1e-16 * a; ++i) {
+    const double mean = 0.5 * (a + b);
+    b = std::sqrt(a * b);
+    a = mean;
+  }
+  return M_PI / (2.0 * a);
+}
+
 }  // namespace tether::testing

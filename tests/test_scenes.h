@@ -21,6 +21,9 @@ Recording Record(const Model<double>& model, int every = 1);
 // The trajectory CSV (header and rows) of the model sampled exactly at `times` (RunOptions::stops).
 std::string TrajectoryCsvAt(const Model<double>& model, const std::vector<double>& times);
 
+// Complete elliptic integral of the first kind K(k) = pi / (2 AGM(1, sqrt(1 - k^2))): a pendulum's period.
+double EllipticK(double k);
+
 // The simple pendulum of the acceptance checks: a 1 kg bob on a 0.7 m rod, released at rest from 60 degrees.
 Model<double> Pendulum60(const std::string& integrator = "rk4", double step = 1e-3, double duration = 1.0);
 

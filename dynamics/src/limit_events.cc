@@ -7,6 +7,7 @@
 
 #include "tether/dynamics/configuration_space.h"
 #include "tether/dynamics/constrained_dynamics.h"
+#include "tether/dynamics/errors.h"
 
 namespace tether {
 
@@ -18,6 +19,10 @@ LimitEvents<T>::LimitEvents(const Model<T>& model) : model_(model) {
     const JointCoordinate kind =
         joint.type == JointType::kPrismatic ? JointCoordinate::kDisplacement : JointCoordinate::kAngle;
     const int k = CoordinateIndex(model, static_cast<int>(j), kind);
+    if (k < 0) {  // the scene reader refuses it; a model built in code may not have been through it
+      throw InputError("constraint /constraints/" + std::to_string(joint.scene_index) +
+                       " has a range but no coordinate to limit (hinge, prismatic, or a 2D pin between planar bodies)");
+    }
     const std::string label = joint.name.empty() ? "/constraints/" + std::to_string(joint.scene_index) : joint.name;
     if (joint.range.has_low) sides_.push_back({static_cast<int>(j), k, 1, label});
     if (joint.range.has_high) sides_.push_back({static_cast<int>(j), k, -1, label});

@@ -165,8 +165,9 @@ Stepper<T>::Stepper(const Model<T>& model, const RunOptions& options, Observer o
   q_projected_ = state_.q;
   v_projected_ = state_.v;
   settle_ = [this](double t, VecX<T>* q, VecX<T>* v) { return Settle(t, q, v); };
-  if (!limits_.empty()) limits_.Resolve(t0, h_, -1, &state_.q, &state_.v, &ws_, &report_);  // at rest on a limit, or
-}  // moving into one
+  // a limit the run starts on, at rest or moving into it
+  if (!limits_.empty()) limits_.Resolve(t0, h_, -1, &state_.q, &state_.v, &ws_, &report_);
+}
 
 template <typename T>
 SimulationDiverged Stepper<T>::Diverged(double t, const std::string& what) const {
@@ -279,9 +280,9 @@ double Stepper<T>::FirstEvent(double t, double dt) {
   capture_ = -1;
   for (int i : due_) {
     const double tau = Locate(i, t, first);
-    if (tau < first || (tau == 0.0 && first == 0.0)) {
+    if (tau < first) {
       first = tau;
-      capture_ = tau == 0.0 ? i : -1;
+      capture_ = tau == 0.0 && !limits_.active(i) ? i : -1;  // a held side at 0 just releases
     }
   }
   Restore(before_);
@@ -291,7 +292,8 @@ double Stepper<T>::FirstEvent(double t, double dt) {
 
 // The event time of side i within [0, dt]: the end of the final bracket where its event function is negative;
 // dt when the function is not negative there (no event before dt), 0 when a gap that has just opened closes
-// again within the first kCaptureFlight of the step (it is then captured).
+// again within the first kCaptureFlight of the step (it is then captured) or a held side's multiplier is not
+// positive at the start (it releases there).
 template <typename T>
 double Stepper<T>::Locate(int side, double t, double dt) {
   auto value_after = [&](double tau) {
@@ -303,14 +305,15 @@ double Stepper<T>::Locate(int side, double t, double dt) {
   if (!(f_hi < 0.0)) return dt;
   double lo = 0.0, f_lo = value_after(0.0);
   // a gap at zero at the start (it has just opened): bracket from the first probe where it is open
-  for (double probe = kCaptureFlight * dt; !(f_lo > 0.0) && probe < dt; probe *= 2.0) {
+  const bool gap = !limits_.active(side);
+  for (double probe = kCaptureFlight * dt; gap && !(f_lo > 0.0) && probe < dt; probe *= 2.0) {
     const double f = value_after(probe);
     if (f > 0.0) {
       lo = probe;
       f_lo = f;
     }
   }
-  if (!(f_lo > 0.0)) return 0.0;  // closes again at once: resolved where it is (captured)
+  if (!(f_lo > 0.0)) return 0.0;  // a gap that closes again at once (captured), or a multiplier already at zero
   int stale = 0;                  // Illinois: halve the value of an end that stays
   while (hi - lo > kEventTimeTolerance * dt) {
     double mid = (f_lo * hi - f_hi * lo) / (f_lo - f_hi);
