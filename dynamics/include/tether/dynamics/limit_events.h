@@ -23,12 +23,13 @@
 //   grazing  an approach slower than kRestingSpeed is a touch, not an impact: no impulse. Below kGrazingSpeed an
 //            impact's time sensitivity (g' in its denominator) is not taken, with a warning.
 //
-// Derivatives (Jets) cross an impact through its time (DESIGN.md's saltation matrix): with the event located on
-// the values, dt* = -g / g' at the state just past it, its value removed (a zero carrying dt*/dtheta), moves the
+// Derivatives (Jets, and the adjoint's recorded replay) cross an impact through its time (DESIGN.md's saltation
+// matrix): with the event located on the values, dt* = -g / g' at the state just past it, its value removed (a zero carrying dt*/dtheta), moves the
 // state along the motion before the event, x <- x + f- dt*; the impact and the new active set are resolved
 // there; and the state moves back along the motion after it, x <- x - f+ dt*. To first order in the
 // derivatives this is x+ = Xi x- with Xi = R + (f+ - R f-) grad(g)^T / (grad(g) . f-). A release needs nothing:
-// the motion's vector field is continuous where the multiplier crosses zero.
+// the motion's vector field is continuous where the multiplier crosses zero. Doubles take the same moves by an
+// exact zero, so that a double run and its Rev replay make the same KKT solves (adjoint.h).
 #pragma once
 
 #include <string>
