@@ -70,10 +70,9 @@ std::vector<typename LimitEvents<T>::GapState> LimitEvents<T>::Measure(const Vec
                                                                        Workspace<T>* ws) const {
   UpdateFrames(model_, q, v, true, &ws->frames);
   std::vector<GapState> gaps(sides_.size());
-  for (size_t i = 0; i < sides_.size(); ++i) {
-    const Side& side = sides_[i];
-    const CoordinateRow<T> x = EvaluateCoordinate(model_, ws->coordinates, side.coordinate, ws->frames, q, v, true);
-    gaps[i] = {side.side * (Value(x.value) - Value(Bound(side))), side.side * Value(x.rate)};
+  for (int i = 0; i < size(); ++i) {
+    const Gap gap = GapAt(i, q, v, *ws);
+    gaps[i] = {Value(gap.g), Value(gap.rate)};
   }
   return gaps;
 }
@@ -109,9 +108,15 @@ double LimitEvents<T>::GapAcceleration(int i, double t, const VecX<T>& q, const 
 
 template <typename T>
 typename LimitEvents<T>::Gap LimitEvents<T>::GapOf(int i, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws) const {
-  const Side& side = sides_[i];
   UpdateFrames(model_, q, v, true, &ws->frames);
-  const CoordinateRow<T> x = EvaluateCoordinate(model_, ws->coordinates, side.coordinate, ws->frames, q, v, true);
+  return GapAt(i, q, v, *ws);
+}
+
+template <typename T>
+typename LimitEvents<T>::Gap LimitEvents<T>::GapAt(int i, const VecX<T>& q, const VecX<T>& v,
+                                                   const Workspace<T>& ws) const {
+  const Side& side = sides_[i];
+  const CoordinateRow<T> x = EvaluateCoordinate(model_, ws.coordinates, side.coordinate, ws.frames, q, v, true);
   const T s(static_cast<double>(side.side));
   return {s * (x.value - Bound(side)), s * x.rate};
 }
@@ -156,10 +161,10 @@ void LimitEvents<T>::Impulse(const std::vector<int>& impacting, const std::vecto
   for (int attempt = 0; attempt < most; ++attempt) {
     Apply(ws);
     EvaluateRows(model_, q, *v, false, ws);
+    MultiplyJacobian(model_, *v, ws);
     const size_t first = ws->rows.size() - active_order_.size();
     for (size_t r = 0; r < ws->rows.size(); ++r) {  // equality rows keep J v; sides leave at their target rate
-      const T rate = Dot(model_, ws->rows[r].a, *v) + Dot(model_, ws->rows[r].b, *v);
-      ws->kkt.rhs[r] = r < first ? T(0.0) : wanted[active_order_[r - first]] - rate;
+      ws->kkt.rhs[r] = r < first ? T(0.0) : wanted[active_order_[r - first]] - ws->kkt.rhs[r];
     }
     AssembleSchur(ws);
     if (!ws->solver->Solve(ws->kkt.schur, ws->kkt.rhs, &ws->kkt.lambda)) break;
@@ -178,12 +183,7 @@ void LimitEvents<T>::Impulse(const std::vector<int>& impacting, const std::vecto
       active_[pulling] = 0;
       continue;
     }
-    ws->reaction.setZero();  // v+ = v + M^-1 J^T P
-    for (size_t r = 0; r < ws->rows.size(); ++r) {
-      AddScaled(model_, ws->rows[r].a, ws->kkt.lambda[r], &ws->reaction);
-      AddScaled(model_, ws->rows[r].b, ws->kkt.lambda[r], &ws->reaction);
-    }
-    ApplyInverseMass(model_, ws->inverse_mass, ws->reaction, &ws->reaction);
+    ApplyReaction(model_, ws, &ws->reaction);  // v+ = v + M^-1 J^T P
     *v += ws->reaction;
     break;
   }

@@ -5,26 +5,6 @@
 namespace tether {
 namespace {
 
-// ws->kkt.rhs = J x for the rows in ws.
-template <typename T>
-void MultiplyJacobian(const Model<T>& model, const VecX<T>& x, Workspace<T>* ws) {
-  for (size_t i = 0; i < ws->rows.size(); ++i) {
-    ws->kkt.rhs[i] = Dot(model, ws->rows[i].a, x) + Dot(model, ws->rows[i].b, x);
-  }
-}
-
-// out = M^-1 J^T ws->kkt.lambda.
-template <typename T>
-void ApplyReaction(const Model<T>& model, Workspace<T>* ws, VecX<T>* out) {
-  out->setZero();
-  for (size_t i = 0; i < ws->rows.size(); ++i) {
-    AddScaled(model, ws->rows[i].a, ws->kkt.lambda[i], out);
-    AddScaled(model, ws->rows[i].b, ws->kkt.lambda[i], out);
-  }
-  ApplyInverseMass(model, ws->inverse_mass, *out, out);
-}
-
-
 // sum C_i^2 over the rows: the merit of the robust projection
 template <typename T>
 double SquaredViolation(const std::vector<ConstraintRow<T>>& rows) {

@@ -28,21 +28,18 @@ std::vector<TrajectoryColumn> TrajectoryColumns(const Model<double>& model) {
       }
     }
   }
-  int reference = 0;  // joint_coordinates.h's order: tracked joints in scene order, the angle before the displacement
-  for (const Joint<double>& joint : model.joints) {
-    if (!TracksCoordinates(joint)) continue;
-    if (joint.name.empty()) {  // a limited joint without a name: tracked, without columns
-      for (JointCoordinate c : {JointCoordinate::kAngle, JointCoordinate::kDisplacement})
-        reference += HasCoordinate(model, joint, c);
-      continue;
-    }
+  for (int j = 0; j < static_cast<int>(model.joints.size()); ++j) {  // named joints' coordinates, in scene order
+    const Joint<double>& joint = model.joints[j];
+    if (joint.name.empty()) continue;
     if (HasCoordinate(model, joint, JointCoordinate::kAngle)) {
+      const int reference = CoordinateIndex(model, j, JointCoordinate::kAngle);
       columns.push_back({joint.name + ".angle", Kind::kJointCoordinate, reference});
-      columns.push_back({joint.name + ".omega", Kind::kJointRate, reference++});
+      columns.push_back({joint.name + ".omega", Kind::kJointRate, reference});
     }
     if (HasCoordinate(model, joint, JointCoordinate::kDisplacement)) {
+      const int reference = CoordinateIndex(model, j, JointCoordinate::kDisplacement);
       columns.push_back({joint.name + ".displacement", Kind::kJointCoordinate, reference});
-      columns.push_back({joint.name + ".speed", Kind::kJointRate, reference++});
+      columns.push_back({joint.name + ".speed", Kind::kJointRate, reference});
     }
   }
   for (size_t m = 0; m < model.markers.size(); ++m) {

@@ -111,17 +111,36 @@ void AssembleSchur(Workspace<T>* ws) {
 }
 
 template <typename T>
+void MultiplyJacobian(const Model<T>& model, const VecX<T>& x, Workspace<T>* ws) {
+  for (size_t i = 0; i < ws->rows.size(); ++i) {
+    ws->kkt.rhs[i] = Dot(model, ws->rows[i].a, x) + Dot(model, ws->rows[i].b, x);
+  }
+}
+
+template <typename T>
+void ApplyReaction(const Model<T>& model, Workspace<T>* ws, VecX<T>* out) {
+  out->setZero();
+  for (size_t i = 0; i < ws->rows.size(); ++i) {
+    AddScaled(model, ws->rows[i].a, ws->kkt.lambda[i], out);
+    AddScaled(model, ws->rows[i].b, ws->kkt.lambda[i], out);
+  }
+  ApplyInverseMass(model, ws->inverse_mass, *out, out);
+}
+
+template <typename T>
 void EvaluateRows(const Model<T>& model, const VecX<T>& q, const VecX<T>& v, bool velocity_terms, Workspace<T>* ws) {
   UpdateFrames(model, q, v, velocity_terms, &ws->frames);
   EvaluateConstraintRows(model, ws->constraints, ws->frames, q, v, velocity_terms, &ws->rows);
 }
 
-#define TETHER_INSTANTIATE_WORKSPACE(T)                                                                    \
+#define TETHER_INSTANTIATE_WORKSPACE(T)                                                                   \
   template struct Workspace<T>;                                                                           \
   template InverseMass<T> BuildInverseMass<T>(const Model<T>&);                                           \
-  template struct KktSystem<T>;                                                                            \
+  template struct KktSystem<T>;                                                                           \
   template void ApplyInverseMass<T, T>(const Model<T>&, const InverseMass<T>&, const VecX<T>&, VecX<T>*); \
-  template void EvaluateRows<T>(const Model<T>&, const VecX<T>&, const VecX<T>&, bool, Workspace<T>*);        \
+  template void EvaluateRows<T>(const Model<T>&, const VecX<T>&, const VecX<T>&, bool, Workspace<T>*);    \
+  template void MultiplyJacobian<T>(const Model<T>&, const VecX<T>&, Workspace<T>*);                      \
+  template void ApplyReaction<T>(const Model<T>&, Workspace<T>*, VecX<T>*);                               \
   template void AssembleSchur<T>(Workspace<T>*);
 TETHER_FOR_EACH_SCALAR(TETHER_INSTANTIATE_WORKSPACE)
 // the recorded KKT solve's values in double (kkt_adjoint.cc)

@@ -108,8 +108,9 @@ class LimitEvents {
   // The active set at (q, v): the touching sides at rest and the held ones still at rest, less those whose
   // multiplier would pull.
   void HoldTouching(double t, const std::vector<GapState>& gaps, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws);
-  // g and g' of side i at (q, v), in T.
+  // g and g' of side i at (q, v), in T; GapAt with the frames already updated there.
   Gap GapOf(int i, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws) const;
+  Gap GapAt(int i, const VecX<T>& q, const VecX<T>& v, const Workspace<T>& ws) const;
   // (q, v) <- (q (+) v dt, v + v' dt) with the current active set.
   void MoveAlongMotion(double t, const T& dt, VecX<T>* q, VecX<T>* v, Workspace<T>* ws);
   // dt* of an impact on side i (a zero value; zero when it grazes, with a warning), the state moved by it.

@@ -106,6 +106,14 @@ struct Workspace {
 template <typename T>
 void AssembleSchur(Workspace<T>* ws);
 
+// ws->kkt.rhs = J x for the rows in ws (x v-shaped).
+template <typename T>
+void MultiplyJacobian(const Model<T>& model, const VecX<T>& x, Workspace<T>* ws);
+
+// *out = M^-1 J^T ws->kkt.lambda for the rows in ws.
+template <typename T>
+void ApplyReaction(const Model<T>& model, Workspace<T>* ws, VecX<T>* out);
+
 // Rows (and frames) at (q, v) into ws->rows.
 template <typename T>
 void EvaluateRows(const Model<T>& model, const VecX<T>& q, const VecX<T>& v, bool velocity_terms, Workspace<T>* ws);
