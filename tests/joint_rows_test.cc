@@ -4,18 +4,21 @@
 //   (b) the velocity product Jdot v against the second central difference of C(q (+) s v): with v constant
 //       (body-frame angular velocity included) q (+) s v is the motion itself, so C'' = Jdot v there;
 //   (c) the joint coordinates' rates and gradients against differences of their values (for angles at states on
-//       the joint, where the relative angular velocity is along the axis: elsewhere the angle is not defined).
+//       the joint, where the relative angular velocity is along the axis: elsewhere the angle is not defined);
+// and the joint kinds (joint_kinds.h): each type listed once under its scene name, its rows exactly its parts'
+// rows, its coordinates as HasCoordinate reports them, and a range refused on a kind that takes none.
 #include <gtest/gtest.h>
 
+#include <Eigen/SVD>
 #include <cmath>
 #include <random>
 #include <vector>
 
-#include <Eigen/SVD>
-
 #include "tether/dynamics/configuration_space.h"
 #include "tether/dynamics/constraint_rows.h"
+#include "tether/dynamics/errors.h"
 #include "tether/dynamics/joint_coordinates.h"
+#include "tether/dynamics/limit_events.h"
 #include "tether/dynamics/rotation.h"
 
 namespace tether {
@@ -212,6 +215,59 @@ TEST(DoubleHingeRows, VanishOnTheLinksMotionsAndHaveRankFour) {
       }
     }
   }
+}
+
+// Rows of one part in 3D (joint_kinds.h's table).
+int PartRows(JointPart part) {
+  switch (part) {
+    case JointPart::kNone:
+      return 0;
+    case JointPart::kDistance:
+      return 1;
+    case JointPart::kPoint:
+      return 3;
+    case JointPart::kLine:
+      return 2;
+    case JointPart::kCommonAxis:
+      return 2;
+    case JointPart::kCrossedAxes:
+      return 1;
+    case JointPart::kFrozenOrientation:
+      return 3;
+    case JointPart::kDoubleHinge:
+      return 4;
+  }
+  return -1;
+}
+
+TEST(JointKinds, EachTypeIsOneRowWhoseRowsAndCoordinatesAreItsParts) {
+  std::mt19937 random(7);
+  for (int t = 0; t <= static_cast<int>(JointType::kDoubleHinge); ++t) {
+    const JointType type = static_cast<JointType>(t);
+    const JointKind& kind = JointKindOf(type);
+    EXPECT_EQ(kind.type, type);
+    const JointKind* found = FindJointKind(kind.name);
+    ASSERT_NE(found, nullptr) << kind.name;
+    EXPECT_EQ(found->type, type) << kind.name;
+    const Model<double> model = TwoBodies(type, 0, 1, &random);
+    const ConstraintSet<double> set = BuildConstraintSet(model, InitialState(model).q);
+    EXPECT_EQ(static_cast<int>(DescribeRows(model, set).size()), PartRows(kind.parts[0]) + PartRows(kind.parts[1]))
+        << kind.name;
+    const bool angle = HasAngle(kind) && kind.coordinates != CoordinateSet::kPlanarAngle;  // a pin's is 2D's only
+    EXPECT_EQ(HasCoordinate(model, model.joints[0], JointCoordinate::kAngle), angle) << kind.name;
+    EXPECT_EQ(HasCoordinate(model, model.joints[0], JointCoordinate::kDisplacement), HasDisplacement(kind))
+        << kind.name;
+    Model<double> limited = model;
+    limited.joints[0].range.has_low = true;
+    limited.joints[0].range.low = -10.0;
+    if (kind.limitable && (angle || HasDisplacement(kind))) {
+      EXPECT_EQ(LimitEvents<double>(limited).size(), 1) << kind.name;  // its low side
+    } else {
+      EXPECT_THROW(LimitEvents<double>{limited}, InputError) << kind.name;
+    }
+  }
+  EXPECT_EQ(FindJointKind("ball"), nullptr);
+  EXPECT_EQ(JointTypeList(), "distance, pin, slider, hinge, universal, prismatic, cylindrical, weld or double_hinge");
 }
 
 INSTANTIATE_TEST_SUITE_P(

@@ -16,9 +16,8 @@ LimitEvents<T>::LimitEvents(const Model<T>& model) : model_(model) {
   for (size_t j = 0; j < model.joints.size(); ++j) {
     const Joint<T>& joint = model.joints[j];
     if (!joint.range.declared()) continue;
-    const JointCoordinate kind =
-        joint.type == JointType::kPrismatic ? JointCoordinate::kDisplacement : JointCoordinate::kAngle;
-    const int k = CoordinateIndex(model, static_cast<int>(j), kind);
+    const JointKind& kind = JointKindOf(joint.type);
+    const int k = kind.limitable ? CoordinateIndex(model, static_cast<int>(j), LimitedCoordinate(kind)) : -1;
     if (k < 0) {  // the scene reader refuses it; a model built in code may not have been through it
       throw InputError("constraint /constraints/" + std::to_string(joint.scene_index) +
                        " has a range but no coordinate to limit (hinge, prismatic, or a 2D pin between planar bodies)");

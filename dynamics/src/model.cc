@@ -3,7 +3,9 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <sstream>
+#include <string_view>
 
 #include "tether/dynamics/errors.h"
 
@@ -211,39 +213,25 @@ int JointIndex(const Model<T>& model, int scene_index) {
 
 template <typename T>
 bool HasCoordinate(const Model<T>& model, const Joint<T>& joint, JointCoordinate coordinate) {
-  const bool angle = coordinate == JointCoordinate::kAngle;
-  switch (joint.type) {
-    case JointType::kHinge:
-      return angle;
-    case JointType::kPrismatic:
-      return !angle;
-    case JointType::kCylindrical:
-      return true;
-    case JointType::kPin: {
-      if (!angle || model.dimension != 2) return false;
-      auto planar_or_world = [&model](int body) {
-        return body == kWorld || model.bodies[body].kind == BodyKind::kPlanar;
-      };
-      return planar_or_world(joint.a.body) && planar_or_world(joint.b.body);
-    }
-    default:
-      return false;
-  }
+  const JointKind& kind = JointKindOf(joint.type);
+  if (coordinate == JointCoordinate::kDisplacement) return HasDisplacement(kind);
+  if (kind.coordinates != CoordinateSet::kPlanarAngle) return HasAngle(kind);
+  auto planar_or_world = [&model](int body) { return body == kWorld || model.bodies[body].kind == BodyKind::kPlanar; };
+  return model.dimension == 2 && planar_or_world(joint.a.body) && planar_or_world(joint.b.body);
 }
 
-const char* JointTypeName(JointType type) {
-  switch (type) {
-    case JointType::kDistance: return "distance";
-    case JointType::kPin: return "pin";
-    case JointType::kSlider: return "slider";
-    case JointType::kHinge: return "hinge";
-    case JointType::kUniversal: return "universal";
-    case JointType::kPrismatic: return "prismatic";
-    case JointType::kCylindrical: return "cylindrical";
-    case JointType::kWeld: return "weld";
-    case JointType::kDoubleHinge: return "double_hinge";
+const JointKind* FindJointKind(std::string_view name) {
+  for (const JointKind& kind : kJointKinds) {
+    if (name == kind.name) return &kind;
   }
-  return "constraint";
+  return nullptr;
+}
+
+std::string JointTypeList() {
+  std::string list;
+  const int n = static_cast<int>(std::size(kJointKinds));
+  for (int k = 0; k < n; ++k) list += std::string(k == 0 ? "" : k + 1 == n ? " or " : ", ") + kJointKinds[k].name;
+  return list;
 }
 
 #define TETHER_INSTANTIATE_MODEL(T)                                                                              \

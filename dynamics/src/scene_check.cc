@@ -63,7 +63,7 @@ std::vector<LimitCheck> CheckLimits(const Model<double>& model) {
       LimitCheck c;
       c.constraint = joint.scene_index;
       c.name = joint.name;
-      c.coordinate = joint.type == JointType::kPrismatic ? "displacement" : "angle";
+      c.coordinate = LimitedCoordinate(JointKindOf(joint.type)) == JointCoordinate::kAngle ? "angle" : "displacement";
       c.start = stepper.coordinates().last[sides.side(i).coordinate];
       c.has_low = joint.range.has_low;
       c.has_high = joint.range.has_high;

@@ -370,8 +370,9 @@ class SceneBuilder {
       r.restitution = check_.NonNegative(*restitution, ep);
       if (!(r.restitution <= 1.0)) check_.Fail(ep, "must be <= 1 (Newton's restitution), got " + Format(r.restitution));
     }
-    const bool angle = joint->type != JointType::kPrismatic;
-    if (!HasCoordinate(model_, *joint, angle ? JointCoordinate::kAngle : JointCoordinate::kDisplacement)) {
+    const JointCoordinate coordinate = LimitedCoordinate(JointKindOf(joint->type));
+    const bool angle = coordinate == JointCoordinate::kAngle;
+    if (!HasCoordinate(model_, *joint, coordinate)) {
       check_.Fail(rp,
                   "a 2D pin has a range only between planar rigid bodies (or one and the world), which give it "
                   "an angle");
@@ -381,6 +382,19 @@ class SceneBuilder {
       check_.Fail(rp, std::string("the joint's ") + (angle ? "angle " : "displacement ") + Format(start) +
                           " at the start lies outside its range");
     }
+  }
+
+  // The keys a joint of this kind takes in this scene's dimension (joint_kinds.h): an angle's "angle" at the
+  // start, a limitable coordinate's "range" and "restitution" (a pin's only in 2D, where it has an angle).
+  std::set<std::string> SceneKeys(const JointKind& kind) const {
+    std::set<std::string> keys = {"type", "name", "bodies", "points"};
+    if (kind.placing_key == JointKey::kAxis) keys.insert("axis");
+    if (kind.placing_key == JointKey::kAxes) keys.insert("axes");
+    if (kind.placing_key == JointKey::kLength) keys.insert("length");
+    const bool angle = HasAngle(kind) && (kind.coordinates != CoordinateSet::kPlanarAngle || Dim() == 2);
+    if (angle) keys.insert("angle");
+    if (kind.limitable && (angle || HasDisplacement(kind))) keys.insert({"range", "restitution"});
+    return keys;
   }
 
   // A prismatic joint's displacement (p_B - p_A) . u at the initial state, u its unit axis turned by A.
@@ -395,54 +409,24 @@ class SceneBuilder {
       const json& c = constraints[i];
       if (!c.is_object()) check_.Fail(at, std::string("expected an object, got ") + TypeName(c));
       const std::string type = check_.String(check_.Required(c, at, "type"), Child(at, "type"));
+      const JointKind* kind = FindJointKind(type);
+      if (!kind) {
+        check_.Fail(Child(at, "type"), "unknown constraint type '" + type + "' (expected " + JointTypeList() + ")");
+      }
       Joint<double> joint;
       joint.scene_index = static_cast<int>(i);
-      const bool spatial = type == "hinge" || type == "universal" || type == "prismatic" || type == "cylindrical" ||
-                           type == "weld" || type == "double_hinge";
-      if (type == "distance") {
-        joint.type = JointType::kDistance;
-        check_.Object(c, at, {"type", "name", "bodies", "points", "length"});
-      } else if (type == "pin") {
-        joint.type = JointType::kPin;
-        if (Dim() == 2) {
-          check_.Object(c, at, {"type", "name", "bodies", "points", "angle", "range", "restitution"});
-        } else {
-          check_.Object(c, at, {"type", "name", "bodies", "points"});
-        }
-      } else if (type == "slider") {
-        joint.type = JointType::kSlider;
-        check_.Object(c, at, {"type", "name", "bodies", "points", "axis"});
-      } else if (type == "hinge") {
-        joint.type = JointType::kHinge;
-        check_.Object(c, at, {"type", "name", "bodies", "points", "axis", "angle", "range", "restitution"});
-      } else if (type == "cylindrical") {
-        joint.type = JointType::kCylindrical;
-        check_.Object(c, at, {"type", "name", "bodies", "points", "axis", "angle"});
-      } else if (type == "universal" || type == "double_hinge") {
-        joint.type = type == "universal" ? JointType::kUniversal : JointType::kDoubleHinge;
-        check_.Object(c, at, {"type", "name", "bodies", "points", "axes"});
-      } else if (type == "prismatic") {
-        joint.type = JointType::kPrismatic;
-        check_.Object(c, at, {"type", "name", "bodies", "points", "axis", "range", "restitution"});
-      } else if (type == "weld") {
-        joint.type = JointType::kWeld;
-        check_.Object(c, at, {"type", "name", "bodies", "points"});
-      } else {
-        check_.Fail(Child(at, "type"), "unknown constraint type '" + type +
-                                           "' (expected distance, pin, slider, hinge, universal, prismatic, "
-                                           "cylindrical, weld or double_hinge)");
-      }
-      if (spatial && Dim() != 3) check_.Fail(Child(at, "type"), "a " + type + " joint needs dimension 3 (in 2D a pin is the hinge)");
+      joint.type = kind->type;
+      check_.Object(c, at, SceneKeys(*kind));
+      if (kind->spatial && Dim() != 3)
+        check_.Fail(Child(at, "type"), "a " + type + " joint needs dimension 3 (in 2D a pin is the hinge)");
       joint.name = NewName(c, at, false);
       TwoBodies(c, at, &joint.a, &joint.b);
-      if (spatial) RequireOrientations(joint, at, type);
-      if (const json* axis = check_.Optional(c, "axis")) joint.axis = Axis(*axis, Child(at, "axis"), Dim());
-      if ((type == "slider" || type == "hinge" || type == "prismatic" || type == "cylindrical") && !c.contains("axis")) {
-        check_.Fail(at, "missing required key 'axis'");
-      }
+      if (kind->spatial) RequireOrientations(joint, at, type);
+      if (kind->placing_key == JointKey::kAxis)
+        joint.axis = Axis(check_.Required(c, at, "axis"), Child(at, "axis"), Dim());
       if (const json* angle = check_.Optional(c, "angle")) joint.angle = check_.Number(*angle, Child(at, "angle"));
       ReadRange(c, at, &joint);
-      if (joint.type == JointType::kUniversal || joint.type == JointType::kDoubleHinge) {
+      if (kind->placing_key == JointKey::kAxes) {
         const std::string ap = Child(at, "axes");
         const json& axes = check_.Array(check_.Required(c, at, "axes"), ap);
         if (axes.size() != 2) check_.Fail(ap, "expected two axes [in A's frame, in B's frame], got " + std::to_string(axes.size()));
@@ -450,7 +434,7 @@ class SceneBuilder {
         joint.axis_b = Axis(axes[1], Child(ap, 1), 3);
       }
       if (joint.type == JointType::kDoubleHinge) CheckAxisLinesApart(joint, at);
-      if (joint.type == JointType::kDistance) {
+      if (kind->placing_key == JointKey::kLength) {
         const double initial = (InitialPosition(joint.b) - InitialPosition(joint.a)).norm();
         if (!(initial > 0)) {
           check_.Fail(at, "the two points start at the same place, where the distance's direction is undefined");

@@ -18,14 +18,13 @@
 //              (joint_coordinates.h); its value is min(g, 0), the violation, so that the stabilization pushes
 //              the bodies apart where they overlap and never pulls them together
 //
-// The joints (model.h) as primitives; "at the start" is the state the set is built at:
-//   distance: distance    pin: point    slider: line
-//   hinge: point + angle (n_1 . a_B, n_2 . a_B; n_k normal to A's axis, a_B A's axis as seen in B at the start)
-//   universal: point + angle (u_A . u_B - its start value)     cylindrical: line + the hinge's angle rows
-//   prismatic: line + frozen orientation      weld: point + frozen orientation
+// The joints' parts (joint_kinds.h, which lists each joint's) as primitives; "at the start" is the state the set
+// is built at:
+//   common axis: angle (n_1 . a_B, n_2 . a_B; n_k normal to A's axis, a_B A's axis as seen in B at the start)
+//   crossed axes: angle (u_A . u_B - its start value)
 //   frozen orientation: angle rows (e_1 . f_2, e_2 . f_3, e_3 . f_1), e_k A's axes, f_k their images in B at the
 //   start (so that C = 0 there and the three rows are independent).
-//   double_hinge (A turns a massless link K about a_1 through o_1, K turns B about a_2 through o_2; a_1, o_1, a_2
+//   double hinge (A turns a massless link K about a_1 through o_1, K turns B about a_2 through o_2; a_1, o_1, a_2
 //   and o_2 are all fixed in K, d = o_2 - o_1): distance (|d|) + line (a_1 . d, normal a_1 on A) + line (a_2 . d
 //   from B's side, normal a_2 on B) + angle (a_1 . a_2), each as at the start. These four invariants of K are
 //   independent unless the axis lines meet (then the joint is a universal at their meeting point; the scene

@@ -159,6 +159,45 @@ void AddDoubleHinge(const Model<T>& model, const Joint<T>& joint, const VecX<T>&
   set->angles.push_back({index, joint.a.body, joint.b.body, 1, {a_1}, {a_2}, {T(a_1W.dot(a_2W))}});
 }
 
+// The angle row that keeps the angle between A's `axis` and B's `axis_b` as it is at configuration q.
+template <typename T>
+AnglePrimitive<T> CrossedAxes(const Model<T>& model, const Joint<T>& joint, const VecX<T>& q) {
+  const Vec3<T> u = Unit(joint.axis), w = Unit(joint.axis_b);
+  const Vec3<T> u_W = RotationAt(model, joint.a.body, q) * u;
+  const Vec3<T> w_W = RotationAt(model, joint.b.body, q) * w;
+  return {joint.scene_index, joint.a.body, joint.b.body, 1, {u}, {w}, {T(u_W.dot(w_W))}};
+}
+
+// One part of a joint (joint_kinds.h) as it is at configuration q.
+template <typename T>
+void AddPart(const Model<T>& model, const Joint<T>& joint, JointPart part, const VecX<T>& q, ConstraintSet<T>* set) {
+  switch (part) {
+    case JointPart::kNone:
+      break;
+    case JointPart::kDistance:
+      set->distances.push_back({joint.scene_index, joint.a, joint.b, joint.length});
+      break;
+    case JointPart::kPoint:
+      set->points.push_back({joint.scene_index, joint.a, joint.b});
+      break;
+    case JointPart::kLine:
+      set->lines.push_back(Line(model, joint));
+      break;
+    case JointPart::kCommonAxis:
+      set->angles.push_back(CommonAxis(model, joint, q));
+      break;
+    case JointPart::kCrossedAxes:
+      set->angles.push_back(CrossedAxes(model, joint, q));
+      break;
+    case JointPart::kFrozenOrientation:
+      set->angles.push_back(FrozenOrientation(model, joint, q));
+      break;
+    case JointPart::kDoubleHinge:
+      AddDoubleHinge(model, joint, q, set);
+      break;
+  }
+}
+
 template <typename T>
 BodyState<T> StateOf(const Model<T>& model, int body, const VecX<T>& q, const VecX<T>& v, bool velocity_terms) {
   if (body == kWorld) return {};
@@ -224,48 +263,13 @@ void AxisNormals(int dimension, const Vec3<T>& axis, Vec3<T>* n1, Vec3<T>* n2) {
   *n2 = axis.cross(*n1);
 }
 
+// A joint's rows are its kind's parts (joint_kinds.h), each one primitive as it is at configuration q.
 template <typename T>
 ConstraintSet<T> BuildConstraintSet(const Model<T>& model, const VecX<T>& q) {
   ConstraintSet<T> set;
   for (const Joint<T>& joint : model.joints) {
-    const int index = joint.scene_index;
-    switch (joint.type) {
-      case JointType::kDistance:
-        set.distances.push_back({index, joint.a, joint.b, joint.length});
-        break;
-      case JointType::kPin:
-        set.points.push_back({index, joint.a, joint.b});
-        break;
-      case JointType::kSlider:
-        set.lines.push_back(internal::Line(model, joint));
-        break;
-      case JointType::kHinge:
-        set.points.push_back({index, joint.a, joint.b});
-        set.angles.push_back(internal::CommonAxis(model, joint, q));
-        break;
-      case JointType::kUniversal: {
-        const Vec3<T> u = internal::Unit(joint.axis), w = internal::Unit(joint.axis_b);
-        const Vec3<T> u_W = internal::RotationAt(model, joint.a.body, q) * u;
-        const Vec3<T> w_W = internal::RotationAt(model, joint.b.body, q) * w;
-        set.points.push_back({index, joint.a, joint.b});
-        set.angles.push_back({index, joint.a.body, joint.b.body, 1, {u}, {w}, {T(u_W.dot(w_W))}});
-        break;
-      }
-      case JointType::kPrismatic:
-        set.lines.push_back(internal::Line(model, joint));
-        set.angles.push_back(internal::FrozenOrientation(model, joint, q));
-        break;
-      case JointType::kCylindrical:
-        set.lines.push_back(internal::Line(model, joint));
-        set.angles.push_back(internal::CommonAxis(model, joint, q));
-        break;
-      case JointType::kWeld:
-        set.points.push_back({index, joint.a, joint.b});
-        set.angles.push_back(internal::FrozenOrientation(model, joint, q));
-        break;
-      case JointType::kDoubleHinge:
-        internal::AddDoubleHinge(model, joint, q, &set);
-        break;
+    for (const JointPart part : JointKindOf(joint.type).parts) {
+      internal::AddPart(model, joint, part, q, &set);
     }
   }
   return set;

@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "tether/dynamics/joint_kinds.h"
 #include "tether/dynamics/scalar.h"
 
 namespace tether {
@@ -64,22 +65,6 @@ struct BodyPoint {
   Vec3<T> local = Vec3<T>::Zero();
 };
 
-// The built-in constraints (CONTRACT.md), each a list of constraint primitives (constraint_rows.h):
-//   distance     |p_B - p_A| = length
-//   pin          p_B = p_A (a revolute joint in 2D, a ball joint in 3D)
-//   slider       p_B on the line through p_A along `axis` (A's frame)
-//   hinge        pin + the axis common to A and B (3D rigid bodies)
-//   universal    pin + the angle between `axis` (A) and `axis_b` (B) as at the start
-//   prismatic    slider + the relative orientation as at the start
-//   cylindrical  slider + the axis common to A and B
-//   weld         pin + the relative orientation as at the start
-//   double_hinge two hinges in series through a massless link: A turns the link about `axis` through A's point,
-//                the link turns B about `axis_b` through B's point; the link's invariants as at the start
-enum class JointType { kDistance, kPin, kSlider, kHinge, kUniversal, kPrismatic, kCylindrical, kWeld, kDoubleHinge };
-
-// "hinge", "pin", ...: the scene file's name of a joint type.
-const char* JointTypeName(JointType type);
-
 // A joint's limits on its coordinate (hinge, prismatic, 2D hinge pin): the gaps coordinate - low >= 0 and
 // high - coordinate >= 0, each side present or open; Newton's restitution e at an impact on either (limit_events.h).
 template <typename T>
@@ -90,6 +75,7 @@ struct JointRange {
   bool declared() const { return has_low || has_high; }
 };
 
+// A joint of the scene; its type's parts, keys and coordinates are in joint_kinds.h.
 template <typename T>
 struct Joint {
   int scene_index = 0;
@@ -102,9 +88,6 @@ struct Joint {
   T angle = T(0.0);                     // hinge, cylindrical, 2D hinge pin: the angle coordinate at the start
   JointRange<T> range;                  // hinge, prismatic, 2D hinge pin: limits on the coordinate
 };
-
-// The coordinates of a joint (CSV columns NAME.angle, NAME.omega; NAME.displacement, NAME.speed).
-enum class JointCoordinate { kAngle, kDisplacement };
 
 // A constraint given as a residual function of two bodies' coordinates (see user_constraint.h).
 struct UserConstraintInstance {
@@ -297,8 +280,8 @@ int AddJoint(Model<T>* model, const Joint<T>& joint);
 template <typename T>
 int JointIndex(const Model<T>& model, int scene_index);
 
-// The coordinates a joint has (CONTRACT.md): a hinge its angle, a prismatic joint its displacement, a cylindrical
-// joint both, a named 2D pin between planar rigid bodies (or one and the world) its angle; none otherwise.
+// Whether a joint has a coordinate (its kind's, joint_kinds.h; a 2D pin's angle only between planar rigid bodies,
+// or one and the world).
 template <typename T>
 bool HasCoordinate(const Model<T>& model, const Joint<T>& joint, JointCoordinate coordinate);
 
