@@ -170,6 +170,7 @@ void StepModel(benchmark::State& state, const Model<double>& model) {
   VecX<double> q = start.q, v = start.v;
   const double h = model.simulation.step;
   int step = 0;
+  TimeIntegrator<double> integrator(model);
   for (auto _ : state) {
     if (step == kStepsPerRun) {
       state.PauseTiming();
@@ -178,7 +179,7 @@ void StepModel(benchmark::State& state, const Model<double>& model) {
       step = 0;
       state.ResumeTiming();
     }
-    if (Advance(model, step * h, h, &ws, &q, &v) != StepStatus::kOk) {
+    if (integrator.Advance(step * h, h, &ws, &q, &v) != StepStatus::kOk) {
       state.SkipWithError("a step failed");
       break;
     }

@@ -40,7 +40,8 @@ struct Evaluated {
     v = start.v;
     workspace = std::make_unique<Workspace<double>>(model, q);
     GainsInUse(model, &workspace->alpha, &workspace->beta);
-    for (double t = 0.0; t < kSettleTime; t += kPeerStep) Advance(model, t, kPeerStep, workspace.get(), &q, &v, {});
+    TimeIntegrator<double> integrator(model);
+    for (double t = 0.0; t < kSettleTime; t += kPeerStep) integrator.Advance(t, kPeerStep, workspace.get(), &q, &v);
     acceleration.setZero(v.size());
     ComputeAcceleration(model, 0.0, q, v, workspace.get(), &acceleration);
   }
@@ -55,6 +56,7 @@ void Part(benchmark::State& state, Mechanism mechanism, const std::string& part)
   SparseLdlt factor(*ws.pattern);
   factor.Factor(ws.kkt.schur);
   VecX<double> x = ws.kkt.rhs, q = e.q, v = e.v;
+  TimeIntegrator<double> integrator(e.model);
   const std::function<void()> run = [&]() -> std::function<void()> {
     if (part == "frames") return [&] { UpdateFrames(e.model, e.q, e.v, true, &ws.frames); };
     if (part == "forces") {
@@ -73,7 +75,7 @@ void Part(benchmark::State& state, Mechanism mechanism, const std::string& part)
     return [&] {  // rk4_step, always from the settled state
       q = e.q;
       v = e.v;
-      Advance(e.model, 0.0, kPeerStep, &ws, &q, &v, {});
+      integrator.Advance(0.0, kPeerStep, &ws, &q, &v);
     };
   }();
   for (auto _ : state) {

@@ -21,70 +21,76 @@ struct AddScaledBy {
 };
 
 template <typename T>
-StepStatus Euler(const Model<T>& model, double t, double h, Workspace<T>* ws, VecX<T>* q, VecX<T>* v) {
-  VecX<T>& a = ws->stage_v[0];
+StepStatus Euler(const Model<T>& model, double t, double h, Workspace<T>* ws, IntegratorScratch<T>* s, VecX<T>* q,
+                 VecX<T>* v) {
+  VecX<T>& a = s->stage_v[0];
   if (!ComputeAcceleration(model, t, *q, *v, ws, &a)) return StepStatus::kSolveFailed;
-  Integrate(model, *q, *v, h, &ws->next_q);
-  q->swap(ws->next_q);
+  Integrate(model, *q, *v, h, &s->next_q);
+  q->swap(s->next_q);
   Elementwise(v, AddScaledBy{h}, *v, a);
   return StepStatus::kOk;
 }
 
 template <typename T>
-StepStatus SymplecticEuler(const Model<T>& model, double t, double h, Workspace<T>* ws, VecX<T>* q, VecX<T>* v) {
-  VecX<T>& a = ws->stage_v[0];
+StepStatus SymplecticEuler(const Model<T>& model, double t, double h, Workspace<T>* ws, IntegratorScratch<T>* s,
+                           VecX<T>* q, VecX<T>* v) {
+  VecX<T>& a = s->stage_v[0];
   if (!ComputeAcceleration(model, t, *q, *v, ws, &a)) return StepStatus::kSolveFailed;
   Elementwise(v, AddScaledBy{h}, *v, a);
-  Integrate(model, *q, *v, h, &ws->next_q);
-  q->swap(ws->next_q);
+  Integrate(model, *q, *v, h, &s->next_q);
+  q->swap(s->next_q);
   return StepStatus::kOk;
 }
 
-// A Munthe-Kaas stage at the state ws->trial_q = q (+) theta, ws->trial_v: its acceleration into *a and its stage
-// derivative DexpInv(theta, v_stage) into *k (without 3D bodies K_i is v_i, and ws->theta is not read).
+// A Munthe-Kaas stage at the state s->trial_q = q (+) theta, s->trial_v: its acceleration into *a and its stage
+// derivative DexpInv(theta, v_stage) into *k (without 3D bodies K_i is v_i, and s->theta is not read).
 template <typename T>
-bool StageAt(const Model<T>& model, double t, Workspace<T>* ws, VecX<T>* k, VecX<T>* a) {
-  if (!ComputeAcceleration(model, t, ws->trial_q, ws->trial_v, ws, a)) return false;
+bool StageAt(const Model<T>& model, double t, Workspace<T>* ws, IntegratorScratch<T>* s, VecX<T>* k, VecX<T>* a) {
+  if (!ComputeAcceleration(model, t, s->trial_q, s->trial_v, ws, a)) return false;
   if (model.spatial_bodies.empty()) {
-    *k = ws->trial_v;
+    *k = s->trial_v;
   } else {
-    DexpInv(model, ws->theta, ws->trial_v, k);
+    DexpInv(model, s->theta, s->trial_v, k);
   }
   return true;
 }
 
-// The same from q and the increment ws->theta.
+// The same from q and the increment s->theta.
 template <typename T>
-bool Stage(const Model<T>& model, double t, const VecX<T>& q, Workspace<T>* ws, VecX<T>* k, VecX<T>* a) {
-  Integrate(model, q, ws->theta, 1.0, &ws->trial_q);
-  return StageAt(model, t, ws, k, a);
+bool Stage(const Model<T>& model, double t, const VecX<T>& q, Workspace<T>* ws, IntegratorScratch<T>* s, VecX<T>* k,
+           VecX<T>* a) {
+  Integrate(model, q, s->theta, 1.0, &s->trial_q);
+  return StageAt(model, t, ws, s, k, a);
 }
 
 template <typename T>
-StepStatus Rk4(const Model<T>& model, double t, double h, Workspace<T>* ws, VecX<T>* q, VecX<T>* v) {
-  auto& kq = ws->stage_q;
-  auto& kv = ws->stage_v;
+StepStatus Rk4(const Model<T>& model, double t, double h, Workspace<T>* ws, IntegratorScratch<T>* s, VecX<T>* q,
+               VecX<T>* v) {
+  auto& kq = s->stage_q;
+  auto& kv = s->stage_v;
   const double c[4] = {0.0, 0.5, 0.5, 1.0};
   const bool spatial = !model.spatial_bodies.empty();
-  for (int s = 0; s < 4; ++s) {  // theta_s = c_s h K_{s-1}: q (+) theta_s is Integrate(q, K_{s-1}, c_s h)
-    if (s == 0) {
-      ws->trial_q = *q;
-      ws->trial_v = *v;
-      if (spatial) ws->theta.setZero();
+  for (int st = 0; st < 4; ++st) {  // theta_s = c_s h K_{s-1}: q (+) theta_s is Integrate(q, K_{s-1}, c_s h)
+    if (st == 0) {
+      s->trial_q = *q;
+      s->trial_v = *v;
+      if (spatial) s->theta.setZero();
     } else {
-      Integrate(model, *q, kq[s - 1], c[s] * h, &ws->trial_q);
-      Elementwise(&ws->trial_v, AddScaledBy{c[s] * h}, *v, kv[s - 1]);
-      if (spatial) Elementwise(&ws->theta, [ch = c[s] * h](const auto& k) { return ch * k; }, kq[s - 1]);
+      Integrate(model, *q, kq[st - 1], c[st] * h, &s->trial_q);
+      Elementwise(&s->trial_v, AddScaledBy{c[st] * h}, *v, kv[st - 1]);
+      if (spatial)
+        Elementwise(
+            &s->theta, [ch = c[st] * h](const auto& k) { return ch * k; }, kq[st - 1]);
     }
-    if (!StageAt(model, t + c[s] * h, ws, &kq[s], &kv[s])) return StepStatus::kSolveFailed;
+    if (!StageAt(model, t + c[st] * h, ws, s, &kq[st], &kv[st])) return StepStatus::kSolveFailed;
   }
   const double sixth = h / 6.0;
   const auto increment = [sixth](const auto& k0, const auto& k1, const auto& k2, const auto& k3) {
     return sixth * (k0 + 2.0 * k1 + 2.0 * k2 + k3);
   };
-  Elementwise(&ws->theta, increment, kq[0], kq[1], kq[2], kq[3]);
-  Integrate(model, *q, ws->theta, 1.0, &ws->next_q);
-  q->swap(ws->next_q);
+  Elementwise(&s->theta, increment, kq[0], kq[1], kq[2], kq[3]);
+  Integrate(model, *q, s->theta, 1.0, &s->next_q);
+  q->swap(s->next_q);
   const auto step = [&increment](const auto& x, const auto& k0, const auto& k1, const auto& k2, const auto& k3) {
     return x + increment(k0, k1, k2, k3);
   };
@@ -114,41 +120,41 @@ double ConfigurationScale(const VecX<T>& q, const Body<T>& body, int k) {
   return std::abs(Value(q[body.q_offset + k]));
 }
 
-// One Dormand-Prince trial step of size h from (q, v); the result is left in ws->next_q/next_v and the
+// One Dormand-Prince trial step of size h from (q, v); the result is left in s->next_q/next_v and the
 // scaled error norm is returned (infinity when a stage or the error's projection failed).
 template <typename T>
 double DormandPrinceTrial(const Model<T>& model, double t, double h, double tolerance, const VecX<T>& q,
-                          const VecX<T>& v, Workspace<T>* ws) {
-  auto& kq = ws->stage_q;
-  auto& kv = ws->stage_v;
-  if (!ws->rk45_first_stage_valid) {
+                          const VecX<T>& v, Workspace<T>* ws, IntegratorScratch<T>* s) {
+  auto& kq = s->stage_q;
+  auto& kv = s->stage_v;
+  if (!s->rk45_first_stage_valid) {
     kq[0] = v;
     if (!ComputeAcceleration(model, t, q, v, ws, &kv[0])) return INFINITY;
-    ws->rk45_first_stage_valid = true;
+    s->rk45_first_stage_valid = true;
   }
-  for (int s = 1; s < 7; ++s) {
-    ws->theta.setZero();
-    ws->trial_v = v;
-    for (int j = 0; j < s; ++j) {
-      if (kA[s][j] == 0.0) continue;
-      Elementwise(&ws->theta, AddScaledBy{h * kA[s][j]}, ws->theta, kq[j]);
-      Elementwise(&ws->trial_v, AddScaledBy{h * kA[s][j]}, ws->trial_v, kv[j]);
+  for (int st = 1; st < 7; ++st) {
+    s->theta.setZero();
+    s->trial_v = v;
+    for (int j = 0; j < st; ++j) {
+      if (kA[st][j] == 0.0) continue;
+      Elementwise(&s->theta, AddScaledBy{h * kA[st][j]}, s->theta, kq[j]);
+      Elementwise(&s->trial_v, AddScaledBy{h * kA[st][j]}, s->trial_v, kv[j]);
     }
-    if (!Stage(model, t + kC[s] * h, q, ws, &kq[s], &kv[s])) return INFINITY;
+    if (!Stage(model, t + kC[st] * h, q, ws, s, &kq[st], &kv[st])) return INFINITY;
   }
-  ws->next_q = ws->trial_q;  // stage 6 is evaluated at the fifth-order solution
-  ws->next_v = ws->trial_v;
-  VecX<T>& error_q = ws->error_q;
-  VecX<T>& error_v = ws->error_v;
+  s->next_q = s->trial_q;  // stage 6 is evaluated at the fifth-order solution
+  s->next_v = s->trial_v;
+  VecX<T>& error_q = s->error_q;
+  VecX<T>& error_v = s->error_v;
   error_q.setZero();
   error_v.setZero();
-  for (int s = 0; s < 7; ++s) {
-    error_q += kE[s] * kq[s];
-    error_v += kE[s] * kv[s];
+  for (int st = 0; st < 7; ++st) {
+    error_q += kE[st] * kq[st];
+    error_v += kE[st] * kv[st];
   }
   if (model.stabilization.method == Stabilization::kProjection) {
     // the projection after the step removes the error's part normal to the constraints: control the rest
-    if (!ProjectVelocities(model, ws->next_q, ws, &error_q) || !ProjectVelocities(model, ws->next_q, ws, &error_v)) {
+    if (!ProjectVelocities(model, s->next_q, ws, &error_q) || !ProjectVelocities(model, s->next_q, ws, &error_v)) {
       return INFINITY;
     }
   }
@@ -159,8 +165,8 @@ double DormandPrinceTrial(const Model<T>& model, double t, double h, double tole
       const int i = body.v_offset + k;
       const double eq = Value(error_q[i]), ev = Value(error_v[i]);
       const double scale_q =
-          tolerance * (1.0 + std::max(ConfigurationScale(q, body, k), ConfigurationScale(ws->next_q, body, k)));
-      const double scale_v = tolerance * (1.0 + std::max(std::abs(Value(v[i])), std::abs(Value(ws->next_v[i]))));
+          tolerance * (1.0 + std::max(ConfigurationScale(q, body, k), ConfigurationScale(s->next_q, body, k)));
+      const double scale_v = tolerance * (1.0 + std::max(std::abs(Value(v[i])), std::abs(Value(s->next_v[i]))));
       sum += (h * eq / scale_q) * (h * eq / scale_q) + (h * ev / scale_v) * (h * ev / scale_v);
     }
   }
@@ -169,62 +175,92 @@ double DormandPrinceTrial(const Model<T>& model, double t, double h, double tole
 }
 
 template <typename T>
-StepStatus Rk45(const Model<T>& model, double t, double h, Workspace<T>* ws, VecX<T>* q, VecX<T>* v,
-                const SettleState<T>& settle) {
+StepStatus Rk45(const Model<T>& model, double t, double h, Workspace<T>* ws, IntegratorScratch<T>* s, VecX<T>* q,
+                VecX<T>* v, const SettleState<T>& settle) {
   const double tolerance = model.simulation.tolerance;
   const double t_end = t + h;
   const double smallest = 1e-12 * h;
-  if (ws->rk45_step <= 0.0) ws->rk45_step = h;
-  ws->rk45_first_stage_valid = false;  // the state may have been changed (projection) since the last step
+  if (s->rk45_step <= 0.0) s->rk45_step = h;
+  s->rk45_first_stage_valid = false;  // the state may have been changed (projection) since the last step
   while (t_end - t > smallest) {
     const double remaining = t_end - t;
-    const double trial = std::min(ws->rk45_step, remaining);
-    const double error = DormandPrinceTrial(model, t, trial, tolerance, *q, *v, ws);
+    const double trial = std::min(s->rk45_step, remaining);
+    const double error = DormandPrinceTrial(model, t, trial, tolerance, *q, *v, ws, s);
     const double factor = error == 0.0 ? 5.0 : std::min(5.0, std::max(0.2, 0.9 * std::pow(error, -0.2)));
     if (error <= 1.0) {
       t += trial;
-      q->swap(ws->next_q);
-      v->swap(ws->next_v);
-      std::swap(ws->stage_v[0], ws->stage_v[6]);  // first same as last: the acceleration at the new state,
-      ws->stage_q[0] = *v;                        // and the stage derivative there (theta = 0)
-      if (settle && settle(t, q, v)) ws->rk45_first_stage_valid = false;
+      q->swap(s->next_q);
+      v->swap(s->next_v);
+      std::swap(s->stage_v[0], s->stage_v[6]);  // first same as last: the acceleration at the new state,
+      s->stage_q[0] = *v;                       // and the stage derivative there (theta = 0)
+      if (settle && settle(t, q, v)) s->rk45_first_stage_valid = false;
       // a step cut short to land on the grid says nothing about the next one
-      if (trial == ws->rk45_step || factor < 1.0) ws->rk45_step = trial * factor;
+      if (trial == s->rk45_step || factor < 1.0) s->rk45_step = trial * factor;
     } else {
-      ws->rk45_step = trial * (std::isfinite(error) ? factor : 0.2);
-      if (!std::isfinite(error)) ws->rk45_first_stage_valid = false;
-      if (ws->rk45_step < smallest) return StepStatus::kStepSizeUnderflow;
+      s->rk45_step = trial * (std::isfinite(error) ? factor : 0.2);
+      if (!std::isfinite(error)) s->rk45_first_stage_valid = false;
+      if (s->rk45_step < smallest) return StepStatus::kStepSizeUnderflow;
     }
   }
   return StepStatus::kOk;
 }
 
-}  // namespace
-
-template <typename T>
-StepStatus Advance(const Model<T>& model, double t, double h, Workspace<T>* ws, VecX<T>* q, VecX<T>* v,
-                   const SettleState<T>& settle) {
-  StepStatus status = StepStatus::kOk;
-  switch (model.simulation.integrator) {
-    case Integrator::kEuler:
-      status = Euler(model, t, h, ws, q, v);
-      break;
-    case Integrator::kSymplecticEuler:
-      status = SymplecticEuler(model, t, h, ws, q, v);
-      break;
-    case Integrator::kRk4:
-      status = Rk4(model, t, h, ws, q, v);
-      break;
-    case Integrator::kRk45:
-      return Rk45(model, t, h, ws, q, v, settle);  // settles after each of its internal steps
-  }
+// A method of one step per call, then settled.
+template <typename T,
+          StepStatus (*Step)(const Model<T>&, double, double, Workspace<T>*, IntegratorScratch<T>*, VecX<T>*, VecX<T>*)>
+StepStatus SettledStep(const Model<T>& model, double t, double h, Workspace<T>* ws, IntegratorScratch<T>* s, VecX<T>* q,
+                       VecX<T>* v, const SettleState<T>& settle) {
+  const StepStatus status = Step(model, t, h, ws, s, q, v);
   if (status == StepStatus::kOk && settle) settle(t + h, q, v);
   return status;
 }
 
+template <typename T>
+typename TimeIntegrator<T>::Method MethodOf(Integrator integrator) {
+  switch (integrator) {
+    case Integrator::kEuler:
+      return SettledStep<T, Euler<T>>;
+    case Integrator::kSymplecticEuler:
+      return SettledStep<T, SymplecticEuler<T>>;
+    case Integrator::kRk4:
+      return SettledStep<T, Rk4<T>>;
+    case Integrator::kRk45:
+      return Rk45<T>;  // settles after each of its internal steps
+  }
+  return SettledStep<T, Euler<T>>;  // unreachable: every Integrator is listed
+}
+
+}  // namespace
+
+template <typename T>
+IntegratorScratch<T>::IntegratorScratch(const Model<T>& model) {
+  const int nq = model.NumCoordinates(), nv = model.NumVelocities();
+  for (int k = 0; k < 7; ++k) {
+    stage_q[k].setZero(nv);
+    stage_v[k].setZero(nv);
+  }
+  theta.setZero(nv);
+  trial_q.setZero(nq);
+  trial_v.setZero(nv);
+  next_q.setZero(nq);
+  next_v.setZero(nv);
+  error_q.setZero(nv);
+  error_v.setZero(nv);
+}
+
+template <typename T>
+TimeIntegrator<T>::TimeIntegrator(const Model<T>& model)
+    : model_(model), method_(MethodOf<T>(model.simulation.integrator)), scratch_(model) {}
+
+template <typename T>
+StepStatus TimeIntegrator<T>::Advance(double t, double h, Workspace<T>* ws, VecX<T>* q, VecX<T>* v,
+                                      const SettleState<T>& settle) {
+  return method_(model_, t, h, ws, &scratch_, q, v, settle);
+}
+
 #define TETHER_INSTANTIATE_INTEGRATORS(T) \
-  template StepStatus Advance<T>(const Model<T>&, double, double, Workspace<T>*, VecX<T>*, VecX<T>*, \
-                                 const SettleState<T>&);
+  template struct IntegratorScratch<T>;   \
+  template class TimeIntegrator<T>;
 TETHER_FOR_EACH_SCALAR(TETHER_INSTANTIATE_INTEGRATORS)
 
 }  // namespace tether

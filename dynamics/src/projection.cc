@@ -23,8 +23,8 @@ ProjectionResult ProjectPositions(const Model<T>& model, double tolerance, Works
     result.converged = true;
     return result;
   }
-  const VecX<T>& unused_velocity = ws->trial_v;  // position-only evaluation does not read velocities
-  ws->trial_q = *q;                              // the target q_t
+  const VecX<T>& unused_velocity = ws->force;  // position-only evaluation does not read velocities
+  ws->projection_q = *q;                       // the target q_t
   // One more iteration after the values converge lets Jet derivatives settle; doubles take it too, so that the
   // value part of a Jet run stays the double run to round-off (one code path for every scalar).
   int settle = 1;
@@ -37,13 +37,13 @@ ProjectionResult ProjectPositions(const Model<T>& model, double tolerance, Works
     }
     if (result.iterations == kMaxIterations) break;
     // S mu = C(q_k) - J d_k with d_k = q_k (-) q_t, then q_{k+1} = q_t (+) (-M^-1 J^T mu)
-    Difference(model, ws->trial_q, *q, &ws->reaction);
+    Difference(model, ws->projection_q, *q, &ws->reaction);
     MultiplyJacobian(model, ws->reaction, ws);
     for (size_t i = 0; i < ws->rows.size(); ++i) ws->kkt.rhs[i] = ws->rows[i].value - ws->kkt.rhs[i];
     AssembleSchur(ws);
     if (!ws->solver->Solve(ws->kkt.schur, ws->kkt.rhs, &ws->kkt.lambda)) break;
     ApplyReaction(model, ws, &ws->reaction);
-    Integrate(model, ws->trial_q, ws->reaction, -1.0, q);
+    Integrate(model, ws->projection_q, ws->reaction, -1.0, q);
   }
   return result;
 }
@@ -62,7 +62,7 @@ ProjectionResult ProjectPositionsRobustly(const Model<T>& model, double toleranc
   for (Mat3<T>& block : ws->inverse_mass.rotational) {
     if (!block.isZero()) block = Mat3<T>::Identity();
   }
-  const VecX<T>& unused_velocity = ws->trial_v;
+  const VecX<T>& unused_velocity = ws->force;
   EvaluateRows(model, *q, unused_velocity, false, ws);
   double merit = SquaredViolation(ws->rows), damping = 1e-3;
   for (result.iterations = 0; result.iterations < kMaxIterations; ++result.iterations) {
@@ -72,7 +72,7 @@ ProjectionResult ProjectPositionsRobustly(const Model<T>& model, double toleranc
     AssembleSchur(ws);
     const std::vector<T> schur = ws->kkt.schur;
     const std::vector<ConstraintRow<T>> rows = ws->rows;
-    ws->trial_q = *q;
+    ws->projection_q = *q;
     bool decreased = false;
     while (!decreased && damping <= kLargestDamping) {
       ws->kkt.schur = schur;
@@ -81,7 +81,7 @@ ProjectionResult ProjectPositionsRobustly(const Model<T>& model, double toleranc
       ws->rows = rows;
       if (!ws->solver->Solve(ws->kkt.schur, ws->kkt.rhs, &ws->kkt.lambda)) break;
       ApplyReaction(model, ws, &ws->reaction);
-      Integrate(model, ws->trial_q, ws->reaction, -1.0, q);
+      Integrate(model, ws->projection_q, ws->reaction, -1.0, q);
       EvaluateRows(model, *q, unused_velocity, false, ws);
       const double trial = SquaredViolation(ws->rows);
       decreased = trial < merit;
@@ -93,7 +93,7 @@ ProjectionResult ProjectPositionsRobustly(const Model<T>& model, double toleranc
       }
     }
     if (!decreased) {  // no damping helps: stop where it was
-      *q = ws->trial_q;
+      *q = ws->projection_q;
       EvaluateRows(model, *q, unused_velocity, false, ws);
       break;
     }

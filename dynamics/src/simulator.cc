@@ -141,6 +141,7 @@ Stepper<T>::Stepper(const Model<T>& model, const RunOptions& options, Observer o
       observer_(std::move(observer)),
       state_(InitialState(model)),
       ws_(model, state_.q, options.factor_jet_matrices),
+      integrator_(model),
       scale_(LengthScale(model)),
       h_(model.simulation.step),
       limits_(model) {
@@ -342,7 +343,7 @@ void Stepper<T>::AdvanceSmooth(double t, double dt) {
   VecX<T>& q = state_.q;
   VecX<T>& v = state_.v;
   ws_.solver->ForgetConditioning();
-  const StepStatus status = tether::Advance(model_, t, dt, &ws_, &q, &v, settle_);
+  const StepStatus status = integrator_.Advance(t, dt, &ws_, &q, &v, settle_);
   const double t_next = t + dt;
   if (status == StepStatus::kSolveFailed) throw Diverged(t_next, "the constraint system became singular or non-finite");
   if (status == StepStatus::kStepSizeUnderflow) throw Diverged(t_next, "rk45's step size collapsed");
@@ -415,8 +416,8 @@ void Stepper<T>::SaveInto(Carry* carry) const {
   memory.step = step_;
   memory.time = time_;
   memory.next_stop = next_stop_;
-  memory.rk45_step = ws_.rk45_step;
-  memory.starts_regularized = ws_.solver->starts_regularized();
+  memory.integrator = integrator_.memory();
+  memory.solver = ws_.solver->memory();
   memory.coordinate_branches = ws_.coordinates.last;
   memory.active_limits = limits_.active_set();
 }
@@ -429,9 +430,9 @@ void Stepper<T>::Restore(const Carry& carry) {
   step_ = memory.step;
   time_ = memory.time;
   next_stop_ = memory.next_stop;
-  ws_.rk45_step = memory.rk45_step;
-  limits_.SetActiveSet(memory.active_limits, &ws_);  // before the solver's state: the set picks the solver
-  ws_.solver->set_starts_regularized(memory.starts_regularized);
+  integrator_.Restore(memory.integrator);
+  limits_.SetActiveSet(memory.active_limits, &ws_);  // before the solver's memory: the set picks the solver
+  ws_.solver->Restore(memory.solver);
   ws_.coordinates.last = memory.coordinate_branches;
 }
 

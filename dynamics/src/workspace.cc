@@ -74,17 +74,7 @@ Workspace<T>::Workspace(const Model<T>& model, const VecX<T>& q_start, bool fact
   frames.resize(model.bodies.size());
   force.setZero(nv);
   reaction.setZero(nv);
-  for (int s = 0; s < 7; ++s) {
-    stage_q[s].setZero(nv);
-    stage_v[s].setZero(nv);
-  }
-  theta.setZero(nv);
-  trial_q.setZero(nq);
-  trial_v.setZero(nv);
-  next_q.setZero(nq);
-  next_v.setZero(nv);
-  error_q.setZero(nv);
-  error_v.setZero(nv);
+  projection_q.setZero(nq);
 }
 
 template <typename T>

@@ -28,10 +28,15 @@
 // After every step that an integrator takes (for rk45: every accepted internal step), `settle` may move the
 // state back onto the constraints (the projection stabilization, or the guard near singular configurations in
 // simulator.cc); it returns whether it changed the state.
+//
+// A run's integrator owns its state (TimeIntegrator: the stages and, for rk45, the step-size controller); what
+// the rest of tether knows of a method (order, stages, stability) is its descriptor (integrator_descriptor.h).
 #pragma once
 
+#include <array>
 #include <functional>
 
+#include "tether/dynamics/integrator_descriptor.h"
 #include "tether/dynamics/workspace.h"
 
 namespace tether {
@@ -41,9 +46,45 @@ enum class StepStatus { kOk, kSolveFailed, kStepSizeUnderflow };
 template <typename T>
 using SettleState = std::function<bool(double t, VecX<T>* q, VecX<T>* v)>;
 
-// Advances (q, v) from t to t + h with the model's integrator; `settle` may be empty.
+// What an integrator carries from one step of a run to the next (a checkpoint's part of it, stepper.h): rk45's
+// next internal step (0: not started). Plain data, the same for every scalar. (rk45's first stage carries over
+// only between the internal steps of one step: each step starts afresh.)
+struct IntegratorMemory {
+  double step = 0.0;
+};
+
+// The stages and trial states of a step (v-shaped: Munthe-Kaas stage derivatives K and accelerations) and rk45's
+// controller.
 template <typename T>
-StepStatus Advance(const Model<T>& model, double t, double h, Workspace<T>* ws, VecX<T>* q, VecX<T>* v,
-                   const SettleState<T>& settle = {});
+struct IntegratorScratch {
+  explicit IntegratorScratch(const Model<T>& model);
+  std::array<VecX<T>, 7> stage_q, stage_v;
+  VecX<T> theta;  // a stage's increment h sum a_ij K_j (size nv)
+  VecX<T> trial_q, trial_v, next_q, next_v;
+  VecX<T> error_q, error_v;             // rk45's local error estimate (size nv each)
+  double rk45_step = 0.0;               // rk45's current internal step (0: not started)
+  bool rk45_first_stage_valid = false;  // first-same-as-last: stage 0 holds f at the current state
+};
+
+// The model's integrator with its state, for one run.
+template <typename T>
+class TimeIntegrator {
+ public:
+  explicit TimeIntegrator(const Model<T>& model);
+
+  // Advances (q, v) from t to t + h; `settle` may be empty.
+  StepStatus Advance(double t, double h, Workspace<T>* ws, VecX<T>* q, VecX<T>* v, const SettleState<T>& settle = {});
+
+  IntegratorMemory memory() const { return {scratch_.rk45_step}; }
+  void Restore(const IntegratorMemory& memory) { scratch_.rk45_step = memory.step; }
+
+  using Method = StepStatus (*)(const Model<T>&, double, double, Workspace<T>*, IntegratorScratch<T>*, VecX<T>*,
+                                VecX<T>*, const SettleState<T>&);
+
+ private:
+  const Model<T>& model_;
+  Method method_;  // the model's, chosen once
+  IntegratorScratch<T> scratch_;
+};
 
 }  // namespace tether

@@ -55,6 +55,12 @@ inline constexpr double kRedundantPivotRatio = 1e-9;
 // The path a request takes: kAuto becomes kSparse.
 KktSolver ResolveSolver(KktSolver requested);
 
+// What the solver carries from one step of a run to the next (a checkpoint's part of it, stepper.h): whether the
+// next factorization starts from S + eps D (after a regularized one). Plain data, the same for every scalar.
+struct SolverMemory {
+  bool starts_regularized = false;
+};
+
 class SchurSolver {
  public:
   // Analyzes the pattern once; `kind` may be kAuto.
@@ -68,7 +74,8 @@ class SchurSolver {
 
   // Whether the next factorization starts from S + eps D (after a regularized one): state a replayed step restores.
   bool starts_regularized() const { return regularized_; }
-  void set_starts_regularized(bool regularized) { regularized_ = regularized; }
+  SolverMemory memory() const { return {regularized_}; }
+  void Restore(const SolverMemory& memory) { regularized_ = memory.starts_regularized; }
   // What a solve leaves behind, as a replay that skips a solve it knows the outcome of sets it (kkt_log.h).
   void RestoreConditioning(bool regularized, bool near_singular) {
     regularized_ = regularized;

@@ -24,15 +24,14 @@
 namespace tether {
 
 // What a step depends on besides the model and the state: plain data, the same for every scalar (a Rev
-// replay takes a double run's as it is): the position in the plan, rk45's step size, the Schur solver's memory,
-// the joint angles' branches and the active joint limits. (rk45's first stage carries over only between the
-// internal steps of one step: Advance starts each step afresh.)
+// replay takes a double run's as it is): the position in the plan, what the integrator and the KKT solver carry
+// (integrators.h, schur_solver.h), the joint angles' branches and the active joint limits.
 struct StepperMemory {
   std::int64_t step = 0;  // grid steps taken
   double time = 0.0;
   size_t next_stop = 0;
-  double rk45_step = 0.0;
-  bool starts_regularized = false;
+  IntegratorMemory integrator;
+  SolverMemory solver;
   std::vector<double> coordinate_branches;
   std::vector<char> active_limits;  // per side of a joint range (limit_events.h)
   // bytes held besides the struct itself
@@ -93,6 +92,7 @@ class Stepper {
   RunReport report_;
   State<T> state_;  // (q, v) now
   Workspace<T> ws_;
+  TimeIntegrator<T> integrator_;
   double scale_, h_;
   std::int64_t steps_;
   std::int64_t step_ = 0;

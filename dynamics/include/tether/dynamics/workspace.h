@@ -92,14 +92,7 @@ struct Workspace {
   // recorded replay takes them back.
   KktLog* kkt_log = nullptr;
 
-  // integrator scratch: stage increments (v-shaped: Munthe-Kaas stage derivatives K and accelerations),
-  // trial and next states
-  std::array<VecX<T>, 7> stage_q, stage_v;
-  VecX<T> theta;                        // a stage's increment h sum a_ij K_j (size nv)
-  VecX<T> trial_q, trial_v, next_q, next_v;
-  VecX<T> error_q, error_v;             // rk45's local error estimate (size nv each)
-  double rk45_step = 0.0;               // rk45's current internal step (0: not started)
-  bool rk45_first_stage_valid = false;  // first-same-as-last: stage 0 holds f at the current state
+  VecX<T> projection_q;  // the projection's target q_t (projection.h)
 };
 
 // ws->kkt.schur from ws->rows.
