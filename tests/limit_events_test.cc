@@ -3,9 +3,10 @@
 // released from a limit the instant a motor's torque exceeds gravity's, energy kept with e = 1 over hundreds of
 // impacts, rk4's fourth order across impacts, Jet gradients across an impact against central differences that
 // keep the number of events, a Zeno sequence that ends captured, a grazing impact, 3D hinge and prismatic limits,
-// and a range never reached that changes nothing.
+// and a range never reached that changes nothing; the active-set solve (active_set.h) on its own.
 #include <gtest/gtest.h>
 
+#include <Eigen/Dense>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -14,6 +15,7 @@
 #include "test_scenes.h"
 #include "tether/autodiff/adjoint.h"
 #include "tether/autodiff/residuals.h"
+#include "tether/dynamics/active_set.h"
 #include "tether/dynamics/scene_reader.h"
 #include "tether/dynamics/stepper.h"
 
@@ -75,6 +77,51 @@ double FinalAngle(const Model<double>& model, RunReport* report = nullptr) {
   const RunReport r = Simulate<double>(model, RunOptions{}, [&](const Sample<double>& s) { angle = s.coordinates[0]; });
   if (report) *report = r;
   return angle;
+}
+
+// the active-set solve on three coupled rows, S mu = b on the rows in the set (S = [[2, 1, 0], [1, 2, 1],
+// [0, 1, 2]], b = (1, -1, -0.2)): with all three mu = (1.2, -1.4, 0.6), the second pulls; without it
+// mu = (0.5, -0.1), the third pulls; the first alone pushes (0.5)
+TEST(ActiveSet, LeavesOutThePullingRowsOneAtATimeAndKeepsWhatItIsTold) {
+  const Eigen::Matrix3d S = (Eigen::Matrix3d() << 2, 1, 0, 1, 2, 1, 0, 1, 2).finished();
+  const Eigen::Vector3d b(1.0, -1.0, -0.2);
+  int solves = 0;
+  auto pushes = [&](const std::vector<char>& set, std::vector<int>* rows, std::vector<double>* push) {
+    ++solves;
+    rows->clear();
+    for (int i = 0; i < 3; ++i) {
+      if (set[i]) rows->push_back(i);
+    }
+    const int n = static_cast<int>(rows->size());
+    Eigen::MatrixXd s(n, n);
+    Eigen::VectorXd r(n);
+    for (int i = 0; i < n; ++i) {
+      r[i] = b[(*rows)[i]];
+      for (int j = 0; j < n; ++j) s(i, j) = S((*rows)[i], (*rows)[j]);
+    }
+    const Eigen::VectorXd mu = s.ldlt().solve(r);
+    push->assign(mu.data(), mu.data() + n);
+    return true;
+  };
+  std::vector<char> set = {1, 1, 1};
+  ASSERT_TRUE(SolveActiveSet(&set, {0, 0, 0}, false, pushes));
+  EXPECT_EQ(set, (std::vector<char>{1, 0, 0}));
+  EXPECT_EQ(solves, 3);
+  set = {1, 1, 1};
+  solves = 0;
+  ASSERT_TRUE(SolveActiveSet(&set, {0, 1, 0}, false, pushes));  // the second kept though it pulls
+  EXPECT_EQ(set, (std::vector<char>{1, 1, 1}));
+  EXPECT_EQ(solves, 1);
+  set = {1, 0, 0};  // a push of exactly zero stays unless released
+  auto zero = [](const std::vector<char>& s, std::vector<int>* rows, std::vector<double>* push) {
+    *rows = s[0] ? std::vector<int>{0} : std::vector<int>{};
+    *push = std::vector<double>(rows->size(), 0.0);
+    return true;
+  };
+  ASSERT_TRUE(SolveActiveSet(&set, {0, 0, 0}, false, zero));
+  EXPECT_EQ(set[0], 1);
+  ASSERT_TRUE(SolveActiveSet(&set, {0, 0, 0}, true, zero));
+  EXPECT_EQ(set[0], 0);
 }
 
 TEST(JointLimits, ARodSwingsIntoAStopAtTheClosedFormTimesAndRates) {

@@ -5,6 +5,7 @@
 #include <sstream>
 #include <type_traits>
 
+#include "tether/dynamics/active_set.h"
 #include "tether/dynamics/configuration_space.h"
 #include "tether/dynamics/constrained_dynamics.h"
 #include "tether/dynamics/errors.h"
@@ -152,39 +153,34 @@ void LimitEvents<T>::Impulse(const std::vector<int>& impacting, const std::vecto
                              const VecX<T>& q, VecX<T>* v, Workspace<T>* ws) {
   const std::vector<char> held = active_;
   std::vector<T> wanted(sides_.size(), T(0.0));  // g'+ of every side in the solve
+  std::vector<char> kept(sides_.size(), 0);      // a capture's sides hold whatever their impulse
   for (size_t k = 0; k < impacting.size(); ++k) {
     active_[impacting[k]] = 1;
     wanted[impacting[k]] = target[k];
+    kept[impacting[k]] = capture;
   }
-  const int most = static_cast<int>(sides_.size()) + 1;
-  for (int attempt = 0; attempt < most; ++attempt) {
-    Apply(ws);
-    EvaluateRows(model_, q, *v, false, ws);
-    MultiplyJacobian(model_, *v, ws);
-    const size_t first = ws->rows.size() - active_order_.size();
-    for (size_t r = 0; r < ws->rows.size(); ++r) {  // equality rows keep J v; sides leave at their target rate
-      ws->kkt.rhs[r] = r < first ? T(0.0) : wanted[active_order_[r - first]] - ws->kkt.rhs[r];
-    }
-    AssembleSchur(ws);
-    if (!ws->solver->Solve(ws->kkt.schur, ws->kkt.rhs, &ws->kkt.lambda)) break;
-    int pulling = -1;  // the side whose impulse pulls hardest
-    double most_negative = 0.0;
-    for (size_t j = 0; j < active_order_.size(); ++j) {
-      const double impulse = Value(ws->kkt.lambda[first + j]);
-      const bool captured =
-          capture && std::find(impacting.begin(), impacting.end(), active_order_[j]) != impacting.end();
-      if (impulse < most_negative && !captured) {
-        most_negative = impulse;
-        pulling = active_order_[j];
-      }
-    }
-    if (pulling >= 0) {
-      active_[pulling] = 0;
-      continue;
-    }
-    ApplyReaction(model_, ws, &ws->reaction);  // v+ = v + M^-1 J^T P
+  std::vector<char> set = active_;
+  const bool solved = SolveActiveSet(
+      &set, kept, false,
+      [&](const std::vector<char>& candidate, std::vector<int>* sides, std::vector<double>* impulses) {
+        active_ = candidate;
+        Apply(ws);
+        EvaluateRows(model_, q, *v, false, ws);
+        MultiplyJacobian(model_, *v, ws);
+        const size_t first = ws->rows.size() - active_order_.size();
+        for (size_t r = 0; r < ws->rows.size(); ++r) {  // equality rows keep J v; sides leave at their target rate
+          ws->kkt.rhs[r] = r < first ? T(0.0) : wanted[active_order_[r - first]] - ws->kkt.rhs[r];
+        }
+        AssembleSchur(ws);
+        if (!ws->solver->Solve(ws->kkt.schur, ws->kkt.rhs, &ws->kkt.lambda)) return false;
+        *sides = active_order_;
+        impulses->clear();
+        for (size_t j = 0; j < active_order_.size(); ++j) impulses->push_back(Value(ws->kkt.lambda[first + j]));
+        return true;
+      });
+  if (solved) {  // the last solve is the active set's: v+ = v + M^-1 J^T P
+    ApplyReaction(model_, ws, &ws->reaction);
     *v += ws->reaction;
-    break;
   }
   active_ = held;
   Apply(ws);
@@ -252,14 +248,13 @@ void LimitEvents<T>::HoldTouching(double t, const std::vector<GapState>& gaps, c
     const bool resting = std::abs(gaps[i].rate) <= kRestingSpeed;
     candidate[i] = active_[i] ? gaps[i].rate <= kRestingSpeed : gaps[i].g <= kTouching && resting;
   }
-  std::vector<double> mu;
-  for (int attempt = 0; attempt <= size(); ++attempt) {  // less those whose multiplier would pull, one at a time
-    SetActiveSet(candidate, ws);
-    if (active_order_.empty() || !Multipliers(t, q, v, ws, &mu)) return;
-    const auto lowest = std::min_element(mu.begin(), mu.end());
-    if (*lowest > 0.0) return;
-    candidate[active_order_[lowest - mu.begin()]] = 0;
-  }
+  const std::vector<char> none(sides_.size(), 0);  // less those whose multiplier would pull, or is zero
+  SolveActiveSet(&candidate, none, true,
+                 [&](const std::vector<char>& set, std::vector<int>* sides, std::vector<double>* mu) {
+                   SetActiveSet(set, ws);
+                   *sides = active_order_;
+                   return active_order_.empty() ? (mu->clear(), true) : Multipliers(t, q, v, ws, mu);
+                 });
 }
 
 #define TETHER_INSTANTIATE_LIMIT_EVENTS(T) template class LimitEvents<T>;

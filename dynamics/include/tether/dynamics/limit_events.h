@@ -12,24 +12,24 @@
 //            their rows such that g'+ = -e g'- (Newton's law), with every equality row's velocity J v kept and
 //            every active side held at g'+ = 0. Several sides touching at once (simultaneous impacts) are
 //            solved together, S P = target - J v on the Schur complement of the rows involved; a side whose
-//            impulse would pull (P < 0) is left out and the system solved again (an active-set method, exact
-//            for this small LCP).
+//            impulse would pull (P < 0) is left out and the system solved again (active_set.h).
 //   capture  a rebound whose free flight would close the gap again within kCaptureFlight of the step is not
 //            followed (Zeno: the bounces of a ball coming to rest add up to a finite time): the side is held
 //            with g' = 0 instead. The flight is estimated from the rebound speed and the gap's acceleration.
 //   contact  sides that touch and rest (|g'| <= kRestingSpeed) are made active and the accelerations solved;
-//            a side whose multiplier would pull (mu < 0) is left out and the system solved again. A side that
-//            was active and is left out releases (an event of its own when its mu crosses zero in a step).
+//            a side whose multiplier would pull (mu <= 0) is left out and the system solved again (active_set.h).
+//            A side that was active and is left out releases (an event of its own when its mu crosses zero in a
+//            step).
 //   grazing  an approach slower than kRestingSpeed is a touch, not an impact: no impulse. Below kGrazingSpeed an
 //            impact's time sensitivity (g' in its denominator) is not taken, with a warning.
 //
 // Derivatives (Jets, and the adjoint's recorded replay) cross an impact through its time (DESIGN.md's saltation
-// matrix): with the event located on the values, dt* = -g / g' at the state just past it, its value removed (a zero carrying dt*/dtheta), moves the
-// state along the motion before the event, x <- x + f- dt*; the impact and the new active set are resolved
-// there; and the state moves back along the motion after it, x <- x - f+ dt*. To first order in the
-// derivatives this is x+ = Xi x- with Xi = R + (f+ - R f-) grad(g)^T / (grad(g) . f-). A release needs nothing:
-// the motion's vector field is continuous where the multiplier crosses zero. Doubles take the same moves by an
-// exact zero, so that a double run and its Rev replay make the same KKT solves (adjoint.h).
+// matrix): with the event located on the values, dt* = -g / g' at the state just past it, its value removed (a zero
+// carrying dt*/dtheta), moves the state along the motion before the event, x <- x + f- dt*; the impact and the new
+// active set are resolved there; and the state moves back along the motion after it, x <- x - f+ dt*. To first order in
+// the derivatives this is x+ = Xi x- with Xi = R + (f+ - R f-) grad(g)^T / (grad(g) . f-). A release needs nothing: the
+// motion's vector field is continuous where the multiplier crosses zero. Doubles take the same moves by an exact zero,
+// so that a double run and its Rev replay make the same KKT solves (adjoint.h).
 #pragma once
 
 #include <string>
