@@ -284,5 +284,26 @@ TEST_F(TrajectoryFitExamples, TheArmReachesAMarkerTarget) {
       2);
 }
 
+// docs/examples/swing_up/against_a_stop.json: the weak pendulum (|torque| <= 2 N m) with an elastic stop at
+// -0.35 rad swings up to within [3, 3.3] rad in 2.5 s, bouncing off the stop (against_a_stop.py); without the
+// stop the same fit meets no constraint set.
+TEST_F(TrajectoryFitExamples, ThePendulumSwingsUpAgainstAStopWhereWithoutItNoSwingDoes) {
+  const std::string scene = std::string(TETHER_SOURCE_DIR) + "/docs/examples/swing_up/against_a_stop.json";
+  const std::string flags =
+      "--param '/effects/1/schedule/values/*' --bound '/effects/1/schedule/values/*=-2:2' --effort 0.1 "
+      "--at-least axle.angle=3@2.5 --at-most axle.angle=3.3@2.5 --at-least axle.omega=-0.2@2.5 "
+      "--at-most axle.omega=0.2@2.5 --segments 6 --starts 2";
+  FitsAndTheWrittenSceneReproducesIt(scene, flags, 6);
+  const std::string events = Path("events.csv");
+  ASSERT_EQ(Tether("simulate '" + Path("fitted.json") + "' --events '" + events + "'").status, 0);
+  EXPECT_GE(Column(ReadText(events), "speed_before").size(), 1u) << "the swing never bounces off the stop";
+  json free = json::parse(ReadText(scene));
+  free["constraints"][0].erase("range");
+  free["constraints"][0].erase("restitution");
+  const Outcome without = Tether("fit '" + Write("free.json", free.dump()) + "' " + flags);
+  EXPECT_EQ(without.status, 1) << without.out;
+  EXPECT_EQ(json::parse(without.out)["starts"]["feasible"], 0);
+}
+
 }  // namespace
 }  // namespace tether
