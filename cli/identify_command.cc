@@ -124,10 +124,13 @@ class IdentifyCommand final : public Command {
       throw InputError(scene_path_ + ": " + e.what());
     }
     if (out && !result.failed) {  // a failed fit writes no scene (its JSON says why)
-      nlohmann::json updated = scene.document;
-      parameters.WriteInto(result.estimate, &updated);
-      out->stream() << updated.dump(2) << "\n";
-      out->Commit();
+      try {
+        out->stream() << parameters.SceneWith(scene, result.estimate).document.dump(2) << "\n";
+        out->Commit();
+      } catch (const InputError& e) {  // an estimate outside the format's domain (no bound kept it in)
+        result.failed = true;
+        result.warnings.push_back(std::string("the estimate makes a scene the format refuses: ") + e.what());
+      }
     }
     std::cout << IdentifyJson(parameters, result, optimizer_).dump(2) << std::endl;
     for (const std::string& warning : result.warnings) std::cerr << "tether: warning: " << warning << "\n";

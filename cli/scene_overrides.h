@@ -9,7 +9,8 @@
 namespace tether::cli {
 
 struct SceneOverrides : SettingsOverrides {
-  void Register(CLI::App* app);
+  // `gains`: whether the command takes --alpha, --beta and --stabilization (tune does not: it chooses them).
+  void Register(CLI::App* app, bool gains = true);
   // Applies the flags to the model; throws InputError naming the flag at fault.
   void Apply(Model<double>* model) const { SettingsOverrides::Apply(model, "--"); }
 };

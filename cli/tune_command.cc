@@ -41,8 +41,8 @@ class TuneCommand final : public Command {
     app_->add_option("--optimizer", optimizer_, "ceres (default) or nlopt:ALGORITHM (NLopt's name, e.g. nlopt:LN_BOBYQA)");
     app_->add_option("--samples", samples_, "number of initial states (the scene's and perturbed ones; default 1)");
     app_->add_option("--max-evaluations", max_evaluations_, "budget of objective evaluations for NLopt; Ceres gets half as many iterations (default 200)");
-    app_->add_option("--write-scene", write_scene_, "write the scene with the tuned gains here");
-    overrides_.Register(app_);
+    app_->add_option("-o,--output,--write-scene", write_scene_, "write the scene with the tuned gains here");
+    overrides_.Register(app_, false);  // the gains and the method are what it tunes
   }
 
   CLI::App* app() const override { return app_; }
@@ -58,7 +58,7 @@ class TuneCommand final : public Command {
     }
     CheckCount(samples_, 1, kMaxSamples, "--samples");
     CheckCount(max_evaluations_, 2, kMaxEvaluations, "--max-evaluations");
-    CheckOutputs({{write_scene_, "--write-scene"}}, {scene_path_});
+    CheckOutputs({{write_scene_, "-o/--write-scene"}}, {scene_path_});
     settings.objective.samples = samples_;
     settings.optimizer.name = optimizer_;
     settings.optimizer.max_evaluations = max_evaluations_;

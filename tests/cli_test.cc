@@ -72,6 +72,20 @@ TEST_F(CliTest, SimulateWritesTheCsvToStdout) {
   EXPECT_EQ(run.out, ExpectedCsv(ReadSceneFile(scene).model));
 }
 
+// a step far too large for the scene drifts off the constraints: said once on stderr, never a silent exit 0; the
+// scene's own step says nothing
+TEST_F(CliTest, ARunThatDriftsOffItsConstraintsIsWarnedOfOnce) {
+  const std::string scene = WriteScene("pendulum.json", kPendulum);
+  const Outcome coarse = Tether("simulate '" + scene + "' --step 0.2 --duration 2 -o '" + Path("coarse.csv") + "'");
+  ASSERT_EQ(coarse.status, 0) << coarse.err;
+  EXPECT_NE(coarse.err.find("the constraints have drifted by"), std::string::npos) << coarse.err;
+  EXPECT_NE(coarse.err.find("of the scene's length scale 0.7 m"), std::string::npos) << coarse.err;
+  EXPECT_EQ(coarse.err.find("drifted"), coarse.err.rfind("drifted")) << "warned more than once: " << coarse.err;
+  const Outcome fine = Tether("simulate '" + scene + "' --duration 2 -o '" + Path("fine.csv") + "'");
+  ASSERT_EQ(fine.status, 0) << fine.err;
+  EXPECT_EQ(fine.err, "");
+}
+
 TEST_F(CliTest, OutputFlagWritesTheFile) {
   const std::string scene = WriteScene("pendulum.json", kPendulum);
   const Outcome run = Tether("simulate '" + scene + "' -o '" + Path("out.csv") + "'");

@@ -161,7 +161,8 @@ TEST_F(GradientCliTest, UnknownPointerExitsTwoNamingFileAndPointer) {
 }
 
 // --tie: the rod's length follows the mass (a made-up law), so d loss / d mass counts the length's change too; a
-// tie naming an unknown pointer exits 2 naming the flag and the pointer, with nothing on stdout.
+// tie naming an unknown pointer, or giving a value the scene format refuses, exits 2 naming the flag and the
+// pointer, with nothing on stdout.
 TEST_F(GradientCliTest, ATiedPointerFollowsItsExpressionAndAnUnknownOneExitsTwo) {
   WritePendulumProblem();
   const std::string base = "gradient '" + scene_ + "' --data '" + data_ + "' --param /bodies/0/mass";
@@ -181,6 +182,14 @@ TEST_F(GradientCliTest, ATiedPointerFollowsItsExpressionAndAnUnknownOneExitsTwo)
   EXPECT_TRUE(Contains(unknown.err, "--tie")) << unknown.err;
   EXPECT_TRUE(Contains(unknown.err, "/bodies/4/mass")) << unknown.err;
   EXPECT_EQ(unknown.out, "");
+  // a tied value the scene format refuses is refused as a file's would be, naming the flag and the pointer
+  for (const std::string& tie : {"/constraints/0/length=-0.7", "/constraints/0/length={/bodies/0/mass}-1"}) {
+    const Outcome refused = Tether(base + " --tie '" + tie + "'");
+    EXPECT_EQ(refused.status, 2) << tie << ": " << refused.err;
+    EXPECT_TRUE(Contains(refused.err, "--tie")) << refused.err;
+    EXPECT_TRUE(Contains(refused.err, tie.substr(0, tie.find('=')))) << refused.err;
+    EXPECT_EQ(refused.out, "");
+  }
 }
 
 TEST_F(GradientCliTest, NonDifferentiablePointerExitsTwoNamingFileAndPointer) {

@@ -486,6 +486,18 @@ Case MassWithoutEffectCase(const std::vector<std::string>& pointers) {
   return c;
 }
 
+// one recorded value for two parameters: fewer residuals than unknowns is reported, not a crash in the SVD
+TEST(Identification, FewerResidualsThanParametersIsReportedNotIdentifiable) {
+  const Case c = MassWithoutEffectCase({"/effects/0/acceleration/1", "/bodies/0/mass"});
+  TempFolder folder("tether_identification");
+  const RecordingSpec one_value = {{"bob.y"}, {0.5}};
+  const IdentifyResult r = RunIdentify(c, c.guess, Recordings(c, {one_value}, kNoise, 72, folder));
+  EXPECT_EQ(r.residual_count, 1);
+  EXPECT_TRUE(std::isinf(r.condition_number));
+  EXPECT_TRUE(Mentions(r.warnings, "1 residuals for 2 parameters")) << ::testing::PrintToString(r.warnings);
+  EXPECT_TRUE(std::isnan(r.standard_deviation[0]));
+}
+
 TEST(Identification, AParameterWithoutEffectBesideOneThatMattersIsReported) {
   const Case c = MassWithoutEffectCase({"/effects/0/acceleration/1", "/bodies/0/mass"});
   TempFolder folder("tether_identification");

@@ -251,6 +251,13 @@ TEST_F(ObservationsTest, RowsInMemoryAreRefusedByRow) {
                  "row 1: t = 0.69999999999999996 lies outside the simulated interval [0, 0.5]");
   expect_refused({"bob.x"}, {{1.0}}, "no 't' column");
   expect_refused({"t", "bob.x"}, {}, "the data has no rows");
+  expect_refused({"t", "bob.x"}, {{0.1, NAN}, {0.2, NAN}},
+                 "the data has no observed value: every cell besides 't' is empty");
+}
+
+// nothing to fit is refused, not fitted with a loss of zero (and no empty residual reaches an SVD)
+TEST_F(ObservationsTest, AFileWithoutAnyValueIsRefused) {
+  ExpectRefused("t,bob.x,bob.y\n0.1,,\n0.2, ,\n", 0, "has no observed value: every cell besides 't' is empty");
 }
 
 TEST_F(ObservationsTest, MissingFileIsRefused) {

@@ -135,10 +135,14 @@ TEST_F(TuneCliTest, BadFlagsExitTwoNamingTheFlag) {
   const Case cases[] = {{"--optimizer foo", "--optimizer", "foo"},
                         {"--optimizer nlopt:XX_NOPE", "--optimizer", "XX_NOPE"},
                         {"--objective xyz", "--objective", "xyz"},
-                        {"--samples 0", "--samples", "0"}};
+                        {"--samples 0", "--samples", "0"},
+                        // the gains and the method are what tune chooses: flags that would set them are refused
+                        {"--alpha 5", "--alpha", "--alpha"},
+                        {"--beta 5", "--beta", "--beta"},
+                        {"--stabilization projection", "--stabilization", "--stabilization"}};
   const std::string written = folder_.Path("never.json");
   for (const Case& c : cases) {
-    const Outcome run = Tune(c.flags + " --write-scene '" + written + "'");
+    const Outcome run = Tune(c.flags + " -o '" + written + "'");
     EXPECT_EQ(run.status, 2) << c.flags << ": " << run.err;
     EXPECT_TRUE(Contains(run.err, c.flag)) << c.flags << ": " << run.err;
     EXPECT_TRUE(Contains(run.err, c.value)) << c.flags << ": " << run.err;

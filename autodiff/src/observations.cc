@@ -112,6 +112,16 @@ Observations Sorted(const Observations& obs, const std::string& unit) {
   return sorted;
 }
 
+// The rows read, refused when there is nothing to fit (no row, or no value besides the times: every residual would
+// be empty and any parameters would "fit"), in time order. `what` names the source, `unit` a row's place.
+Observations Finished(const Observations& obs, const std::string& what, const std::string& unit) {
+  if (obs.times.empty()) throw InputError(obs.path + ": " + what + " has no rows");
+  if (obs.CellCount() == 0) {
+    throw InputError(obs.path + ": " + what + " has no observed value: every cell besides 't' is empty");
+  }
+  return Sorted(obs, unit);
+}
+
 }  // namespace
 
 int Observations::CellCount() const {
@@ -165,8 +175,7 @@ Observations ReadObservations(const std::string& path, const Model<double>& mode
     }
     AddRow(numbers, column_of_cell, time_column, line, model, &obs, fail);
   }
-  if (obs.times.empty()) throw InputError(path + ": the data file has no rows");
-  return Sorted(obs, "line");
+  return Finished(obs, "the data file", "line");
 }
 
 Observations MakeObservations(const std::string& source, const std::vector<std::string>& names,
@@ -189,8 +198,7 @@ Observations MakeObservations(const std::string& source, const std::vector<std::
     }
     AddRow(cells, column_of_cell, time_column, row, model, &obs, fail);
   }
-  if (obs.times.empty()) throw InputError(source + ": the data has no rows");
-  return Sorted(obs, "row");
+  return Finished(obs, "the data", "row");
 }
 
 }  // namespace tether

@@ -334,6 +334,12 @@ void ParameterSet::Tie(const Scene& scene, const std::vector<std::string>& ties,
       }
     }
   }
+  if (ties_.empty()) return;
+  try {
+    SceneWith(scene, Values(scene.model));
+  } catch (const InputError& e) {
+    throw InputError(flag + ": at the scene's values the ties give a number the scene format refuses: " + e.what());
+  }
 }
 
 template <typename T>
@@ -378,6 +384,12 @@ void ParameterSet::WriteInto(const std::vector<double>& values, nlohmann::json* 
     }
     WriteNumber(tie.pointer, tie.target, tie.expression.Evaluate(references), document);
   }
+}
+
+Scene ParameterSet::SceneWith(const Scene& scene, const std::vector<double>& values) const {
+  nlohmann::json document = scene.document;
+  WriteInto(values, &document);
+  return ParseScene(document, scene.path);
 }
 
 template void ParameterSet::ApplyTies<double>(Model<double>*) const;

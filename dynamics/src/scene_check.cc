@@ -49,11 +49,14 @@ double EstimatedCondition(const Eigen::SparseMatrix<double>& a, const std::vecto
   return std::sqrt(largest * smallest_inverse);
 }
 
-// The limited joints at the start of a run; assembles the initial state (InputError when it cannot).
+// The limited joints at the start of a run; assembles the initial state once (InputError when it cannot), by the
+// stepper where there are limits (its start resolves them).
 std::vector<LimitCheck> CheckLimits(const Model<double>& model) {
-  RunReport report;
-  AssembledInitialState(model, &report);
-  if (!HasJointLimits(model)) return {};
+  if (!HasJointLimits(model)) {
+    RunReport report;
+    AssembledInitialState(model, &report);
+    return {};
+  }
   Stepper<double> stepper(model, RunOptions{}, [](const Sample<double>&) {});
   std::vector<LimitCheck> out;
   const LimitEvents<double>& sides = stepper.limits();

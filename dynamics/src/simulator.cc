@@ -27,6 +27,8 @@ constexpr double kEventTimeTolerance = 1e-13;
 constexpr int kMostEventsPerStep = 10000;
 // An initial state off its constraints by more than this (relative) is reported as moved.
 constexpr double kAssemblyWarning = 1e-10;
+// A run whose constraints drift beyond this (relative to the length scale) is warned of (Stepper::WarnOfDrift).
+constexpr double kDriftWarning = 0.01;
 // An assembly whose Gauss-Newton iteration stalls (round-off in the constraint values can sit above the
 // projection's 1e-12 of the length scale, e.g. far from the origin) is accepted below this (relative): a
 // nanometre on a metre, which the run's stabilization then holds.
@@ -192,6 +194,21 @@ void Stepper<T>::CheckViolation(double t, double largest) const {
   throw Diverged(t, out.str());
 }
 
+// A run whose constraints drift beyond kDriftWarning of the length scale is not the constrained motion any more:
+// said once, at the first sample where it happens, so that no such run ends silently (the run goes on; beyond the
+// length scale itself it stops, CheckViolation).
+template <typename T>
+void Stepper<T>::WarnOfDrift(double t, double largest) {
+  if (drift_warned_ || !(largest > kDriftWarning * scale_)) return;
+  drift_warned_ = true;
+  std::ostringstream out;
+  out << "t = " << t << ": the constraints have drifted by " << largest << " m (" << largest / scale_ * 100
+      << "% of the scene's length scale " << scale_
+      << " m): this is no longer the constrained motion; a smaller step, another integrator or tuned gains "
+         "(tether tune) keep it";
+  report_.warnings.push_back(out.str());
+}
+
 // Every sample is checked as it is made, the last one included (the steps' own checks see the rows of their
 // last stage, not of the state they end in).
 template <typename T>
@@ -202,6 +219,7 @@ void Stepper<T>::Emit(double t, bool output, int stop) {
   EvaluateConstraintRows(model_, ws_.constraints, ws_.frames, q, v, false, &ws_.rows);
   const double error = ws_.rows.empty() ? 0.0 : LargestViolation(ws_.infos, ws_.rows).largest;
   CheckViolation(t, error);
+  WarnOfDrift(t, error);
   for (int k = 0; k < coordinates_.size(); ++k) {
     const CoordinateRow<T> row = EvaluateCoordinate(model_, ws_.coordinates, k, ws_.frames, q, v, true);
     coordinates_[k] = row.value;

@@ -49,14 +49,21 @@ MjModelPtr Load(const std::string& path) {
   return model;
 }
 
+// Every joint's range left out.
+void DropRanges(KinematicTree* tree) {
+  for (TreeLink& link : tree->links) {
+    for (TreeJoint& joint : link.joints) joint.range.reset();
+  }
+}
+
 // Only what both simulate alike: no contacts, limits (MuJoCo's are soft, tether's hard), actuators, armature, friction
 // or fluid, and no joint springs or dampers unless `springs` (then every joint must keep its own coordinate: single
 // joints, or --split-joints); RK4. The tree loses alike what MuJoCo loses.
 void KeepRigidBodyDynamics(mjModel* m, KinematicTree* tree, bool springs) {
+  DropRanges(tree);
   for (TreeLink& link : tree->links) {
     for (TreeJoint& joint : link.joints) {
       joint.armature = joint.friction_loss = 0;
-      joint.range.reset();
       if (!springs) joint.stiffness = joint.damping = 0;
     }
   }
@@ -218,9 +225,7 @@ TEST(MujocoPlacement, JointValuesPlaceTheBodiesAsMujocoDoes) {
   const MjModelPtr m = Load(kModels + "humanoid/humanoid.xml");
   ASSERT_TRUE(m);
   KinematicTree tree = TreeFromMujoco(*m);
-  for (TreeLink& link : tree.links) {  // the angles below may lie outside the joints' ranges
-    for (TreeJoint& joint : link.joints) joint.range.reset();
-  }
+  DropRanges(&tree);  // the angles below may lie outside the joints' ranges
   MjDataPtr d(mj_makeData(m.get()), mj_deleteData);
   std::mt19937 random(3);
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);

@@ -182,14 +182,22 @@ IdentifyResult Identify(const Model<double>& model, const ParameterSet& paramete
     // identifiability: condition number of the parameters' columns scaled by their magnitudes
     Eigen::MatrixXd scaled = jacobian.leftCols(p);
     for (int i = 0; i < p; ++i) scaled.col(i) *= std::max(std::abs(result.estimate[i]), 1e-12);
-    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(scaled, Eigen::ComputeThinV);
-    const Eigen::VectorXd sigma = svd.singularValues();
-    result.condition_number = sigma[p - 1] > 0 ? sigma[0] / sigma[p - 1] : INFINITY;
-    if (!(result.condition_number <= kIdentifiabilityCondition)) {
-      std::ostringstream message;
-      message << "the parameters are not identifiable from this data (condition number " << result.condition_number
-              << "); the weakest direction involves " << Names(parameters, svd.matrixV().col(p - 1));
-      result.warnings.push_back(message.str());
+    Eigen::VectorXd weakest = Eigen::VectorXd::Ones(p);  // the weakest direction (every one when unseen)
+    if (scaled.rows() < p) {  // fewer residuals than parameters: some direction is not seen at all
+      result.condition_number = INFINITY;
+      result.warnings.push_back("the parameters are not identifiable from this data: " + std::to_string(scaled.rows()) +
+                                " residuals for " + std::to_string(p) + " parameters");
+    } else {
+      const Eigen::JacobiSVD<Eigen::MatrixXd> svd(scaled, Eigen::ComputeThinV);
+      const Eigen::VectorXd sigma = svd.singularValues();
+      weakest = svd.matrixV().col(p - 1);
+      result.condition_number = sigma[p - 1] > 0 ? sigma[0] / sigma[p - 1] : INFINITY;
+      if (!(result.condition_number <= kIdentifiabilityCondition)) {
+        std::ostringstream message;
+        message << "the parameters are not identifiable from this data (condition number " << result.condition_number
+                << "); the weakest direction involves " << Names(parameters, weakest);
+        result.warnings.push_back(message.str());
+      }
     }
     if (dof > 0 && UnscaledCovariance(in_own_units, y, &covariance)) {
       const double variance = 2.0 * result.final_cost / dof;
@@ -204,7 +212,7 @@ IdentifyResult Identify(const Model<double>& model, const ParameterSet& paramete
     // the pseudo-inverse drops the weak direction, so its parameters would look precise: they are not
     if (!(result.condition_number <= kIdentifiabilityCondition)) {
       for (int i = 0; i < p; ++i) {
-        if (std::abs(svd.matrixV()(i, p - 1)) > 0.3) result.standard_deviation[i] = NAN;
+        if (std::abs(weakest[i]) > 0.3) result.standard_deviation[i] = NAN;
       }
     }
     // a parameter whose doubling would not move the residuals measurably (a lone one has condition number 1)

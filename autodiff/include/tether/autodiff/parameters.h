@@ -63,7 +63,8 @@ class ParameterSet {
   // Ties (`--tie PTR=EXPR`, tie_expression.h): each PTR follows its expression of other scene numbers
   // (parameters or not) instead of being an unknown, in the order given: a tie may name the pointers earlier ties
   // set, not its own nor a later one's. Throws InputError naming `flag` (and the scene file where a pointer does
-  // not resolve): an unknown or non-differentiable pointer, a tied pointer that is also a parameter or tied twice.
+  // not resolve): an unknown or non-differentiable pointer, a tied pointer that is also a parameter or tied twice,
+  // and ties whose values at the scene's own numbers the scene format refuses (a mass tied to -1).
   void Tie(const Scene& scene, const std::vector<std::string>& ties, const std::string& flag = "--tie");
   bool tied() const { return !ties_.empty(); }
   // Sets the tied fields from the others; every place that sets the parameters in a model calls it after them.
@@ -76,6 +77,10 @@ class ParameterSet {
   // Writes the values into a scene document at their pointers, then the tied pointers' values from them (for
   // writing a scene back).
   void WriteInto(const std::vector<double>& values, nlohmann::json* document) const;
+  // The scene with `values` (and the ties' values from them) written in and read again, through every check of
+  // the scene format: one validation for every number that reaches a scene this way (a tie, an estimate written
+  // back). Throws the reader's InputError, naming the pointer, when the format refuses it.
+  Scene SceneWith(const Scene& scene, const std::vector<double>& values) const;
 
  private:
   struct TieRef {

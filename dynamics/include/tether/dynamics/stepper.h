@@ -83,6 +83,7 @@ class Stepper {
   double Locate(int side, double t, double dt);
   SimulationDiverged Diverged(double t, const std::string& what) const;
   void CheckViolation(double t, double largest) const;
+  void WarnOfDrift(double t, double largest);
   bool Settle(double t, VecX<T>* q, VecX<T>* v);
   int StopAt(double t);
 
@@ -106,6 +107,7 @@ class Stepper {
   std::vector<double> multipliers_;  // the active sides' at its end
   int capture_ = -1;                 // the side the located event captures, or -1
   Carry before_;                     // the state at the start of the step being taken (events are located from it)
+  bool drift_warned_ = false;
 };
 
 }  // namespace tether

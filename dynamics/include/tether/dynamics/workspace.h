@@ -1,13 +1,15 @@
 // Workspace<T>: everything a run computes into, made once per run so that a step allocates nothing
 // (Pinocchio's Model/Data split). It holds the run's constraint primitives (their fixed quantities taken at the
 // start), the row layout, the Schur pattern and its factorization (analyzed once), M^-1, the joint coordinates,
-// the bodies' frames at the last evaluation, the gains in use, and scratch vectors for the integrators.
+// the bodies' frames at the last evaluation, the gains in use, and the KKT system's vectors. (The integrator keeps
+// its own stages: TimeIntegrator, integrators.h.)
 // With joint limits the rows change at events (limit_events.h): each set of active limits the run meets gets its
 // pattern and solver once (SchurShape), kept for the run, so that a set met again costs no analysis and a Rev
-// record of a KKT solve keeps the solver it was made with.
+// record of a KKT solve keeps the solver it was made with. (One pattern of every possible row with the inactive
+// ones masked was the other way; it would make every step of a limited scene eliminate rows it does not have,
+// where this way a step with no active limit factors exactly the matrix of the scene without limits.)
 #pragma once
 
-#include <array>
 #include <memory>
 #include <utility>
 #include <vector>
