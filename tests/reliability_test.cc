@@ -62,6 +62,12 @@ std::string Expand(std::string text, const std::string& dir) {
   return text;
 }
 
+std::string Repeated(const std::string& text, int times) {
+  std::string out;
+  for (int k = 0; k < times; ++k) out += text;
+  return out;
+}
+
 class Reliability : public ::testing::TestWithParam<Invocation> {
  protected:
   void SetUp() override {
@@ -75,6 +81,10 @@ class Reliability : public ::testing::TestWithParam<Invocation> {
                                          R"(, "/simulation/duration": )" + Steps(65536) + R"(}, "metrics": ["seconds"]})");
     folder_.Write("empty_token_study.json", R"({"scene": "pendulum.json", "sweep": {"/nothing//x": [1, 2]},
       "metrics": ["seconds"]})");  // a fuzzer's finding: the JSON library refused the path uncaught
+    folder_.Write("empty_cells.csv", "t,bob.x\n0,\n0.5,\n");
+    std::filesystem::create_symlink("/dev/zero", folder_.Path("zero.urdf"));
+    folder_.Write("nested.urdf",
+                  "<robot name=\"x\">" + Repeated("<a>", 100000) + Repeated("</a>", 100000) + "</robot>");
     folder_.Write("unassemblable.json", R"({"dimension": 2,
       "bodies": [{"name": "p", "type": "particle", "mass": 1.0, "position": [1.0, 0.0]}],
       "constraints": [{"type": "distance", "bodies": ["world", "p"], "length": 1.0},
@@ -99,47 +109,113 @@ INSTANTIATE_TEST_SUITE_P(
     Issue15, Reliability,
     ::testing::Values(
         // no false success
-        Invocation{"chain20_blowing_up_on_its_last_step", "simulate '{src}/scenes/chain20.json' --step 0.01 --duration 2 -o '{dir}/out.csv'",
-                   1, {"diverged at t = 2 s", "/constraints/"}},
-        Invocation{"a_step_of_1e_12_for_0_01_s", "simulate '{dir}/pendulum.json' --step 1e-12 --duration 0.01",
-                   2, {"--duration/--step", "more than a run may take"}},
+        Invocation{"chain20_blowing_up_on_its_last_step",
+                   "simulate '{src}/scenes/chain20.json' --step 0.01 --duration 2 -o '{dir}/out.csv'",
+                   1,
+                   {"diverged at t = 2 s", "/constraints/"}},
+        Invocation{"a_step_of_1e_12_for_0_01_s",
+                   "simulate '{dir}/pendulum.json' --step 1e-12 --duration 0.01",
+                   2,
+                   {"--duration/--step", "more than a run may take"}},
         Invocation{"a_duration_of_3e6_s", "simulate '{dir}/pendulum.json' --duration 3e6", 2, {"--duration", "steps"}},
-        Invocation{"two_sweeps_of_65536_values", "study '{dir}/huge_study.json' --out '{dir}/huge'", 2,
+        Invocation{"two_sweeps_of_65536_values",
+                   "study '{dir}/huge_study.json' --out '{dir}/huge'",
+                   2,
                    {"huge_study.json", "/sweep/~1simulation~1duration", "1000000"}},
-        Invocation{"a_sweep_pointer_with_an_empty_token", "study '{dir}/empty_token_study.json' --out '{dir}/s'", 2,
+        Invocation{"a_sweep_pointer_with_an_empty_token",
+                   "study '{dir}/empty_token_study.json' --out '{dir}/s'",
+                   2,
                    {"empty_token_study.json", "/sweep/~1nothing~1~1x", "cannot be written into the scene"}},
-        Invocation{"a_data_row_past_the_end_beyond_rounding", "gradient '{dir}/pendulum.json' --data '{dir}/too_late.csv' --param /bodies/0/mass",
-                   2, {"too_late.csv", "line 3", "1.0009999999999999"}},
-        Invocation{"a_scene_that_cannot_be_assembled", "simulate '{dir}/unassemblable.json' -o '{dir}/out.csv'", 2,
+        Invocation{"a_data_row_past_the_end_beyond_rounding",
+                   "gradient '{dir}/pendulum.json' --data '{dir}/too_late.csv' --param /bodies/0/mass",
+                   2,
+                   {"too_late.csv", "line 3", "1.0009999999999999"}},
+        Invocation{"a_scene_that_cannot_be_assembled",
+                   "simulate '{dir}/unassemblable.json' -o '{dir}/out.csv'",
+                   2,
                    {"unassemblable.json", "cannot be assembled"}},
         Invocation{"check_on_a_scene_that_cannot_be_assembled", "check '{dir}/unassemblable.json'", 1, {}},
-        Invocation{"the_readme_identification_with_one_segment",
-                   "identify '{src}/docs/examples/identify/guess.json' --data '{src}/docs/examples/identify/recording.csv' "
-                   "--param /bodies/1/mass --segments 1 -o '{dir}/out.json'",
-                   1, {"far above the noise", "the identification failed", "no scene was written"}},
+        Invocation{
+            "the_readme_identification_with_one_segment",
+            "identify '{src}/docs/examples/identify/guess.json' --data '{src}/docs/examples/identify/recording.csv' "
+            "--param /bodies/1/mass --segments 1 -o '{dir}/out.json'",
+            1,
+            {"far above the noise", "the identification failed", "no scene was written"}},
         // no crash
-        Invocation{"nlopt_LN_AUGLAG", "tune '{dir}/pendulum.json' --optimizer nlopt:LN_AUGLAG --max-evaluations 20", 0, {}},
-        Invocation{"nlopt_GD_STOGO_missing_from_the_build", "tune '{dir}/pendulum.json' --optimizer nlopt:GD_STOGO", 2,
+        Invocation{
+            "nlopt_LN_AUGLAG", "tune '{dir}/pendulum.json' --optimizer nlopt:LN_AUGLAG --max-evaluations 20", 0, {}},
+        Invocation{"nlopt_GD_STOGO_missing_from_the_build",
+                   "tune '{dir}/pendulum.json' --optimizer nlopt:GD_STOGO",
+                   2,
                    {"--optimizer", "GD_STOGO"}},
-        Invocation{"an_unknown_nlopt_name", "tune '{dir}/pendulum.json' --optimizer nlopt:LN_NOTHING", 2, {"--optimizer"}},
-        Invocation{"zero_threads", "study '{src}/studies/accuracy/study.json' --out '{dir}/s' --threads 0", 2, {"--threads"}},
-        Invocation{"a_million_threads", "study '{src}/studies/accuracy/study.json' --out '{dir}/s' --threads 1000000", 2, {"--threads"}},
-        Invocation{"a_million_segments", "identify '{dir}/pendulum.json' --data '{dir}/on_time.csv' --param /bodies/0/mass --segments 1000000",
-                   2, {"--segments"}},
+        Invocation{
+            "an_unknown_nlopt_name", "tune '{dir}/pendulum.json' --optimizer nlopt:LN_NOTHING", 2, {"--optimizer"}},
+        Invocation{
+            "zero_threads", "study '{src}/studies/accuracy/study.json' --out '{dir}/s' --threads 0", 2, {"--threads"}},
+        Invocation{"a_million_threads",
+                   "study '{src}/studies/accuracy/study.json' --out '{dir}/s' --threads 1000000",
+                   2,
+                   {"--threads"}},
+        Invocation{
+            "a_million_segments",
+            "identify '{dir}/pendulum.json' --data '{dir}/on_time.csv' --param /bodies/0/mass --segments 1000000",
+            2,
+            {"--segments"}},
         Invocation{"a_million_samples", "tune '{dir}/pendulum.json' --samples 1000000", 2, {"--samples"}},
         // no lost or corrupted file
-        Invocation{"output_onto_the_input", "simulate '{dir}/pendulum.json' -o '{dir}/pendulum.json'", 2, {"-o", "input"}},
-        Invocation{"written_scene_onto_the_input", "tune '{dir}/pendulum.json' --write-scene '{dir}/pendulum.json'", 2,
+        Invocation{
+            "output_onto_the_input", "simulate '{dir}/pendulum.json' -o '{dir}/pendulum.json'", 2, {"-o", "input"}},
+        Invocation{"written_scene_onto_the_input",
+                   "tune '{dir}/pendulum.json' --write-scene '{dir}/pendulum.json'",
+                   2,
                    {"--write-scene", "input"}},
-        Invocation{"output_into_a_missing_folder", "simulate '{dir}/pendulum.json' -o '{dir}/no/such/out.csv'", 2, {"-o", "folder"}},
-        Invocation{"a_plot_that_is_neither_png_nor_svg",
-                   "identify '{dir}/pendulum.json' --data '{dir}/on_time.csv' --param /bodies/0/mass --plot '{dir}/fit.pdf'",
-                   2, {"--plot", ".png or .svg"}},
-        Invocation{"a_full_disk_on_stdout", "simulate '{dir}/pendulum.json'", 1, {"standard output"},
+        Invocation{"output_into_a_missing_folder",
+                   "simulate '{dir}/pendulum.json' -o '{dir}/no/such/out.csv'",
+                   2,
+                   {"-o", "folder"}},
+        Invocation{
+            "a_plot_that_is_neither_png_nor_svg",
+            "identify '{dir}/pendulum.json' --data '{dir}/on_time.csv' --param /bodies/0/mass --plot '{dir}/fit.pdf'",
+            2,
+            {"--plot", ".png or .svg"}},
+        Invocation{"a_full_disk_on_stdout",
+                   "simulate '{dir}/pendulum.json'",
+                   1,
+                   {"standard output"},
                    "sh -c '\"$0\" \"$@\" >/dev/full' "},
         Invocation{"a_full_disk_on_the_output", "simulate '{dir}/pendulum.json' -o /dev/full", 1, {"/dev/full"}},
         Invocation{"output_onto_a_device", "simulate '{dir}/pendulum.json' -o /dev/null", 0, {}},
-        Invocation{"a_duplicate_key", "simulate '{dir}/duplicate_key.json'", 2, {"duplicate_key.json", "/bodies/0/mass", "duplicate"}},
+        Invocation{"a_duplicate_key",
+                   "simulate '{dir}/duplicate_key.json'",
+                   2,
+                   {"duplicate_key.json", "/bodies/0/mass", "duplicate"}},
+        // issue 34: inputs that are not files, data with nothing to fit, numbers outside their domain by a flag,
+        // flags a command would have ignored, XML nested past any parser's stack
+        Invocation{"a_folder_as_the_scene", "simulate '{dir}'", 2, {"is a folder, not a file"}},
+        Invocation{"a_device_as_the_scene", "check /dev/zero", 2, {"/dev/zero", "not a regular file"}},
+        Invocation{"a_device_as_the_data",
+                   "identify '{dir}/pendulum.json' --data /dev/zero --param /bodies/0/mass",
+                   2,
+                   {"/dev/zero", "data file", "not a regular file"}},
+        Invocation{"a_device_as_the_model",
+                   "import '{dir}/zero.urdf' -o '{dir}/out.json'",
+                   2,
+                   {"zero.urdf", "not a regular file"}},
+        Invocation{"a_device_as_the_study", "study /dev/zero --out '{dir}/s'", 2, {"/dev/zero", "not a regular file"}},
+        Invocation{"data_without_a_value",
+                   "fit '{dir}/pendulum.json' --data '{dir}/empty_cells.csv' --param /bodies/0/mass",
+                   2,
+                   {"empty_cells.csv", "no observed value"}},
+        Invocation{"a_tie_to_a_negative_mass",
+                   "gradient '{dir}/pendulum.json' --data '{dir}/on_time.csv' --param /constraints/0/length --tie "
+                   "'/bodies/0/mass=-1'",
+                   2,
+                   {"--tie", "/bodies/0/mass", "must be > 0"}},
+        Invocation{"tune_with_a_gain_it_chooses", "tune '{dir}/pendulum.json' --alpha 5", 2, {"--alpha"}},
+        Invocation{"xml_nested_100000_deep",
+                   "import '{dir}/nested.urdf' -o '{dir}/out.json'",
+                   2,
+                   {"nested.urdf", "nested deeper than 500"}},
         Invocation{"version", "--version", 0, {}}),
     [](const ::testing::TestParamInfo<Invocation>& info) { return std::string(info.param.name); });
 

@@ -3,13 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <filesystem>
 #include <fstream>
 #include <map>
 #include <numeric>
 #include <sstream>
 
 #include "tether/dynamics/errors.h"
+#include "tether/dynamics/input_file.h"
 #include "tether/dynamics/trajectory_csv.h"
 
 namespace tether {
@@ -138,12 +138,7 @@ bool ObservesEnergy(const Observations& observations) {
 }
 
 Observations ReadObservations(const std::string& path, const Model<double>& model) {
-  std::error_code error;
-  const std::uintmax_t bytes = std::filesystem::file_size(path, error);
-  if (!error && bytes > kMaxDataBytes) {
-    throw InputError(path + ": the data file has " + std::to_string(bytes) + " bytes, more than tether reads (" +
-                     std::to_string(kMaxDataBytes) + ")");
-  }
+  CheckInputFile(path, "data file", kMaxDataBytes);
   std::ifstream in(path);
   if (!in) throw InputError(path + ": cannot open the data file");
   int line = 1;

@@ -1,15 +1,14 @@
 #include "tether/dynamics/scene_reader.h"
 
+#include <Eigen/Eigenvalues>
 #include <cmath>
-#include <fstream>
 #include <map>
 #include <set>
 #include <sstream>
 
-#include <Eigen/Eigenvalues>
-
 #include "tether/dynamics/constraint_rows.h"
 #include "tether/dynamics/errors.h"
+#include "tether/dynamics/input_file.h"
 #include "tether/dynamics/kinematics.h"
 #include "tether/dynamics/names.h"
 
@@ -808,11 +807,7 @@ Scene ParseScene(const json& document, const std::string& path) {
 }
 
 Scene ReadSceneFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open the scene file");
-  std::stringstream text;
-  text << in.rdbuf();
-  return ParseScene(ParseJsonText(text.str(), path), path);
+  return ParseScene(ParseJsonText(ReadInputFile(path, "scene file"), path), path);
 }
 
 }  // namespace tether

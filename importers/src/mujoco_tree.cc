@@ -1,11 +1,11 @@
 #include "tether/importers/mujoco_tree.h"
 
-#include <fstream>
 #include <memory>
 #include <sstream>
 #include <string>
 
 #include "tether/dynamics/errors.h"
+#include "tether/dynamics/input_file.h"
 #include "tether/importers/import_model.h"
 
 namespace tether::importers {
@@ -171,7 +171,7 @@ KinematicTree TreeFromMujoco(const mjModel& m) {
 }
 
 KinematicTree ReadMjcf(const std::string& path) {
-  if (!std::ifstream(path)) throw InputError(path + ": cannot read the file");
+  CheckInputFile(path, "model file");
   char error[1024] = "";
   const std::unique_ptr<mjModel, void (*)(mjModel*)> model(mj_loadXML(path.c_str(), nullptr, error, sizeof error),
                                                            mj_deleteModel);

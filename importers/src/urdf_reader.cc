@@ -7,17 +7,48 @@
 // and Pinocchio take it); a floating robot has a `floating` joint below a root link named, say, world.
 // URDF names no gravity (tether takes 9.81 m/s^2 down z) and no time step.
 #include <console_bridge/console.h>
-
-#include <deque>
-#include <fstream>
-#include <sstream>
 #include <urdf_parser/urdf_parser.h>
 
+#include <algorithm>
+#include <deque>
+
 #include "tether/dynamics/errors.h"
+#include "tether/dynamics/input_file.h"
 #include "tether/importers/import_model.h"
 
 namespace tether::importers {
 namespace {
+
+// Deeper XML is refused before urdfdom parses it (its parser recurses once per element: 200,000 levels overflowed
+// the stack); MuJoCo's own parser stops at the same depth. A URDF is flat: a robot's link, its inertial, its
+// inertia is three levels.
+constexpr int kMaxXmlDepth = 500;
+
+// The deepest nesting of elements in XML `text`, counted up to `stop` levels (then stop + 1): start tags open a
+// level, end tags close one; empty-element tags, comments, declarations and processing instructions do neither.
+int XmlNestingDepth(const std::string& text, int stop) {
+  int depth = 0, deepest = 0;
+  for (size_t at = text.find('<'); at != std::string::npos && deepest <= stop; at = text.find('<', at + 1)) {
+    if (text.compare(at, 4, "<!--") == 0) {
+      at = text.find("-->", at);
+    } else if (at + 1 < text.size() && (text[at + 1] == '!' || text[at + 1] == '?')) {
+      at = text.find('>', at);
+    } else if (at + 1 < text.size() && text[at + 1] == '/') {
+      --depth;
+    } else {
+      char quote = 0;  // the end of the tag, outside quoted attribute values
+      size_t end = at + 1;
+      for (; end < text.size() && (quote || text[end] != '>'); ++end) {
+        if (text[end] == '"' || text[end] == '\'') quote = quote == text[end] ? 0 : quote ? quote : text[end];
+      }
+      if (end >= text.size()) break;
+      if (text[end - 1] != '/') deepest = std::max(deepest, ++depth);
+      at = end;
+    }
+    if (at == std::string::npos) break;
+  }
+  return deepest;
+}
 
 // urdfdom reports through console_bridge; its messages become part of the error instead of stray stderr lines.
 class CapturedLog : public console_bridge::OutputHandler {
@@ -99,14 +130,15 @@ std::vector<TreeJoint> ReadJoints(const urdf::Joint& source, const std::string& 
 }  // namespace
 
 KinematicTree ReadUrdf(const std::string& path) {
-  std::ifstream file(path);
-  if (!file) throw InputError(path + ": cannot read the file");
-  std::stringstream text;
-  text << file.rdbuf();
+  const std::string text = ReadInputFile(path, "model file");
+  if (XmlNestingDepth(text, kMaxXmlDepth) > kMaxXmlDepth) {  // urdfdom's parser recurses once per level
+    throw InputError(path + ": not a valid URDF model: elements nested deeper than " + std::to_string(kMaxXmlDepth) +
+                     " levels");
+  }
   urdf::ModelInterfaceSharedPtr model;
   {
     CapturedLog log;
-    model = urdf::parseURDF(text.str());
+    model = urdf::parseURDF(text);
     if (!model) throw InputError(path + ": not a valid URDF model: " + (log.text().empty() ? "urdfdom refused it" : log.text()));
   }
   KinematicTree tree;

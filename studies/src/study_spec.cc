@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 
 #include "tether/autodiff/parameters.h"
 #include "tether/dynamics/errors.h"
+#include "tether/dynamics/input_file.h"
 #include "tether/dynamics/scene_reader.h"
 
 namespace tether {
@@ -14,14 +14,6 @@ namespace {
 
 namespace fs = std::filesystem;
 constexpr const char* kStabilizationMethod = "/stabilization/method";
-
-std::string ReadFile(const std::string& path, const std::string& what) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open the " + what);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 // Where a swept pointer stands in the study file: /sweep/ followed by the pointer escaped as one key (RFC 6901).
 std::string SweepEntry(const std::string& pointer) {
@@ -100,9 +92,9 @@ class SpecReader {
   explicit SpecReader(const std::string& path) : path_(path) {}
 
   StudySpec Read() {
-    ParseJsonText(ReadFile(path_, "study file"), path_);  // syntax errors, with their line and column
+    ParseJsonText(ReadInputFile(path_, "study file"), path_);  // syntax errors, with their line and column
     // the file's own key order matters for the sweep: read it again, ordered
-    const nlohmann::ordered_json study = nlohmann::ordered_json::parse(ReadFile(path_, "study file"));
+    const nlohmann::ordered_json study = nlohmann::ordered_json::parse(ReadInputFile(path_, "study file"));
     if (!study.is_object()) Fail("(top level)", "expected an object");
     for (auto it = study.begin(); it != study.end(); ++it) {
       if (it.key() != "scene" && it.key() != "sweep" && it.key() != "metrics" && it.key() != "figures" &&
@@ -132,7 +124,7 @@ class SpecReader {
     const std::string path = (fs::path(path_).parent_path() / relative).string();
     spec_.scene_labels.push_back(label);
     spec_.scene_paths.push_back(path);
-    spec_.scenes.push_back(ParseJsonText(ReadFile(path, "scene file named by " + path_ + "'s /scene"), path));
+    spec_.scenes.push_back(ParseJsonText(ReadInputFile(path, "scene file named by " + path_ + "'s /scene"), path));
     ParseScene(spec_.scenes.back(), path);  // each base scene must be valid on its own
   }
 

@@ -48,7 +48,8 @@ TEST(ImportCli, BadInputExitsTwoNamingTheFileOrFlagAndWritesNothing) {
     std::string args, message;
   };
   const std::vector<Case> cases = {
-      {"import " + folder.Path("none.urdf") + " -o " + out, folder.Path("none.urdf") + ": cannot read the file"},
+      {"import " + folder.Path("none.urdf") + " -o " + out,
+       folder.Path("none.urdf") + ": cannot open the model file (no such file)"},
       {"import " + folder.Write("model.sdf", "") + " -o " + out, "model.sdf: unknown model format"},
       {"import " + bad_urdf + " -o " + out, "bad.urdf: not a valid URDF model"},
       {"import " + kArm + " --joint elbow -o " + out, "--joint elbow: expected NAME=VALUE with a finite number"},

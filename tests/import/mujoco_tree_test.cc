@@ -139,7 +139,7 @@ TEST(MujocoTree, RefusesWhatMujocoCannotCompile) {
     ReadMjcf("/nonexistent/model.xml");
     ADD_FAILURE() << "accepted a missing file";
   } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()), "/nonexistent/model.xml: cannot read the file");
+    EXPECT_EQ(std::string(e.what()), "/nonexistent/model.xml: cannot open the model file (no such file)");
   }
 }
 

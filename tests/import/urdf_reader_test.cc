@@ -134,7 +134,7 @@ TEST(UrdfReader, RefusesWhatItCannotRead) {
     ReadUrdf("/nonexistent/robot.urdf");
     ADD_FAILURE() << "accepted a missing file";
   } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()), "/nonexistent/robot.urdf: cannot read the file");
+    EXPECT_EQ(std::string(e.what()), "/nonexistent/robot.urdf: cannot open the model file (no such file)");
   }
 }
 
