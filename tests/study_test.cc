@@ -426,8 +426,8 @@ TEST_F(StudyTest, AWildcardSweepWritesEveryElementOfItsArray) {
   }
 }
 
-// "ties" in the study file: numbers that follow the swept ones row by row (as --tie); a tie that does not resolve is
-// an InputError naming the study file and /ties.
+// "ties" in the study file: numbers that follow the swept ones row by row (as --tie); a tie that does not resolve,
+// or that sets a swept number, is an InputError naming the study file and /ties.
 TEST_F(StudyTest, TiedNumbersFollowTheSweptOnes) {
   folder_.Write("pendulum.json", PendulumScene(0.5));
   const std::string study = folder_.Write(
@@ -442,6 +442,14 @@ TEST_F(StudyTest, TiedNumbersFollowTheSweptOnes) {
       "bad.json", R"({"scene": "pendulum.json", "sweep": {"/stabilization/beta": [25.0]},
                       "ties": ["/stabilization/alpha={/bodies/3/mass}"], "metrics": ["seconds"]})");
   ExpectInputError(bad, {bad, "/ties", "/bodies/3/mass"});
+  // a tie on what the sweep sets would label rows with values they were not run with
+  for (const char* tie : {"/stabilization/beta=5", "/stabilization/beta/*={/stabilization/alpha}"}) {
+    const std::string clash = folder_.Write(
+        "clash.json",
+        std::string(R"({"scene": "pendulum.json", "sweep": {"/stabilization/beta": [25.0]}, "ties": [")") + tie +
+            R"("], "metrics": ["seconds"]})");
+    ExpectInputError(clash, {clash, "/ties/0", "which the sweep sets", "/sweep/~1stabilization~1beta"});
+  }
 }
 
 TEST_F(StudyTest, EnergyDriftIsMeasuredWithoutTheReferenceMetric) {

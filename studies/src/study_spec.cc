@@ -179,7 +179,24 @@ class SpecReader {
     if (!ties.is_array()) Fail("/ties", "expected an array of \"PTR=EXPR\" strings");
     for (size_t k = 0; k < ties.size(); ++k) {
       if (!ties[k].is_string()) Fail("/ties/" + std::to_string(k), "expected a \"PTR=EXPR\" string");
-      spec_.ties.push_back(ties[k].get<std::string>());
+      const std::string text = ties[k].get<std::string>();
+      RefuseTyingSwept(text.substr(0, text.find('=')), "/ties/" + std::to_string(k));
+      spec_.ties.push_back(text);
+    }
+  }
+
+  // A tie may not set what the sweep sets (the same number, one inside a swept array, or an array holding a swept
+  // number): the row would be labelled with the swept value and run with the tied one.
+  void RefuseTyingSwept(std::string target, const std::string& where) const {
+    if (EndsInWildcard(target)) target.resize(target.size() - 2);
+    const auto inside = [](const std::string& inner, const std::string& outer) {
+      return inner == outer || inner.rfind(outer + "/", 0) == 0;
+    };
+    for (const std::string& swept : spec_.pointers) {
+      if (swept != kSceneColumn && (inside(target, swept) || inside(swept, target))) {
+        Fail(where, "ties " + target + ", which the sweep sets (" + SweepEntry(swept) +
+                        "): its rows would be labelled with values they were not run with");
+      }
     }
   }
 
