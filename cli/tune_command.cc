@@ -1,5 +1,6 @@
 #include "tune_command.h"
 
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 
@@ -76,7 +77,8 @@ class TuneCommand final : public Command {
     } catch (const SimulationDiverged& e) {
       throw SimulationDiverged(scene_path_ + ": the reference motion diverged: " + e.what(), e.time(), e.constraint());
     }
-    if (out) {
+    const bool failed = !std::isfinite(result.objective);  // the optimizer's runs failed: nothing was tuned
+    if (out && !failed) {
       nlohmann::json tuned = scene.document;
       tuned["stabilization"] = {{"method", "baumgarte"}, {"alpha", result.alpha}, {"beta", result.beta}};
       out->stream() << tuned.dump(2) << "\n";
@@ -84,6 +86,11 @@ class TuneCommand final : public Command {
     }
     PrintSummary(result, scene.model.simulation.step);
     std::cout << TuneJson(result, objective_, optimizer_, scene.model.simulation.step).dump(2) << std::endl;
+    if (failed) {
+      std::cerr << "tether: tune failed: the tuned gains give no finite objective (their runs diverged)"
+                << (out ? "; no scene was written" : "") << "\n";
+      return 1;
+    }
     return 0;
   }
 

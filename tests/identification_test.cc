@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "fit_judgement.h"
 #include "test_files.h"
 #include "test_scenes.h"
 #include "tether/autodiff/residuals.h"
@@ -484,6 +485,18 @@ Case MassWithoutEffectCase(const std::vector<std::string>& pointers) {
     c.guess.push_back(p == "/bodies/0/mass" ? 1.5 : -9.0);
   }
   return c;
+}
+
+// an optimizer whose every run failed ends without a finite cost: the fit fails, whatever else looks fine
+TEST(Identification, AnOptimizerWithoutAFiniteCostFailsTheFit) {
+  OptimizerResult optimizer;
+  optimizer.value = std::numeric_limits<double>::quiet_NaN();
+  optimizer.message = "every evaluation failed";
+  const FitJudgement judgement = JudgeFit({}, {}, {}, 1.0, optimizer);
+  EXPECT_TRUE(judgement.failed);
+  EXPECT_TRUE(Mentions(judgement.warnings, "without a finite cost")) << ::testing::PrintToString(judgement.warnings);
+  optimizer.value = 0.5;
+  EXPECT_FALSE(JudgeFit({}, {}, {}, 1.0, optimizer).failed);
 }
 
 // one recorded value for two parameters: fewer residuals than unknowns is reported, not a crash in the SVD

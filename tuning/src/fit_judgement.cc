@@ -64,6 +64,11 @@ FitJudgement JudgeFit(const std::vector<Observations>& recordings, const std::ve
     judgement.warnings.push_back(message.str());
     judgement.failed = true;
   }
+  if (!std::isfinite(optimizer.value)) {  // its evaluations failed (runs diverged): nothing was fitted
+    judgement.warnings.push_back("the optimizer ended without a finite cost (" + optimizer.message +
+                                 "): the runs it tried failed, so nothing was fitted");
+    judgement.failed = true;
+  }
   if (optimizer.hit_limit) {
     judgement.warnings.push_back("the optimizer stopped at its limit (" + optimizer.message +
                                  ") rather than converging; raise --max-evaluations");

@@ -9,9 +9,10 @@
 //                estimate does not reproduce the data (a local minimum, a wrong model);
 //   continuity   (multiple shooting) a gap between a segment's end and the next start above kNoiseFactor times
 //                the largest residual RMS and 1e-6 of the scene's length scale: the pieces are not one motion;
-//   budget       the optimizer stopped at its iteration or evaluation limit rather than converging.
-// The first two mean the fit failed: its standard deviations and correlations are not meaningful. Identify adds,
-// with multiple shooting, a warning when one run of the estimate from the scene's initial state (what a scene
+//   budget       the optimizer stopped at its iteration or evaluation limit rather than converging;
+//   no cost      the optimizer ended without a finite cost: the runs it tried failed (diverged), nothing was fitted.
+// The first two and the last mean the fit failed: its standard deviations and correlations are not meaningful. Identify
+// adds, with multiple shooting, a warning when one run of the estimate from the scene's initial state (what a scene
 // written with it does) misses a recording by more than kNoiseFactor times the fit's residual RMS.
 #pragma once
 
