@@ -4,6 +4,7 @@
 #include <iostream>
 #include <memory>
 #include <new>
+#include <nlohmann/json.hpp>
 #include <system_error>
 #include <vector>
 
@@ -46,6 +47,9 @@ int main(int argc, char** argv) {
       return 1;
     } catch (const std::system_error& e) {  // e.g. threads that cannot be started
       std::cerr << "tether: failed: the system refused: " << e.what() << "\n";
+      return 1;
+    } catch (const nlohmann::json::exception& e) {  // every input is checked before the JSON library sees it
+      std::cerr << "tether: internal error (a bug in tether: please report the command): " << e.what() << "\n";
       return 1;
     } catch (const std::exception& e) {
       std::cerr << "tether: failed: " << e.what() << "\n";

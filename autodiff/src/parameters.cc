@@ -23,7 +23,12 @@ class Resolver {
     } catch (const json::exception&) {
       Fail("not a JSON Pointer (it must look like /bodies/0/mass)");
     }
-    if (!scene_.document.contains(ptr)) {
+    bool found = false;
+    try {  // an array index that is empty, not a number or past any size throws rather than answering no
+      found = scene_.document.contains(ptr);
+    } catch (const json::exception&) {
+    }
+    if (!found) {
       Fail("is not in the scene file (a value left to its default must be written out to become a parameter)");
     }
     const json& leaf = scene_.document.at(ptr);
