@@ -9,12 +9,14 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <sstream>
 #include <string>
 
 #include "test_files.h"
 #include "test_scenes.h"
 #include "tether/dynamics/errors.h"
 #include "tether/dynamics/simulator.h"
+#include "tether/dynamics/trajectory_csv.h"
 
 namespace tether {
 namespace {
@@ -82,6 +84,25 @@ TEST_F(ObservationsTest, ColumnsMapToCoordinatesVelocitiesAndEnergy) {
 
 // A run evaluates the energy only for observations that have its column (RunOptions::energy): without it the
 // samples carry NaN there, with it the energy, and the other columns are the same either way.
+// names from scene files and imported models may hold a comma or a quote: the trajectory's header quotes them
+// (RFC 4180) and the data reader takes them back, from a file saved by a spreadsheet too (a byte-order mark, CRLF)
+TEST_F(ObservationsTest, QuotedNamesABomAndCrlfLinesAreRead) {
+  const Model<double> model = SceneFromJson(R"({"dimension": 2,
+    "bodies": [{"name": "bob, \"the\" bob", "type": "particle", "mass": 1.0, "position": [1.0, 0.0]}],
+    "simulation": {"duration": 0.5}})");
+  std::ostringstream trajectory;
+  TrajectoryCsvWriter writer(model, &trajectory);
+  EXPECT_EQ(trajectory.str().substr(0, trajectory.str().find('\n')),
+            R"(t,"bob, ""the"" bob.x","bob, ""the"" bob.y","bob, ""the"" bob.vx","bob, ""the"" bob.vy",)"
+            "constraint_error,energy");
+  const Observations obs =
+      ReadObservations(Write("saved.csv", "\xEF\xBB\xBFt,\"bob, \"\"the\"\" bob.x\"\r\n0.25,0.5\r\n"), model);
+  ASSERT_EQ(obs.columns.size(), 1u);
+  EXPECT_EQ(obs.columns[0].name, "bob, \"the\" bob.x");
+  EXPECT_EQ(obs.values[0][0], 0.5);
+  ExpectRefused("t,\"bob.x\n0.25,0.5\n", 1, "a quoted cell is not closed");
+}
+
 TEST_F(ObservationsTest, TheEnergyIsEvaluatedOnlyWhenObserved) {
   const Observations with = ReadObservations(Write("with.csv", "t,bob.x,energy\n0.25,0.5,1.0\n"), model_);
   const Observations without = ReadObservations(Write("without.csv", "t,bob.x\n0.25,0.5\n"), model_);

@@ -6,8 +6,10 @@
 #include <fstream>
 #include <map>
 #include <numeric>
+#include <optional>
 #include <sstream>
 
+#include "tether/dynamics/csv_line.h"
 #include "tether/dynamics/errors.h"
 #include "tether/dynamics/input_file.h"
 #include "tether/dynamics/trajectory_csv.h"
@@ -15,13 +17,14 @@
 namespace tether {
 namespace {
 
-std::vector<std::string> SplitCells(const std::string& line) {
-  std::vector<std::string> cells;
-  std::stringstream stream(line);
-  std::string cell;
-  while (std::getline(stream, cell, ',')) cells.push_back(cell);
-  if (!line.empty() && line.back() == ',') cells.push_back("");
-  return cells;
+// The cells of one line (csv_line.h: quoted names keep their commas), without a Windows line end; fail(message)
+// when a quote is not closed.
+template <typename Fail>
+std::vector<std::string> SplitCells(const std::string& line, Fail fail) {
+  const bool crlf = !line.empty() && line.back() == '\r';
+  std::optional<std::vector<std::string>> cells = SplitCsvLine(crlf ? line.substr(0, line.size() - 1) : line);
+  if (!cells) fail("a quoted cell is not closed, or text follows its closing quote");
+  return *cells;
 }
 
 std::string Trim(std::string s) {
@@ -149,12 +152,13 @@ Observations ReadObservations(const std::string& path, const Model<double>& mode
   obs.path = path;
   std::string text;
   if (!std::getline(in, text)) throw InputError(path + ": the data file is empty (it needs a header row)");
-  const std::vector<std::string> header = SplitCells(text);
+  if (text.rfind("\xEF\xBB\xBF", 0) == 0) text.erase(0, 3);  // a UTF-8 byte-order mark is not part of a name
+  const std::vector<std::string> header = SplitCells(text, fail);
   int time_column = -1;
   const std::vector<int> column_of_cell = ReadHeader(header, model, &obs, &time_column, fail);
   for (line = 2; std::getline(in, text); ++line) {
     if (Trim(text).empty()) continue;
-    const std::vector<std::string> cells = SplitCells(text);
+    const std::vector<std::string> cells = SplitCells(text, fail);
     if (cells.size() != header.size()) {
       fail("expected " + std::to_string(header.size()) + " cells, got " + std::to_string(cells.size()));
     }

@@ -2,13 +2,15 @@
 
 #include <charconv>
 
+#include "tether/dynamics/csv_line.h"
 #include "tether/dynamics/errors.h"
 
 namespace tether {
 
 TrajectoryCsvWriter::TrajectoryCsvWriter(const Model<double>& model, std::ostream* out)
     : model_(model), columns_(TrajectoryColumns(model)), out_(out) {
-  for (size_t i = 0; i < columns_.size(); ++i) *out_ << (i ? "," : "") << columns_[i].name;
+  // names come from scene files and imported models, so may hold a comma or a quote: RFC 4180 quoting
+  for (size_t i = 0; i < columns_.size(); ++i) *out_ << (i ? "," : "") << CsvCell(columns_[i].name);
   *out_ << '\n';
 }
 
@@ -20,14 +22,6 @@ void AppendNumber(double x, std::string* line) {
   const std::to_chars_result end = std::to_chars(number, number + sizeof number, x);
   if (!line->empty()) *line += ',';
   line->append(number, end.ptr);
-}
-
-// a CSV field: quoted (quotes doubled) when it holds a comma, a quote or a line break
-std::string CsvField(const std::string& text) {
-  if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
-  std::string out = "\"";
-  for (char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return out + "\"";
 }
 
 }  // namespace
@@ -45,7 +39,7 @@ void WriteEventsCsv(const std::vector<RunEvent>& events, std::ostream* out) {
   for (const RunEvent& e : events) {
     line.clear();
     AppendNumber(e.t, &line);
-    line += "," + e.kind + "," + CsvField(e.constraint);
+    line += "," + e.kind + "," + CsvCell(e.constraint);
     AppendNumber(e.speed_before, &line);
     AppendNumber(e.speed_after, &line);
     *out << line << '\n';

@@ -11,7 +11,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "csv_line.h"
+#include "tether/dynamics/csv_line.h"
 #include "tether/dynamics/errors.h"
 #include "tether/dynamics/output_file.h"
 

@@ -13,7 +13,7 @@
 #include <sstream>
 #include <thread>
 
-#include "csv_line.h"
+#include "tether/dynamics/csv_line.h"
 #include "tether/dynamics/default_gains.h"
 #include "tether/dynamics/errors.h"
 #include "tether/dynamics/integrator_descriptor.h"

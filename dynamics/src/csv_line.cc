@@ -1,4 +1,4 @@
-#include "csv_line.h"
+#include "tether/dynamics/csv_line.h"
 
 namespace tether {
 
