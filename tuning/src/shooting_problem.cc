@@ -113,6 +113,15 @@ ShootingProblem::ShootingProblem(const Model<double>& model, const ParameterSet&
   }
   if (!(end > 0.0)) throw InputError("the data has no observation after t = 0: there is nothing to fit");
   const int segments = std::max(1, settings.segments);
+  // each segment's start state is a block of unknowns the data and the joins determine; past one segment a row of
+  // data they only cost time (the solve is dense: 1000 segments of a pendulum with two rows ran for minutes);
+  // targets alone (a fit without data) are bounded by the step grid below
+  size_t rows = 0;
+  for (const Observations& r : recordings) rows += r.times.size();
+  if (!recordings.empty() && static_cast<size_t>(segments) > rows) {
+    throw InputError("--segments " + std::to_string(segments) + ": more segments than the " + std::to_string(rows) +
+                     " rows of data (at most one segment a row)");
+  }
   // segment boundaries on the step grid, so that the segments step as one run does
   const double h = model.simulation.step;
   boundaries_.push_back(0.0);
