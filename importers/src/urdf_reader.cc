@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <deque>
+#include <map>
 
 #include "tether/dynamics/errors.h"
 #include "tether/dynamics/input_file.h"
@@ -127,6 +128,29 @@ std::vector<TreeJoint> ReadJoints(const urdf::Joint& source, const std::string& 
   }
 }
 
+// A URDF is a tree: urdfdom takes a link that is the child of two joints (one of them lost, the other doubled
+// below it) and joints that close a cycle (walked for ever), so both are refused here, naming the joints.
+void CheckTree(const urdf::ModelInterface& model, const std::string& path) {
+  std::map<std::string, std::string> parent_joint;  // link -> the joint it is the child of
+  for (const auto& [name, joint] : model.joints_) {
+    const auto [at, added] = parent_joint.emplace(joint->child_link_name, name);
+    if (!added) {
+      throw InputError(path + ": link '" + joint->child_link_name + "' is the child of two joints ('" + at->second +
+                       "' and '" + name + "'): a URDF is a tree (close a loop with a constraint after import)");
+    }
+  }
+  for (const auto& [link, joint] : parent_joint) {  // up from every link, the root must come within as many steps
+    std::string at = link;
+    for (size_t steps = 0; parent_joint.count(at); ++steps) {
+      if (steps > parent_joint.size()) {
+        throw InputError(path + ": the joints above link '" + link + "' form a cycle (through joint '" + joint +
+                         "'): a URDF is a tree");
+      }
+      at = model.joints_.at(parent_joint.at(at))->parent_link_name;
+    }
+  }
+}
+
 }  // namespace
 
 KinematicTree ReadUrdf(const std::string& path) {
@@ -141,6 +165,7 @@ KinematicTree ReadUrdf(const std::string& path) {
     model = urdf::parseURDF(text);
     if (!model) throw InputError(path + ": not a valid URDF model: " + (log.text().empty() ? "urdfdom refused it" : log.text()));
   }
+  CheckTree(*model, path);
   KinematicTree tree;
   tree.gravity = Eigen::Vector3d(0, 0, -9.81);
   const urdf::LinkConstSharedPtr root = model->getRoot();

@@ -130,6 +130,16 @@ TEST(UrdfReader, RefusesWhatItCannotRead) {
   refused(Robot("<link name=\"a\"/><link name=\"b\">" + Inertial() + "</link>" +
                 Joint("j", "continuous", "a", "b", "<axis xyz=\"0 0 0\"/>")),
           "robot.urdf: joint 'j' has a zero axis");
+  // not a tree: a link with two parents (urdfdom kept one joint twice and lost the other), joints in a cycle
+  // (walked for ever)
+  const std::string links = "<link name=\"base\"/><link name=\"a\">" + Inertial() + "</link><link name=\"b\">" +
+                            Inertial() + "</link><link name=\"c\">" + Inertial() + "</link>";
+  refused(Robot(links + Joint("j1", "continuous", "base", "a") + Joint("j2", "continuous", "base", "b") +
+                Joint("j3", "continuous", "a", "b") + Joint("j4", "continuous", "base", "c")),
+          "link 'b' is the child of two joints ('j2' and 'j3')");
+  refused(Robot(links + Joint("j1", "continuous", "base", "c") + Joint("j2", "continuous", "a", "b") +
+                Joint("j3", "continuous", "b", "a")),
+          "the joints above link 'a' form a cycle");
   try {
     ReadUrdf("/nonexistent/robot.urdf");
     ADD_FAILURE() << "accepted a missing file";
