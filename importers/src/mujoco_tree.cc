@@ -170,8 +170,41 @@ KinematicTree TreeFromMujoco(const mjModel& m) {
   return tree;
 }
 
+namespace {
+
+// MuJoCo's warnings go to stdout and to MUJOCO_LOG.TXT in the working folder unless a handler takes them (a stray
+// file, and a line in the middle of a scene that `import` writes to stdout): while tether loads a model they are
+// collected here instead, and become the import's warnings. (MuJoCo calls the handler on the loading thread.)
+class MujocoWarnings {
+ public:
+  MujocoWarnings() : previous_(mju_user_warning) {
+    Collected().clear();
+    mju_user_warning = &Collect;
+  }
+  ~MujocoWarnings() { mju_user_warning = previous_; }
+  MujocoWarnings(const MujocoWarnings&) = delete;
+  MujocoWarnings& operator=(const MujocoWarnings&) = delete;
+  const std::vector<std::string>& messages() const { return Collected(); }
+
+ private:
+  static std::vector<std::string>& Collected() {
+    static thread_local std::vector<std::string> messages;
+    return messages;
+  }
+  static void Collect(const char* message) {
+    std::string line = message;
+    for (char& c : line) c = c == '\n' ? ' ' : c;
+    while (!line.empty() && line.back() == ' ') line.pop_back();
+    Collected().push_back(line);
+  }
+  void (*previous_)(const char*);
+};
+
+}  // namespace
+
 KinematicTree ReadMjcf(const std::string& path) {
   CheckInputFile(path, "model file");
+  const MujocoWarnings warnings;
   char error[1024] = "";
   const std::unique_ptr<mjModel, void (*)(mjModel*)> model(mj_loadXML(path.c_str(), nullptr, error, sizeof error),
                                                            mj_deleteModel);
@@ -181,6 +214,8 @@ KinematicTree ReadMjcf(const std::string& path) {
   if (!model) throw InputError(path + ": MuJoCo cannot compile it: " + message);
   KinematicTree tree = TreeFromMujoco(*model);
   if (!message.empty()) tree.warnings.insert(tree.warnings.begin(), "MuJoCo's compiler: " + message);
+  for (const std::string& warning : warnings.messages())
+    tree.warnings.insert(tree.warnings.begin(), "MuJoCo: " + warning);
   return tree;
 }
 

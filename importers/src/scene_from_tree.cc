@@ -495,6 +495,7 @@ class SceneBuilder {
   }
 
   void EmitEffects() {
+    if (!tree_.gravity.allFinite()) Fail("the model's gravity is not finite (a NaN or an infinity)");
     if (tree_.gravity.norm() > 0) effects_.push_back({{"type", "gravity"}, {"acceleration", Array3(tree_.gravity)}});
     for (const TreeLink& link : tree_.links) {
       for (const TreeJoint& joint : link.joints) {

@@ -3,6 +3,7 @@
 // nothing.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 #include <string>
 
@@ -61,7 +62,17 @@ TEST(ImportCli, BadInputExitsTwoNamingTheFileOrFlagAndWritesNothing) {
       {"import " + kArm + " --fix tool0 -o " + out, "--fix tool0: no moving body of " + kArm + " is named 'tool0'"},
       {"import " + kArm + " --fix wrist -o " + out, "--fix wrist: the link 'wrist' of " + kArm + " has no mass"},
       {"import " + kArm + " -o " + kArm, "-o"},
-      {"import " + kArm + " -o " + folder.Path("missing/out.json"), "-o"}};
+      {"import " + kArm + " -o " + folder.Path("missing/out.json"), "-o"},
+      // a NaN in the model: refused, where it was dropped (gravity) and MuJoCo's warning about it went to stdout
+      // and to MUJOCO_LOG.TXT in the working folder
+      {"import " +
+           folder.Write("nan_gravity.xml",
+                        "<mujoco><option gravity=\"nan 0 -9.81\"/><worldbody>"
+                        "<body name=\"b\" pos=\"0 0 1\"><joint type=\"hinge\"/>"
+                        "<geom size=\"0.1\"/></body></worldbody></mujoco>") +
+           " -o " + out,
+       "nan_gravity.xml: the model's gravity is not finite"}};
+  std::filesystem::remove("MUJOCO_LOG.TXT");  // the tests run where tether runs: a log left here is its
   for (const Case& c : cases) {
     const Outcome outcome = RunTether(c.args, folder);
     EXPECT_EQ(outcome.status, 2) << c.args << "\n" << outcome.err;
@@ -71,6 +82,7 @@ TEST(ImportCli, BadInputExitsTwoNamingTheFileOrFlagAndWritesNothing) {
     EXPECT_FALSE(std::ifstream(out).good()) << c.args;
   }
   EXPECT_NE(ReadText(kArm).find("<robot name=\"test_arm\">"), std::string::npos);  // -o onto it was refused
+  EXPECT_FALSE(std::filesystem::exists("MUJOCO_LOG.TXT")) << "MuJoCo wrote its log into the working folder";
 }
 
 }  // namespace
