@@ -17,6 +17,9 @@
 namespace tether {
 namespace {
 
+// With data, a shooting problem may have this many segments however few rows the data has.
+constexpr int kSegmentsWithoutRows = 20;
+
 using Kind = FieldRef::Kind;
 constexpr double kUnbounded = std::numeric_limits<double>::max();
 
@@ -113,14 +116,15 @@ ShootingProblem::ShootingProblem(const Model<double>& model, const ParameterSet&
   }
   if (!(end > 0.0)) throw InputError("the data has no observation after t = 0: there is nothing to fit");
   const int segments = std::max(1, settings.segments);
-  // each segment's start state is a block of unknowns the data and the joins determine; past one segment a row of
-  // data they only cost time (the solve is dense: 1000 segments of a pendulum with two rows ran for minutes);
-  // targets alone (a fit without data) are bounded by the step grid below
+  // each segment's start state is a block of unknowns the data and the joins determine; far past one segment a row
+  // of data they only cost time (the solve is dense: 1000 segments of a pendulum with two rows ran for minutes).
+  // With data, at most one a row or kSegmentsWithoutRows (fit's own choice goes to 20); targets alone (a fit
+  // without data) are bounded by the step grid below.
   size_t rows = 0;
   for (const Observations& r : recordings) rows += r.times.size();
-  if (!recordings.empty() && static_cast<size_t>(segments) > rows) {
+  if (!recordings.empty() && static_cast<size_t>(segments) > std::max<size_t>(rows, kSegmentsWithoutRows)) {
     throw InputError("--segments " + std::to_string(segments) + ": more segments than the " + std::to_string(rows) +
-                     " rows of data (at most one segment a row)");
+                     " rows of data (at most one a row, or " + std::to_string(kSegmentsWithoutRows) + ")");
   }
   // segment boundaries on the step grid, so that the segments step as one run does
   const double h = model.simulation.step;
