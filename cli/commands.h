@@ -1,10 +1,10 @@
 // Every subcommand of the `tether` front end, registered on one CLI11 app (main.cc, and the command-line fuzzer).
 #pragma once
 
-#include <memory>
-#include <vector>
-
 #include <CLI/CLI.hpp>
+#include <memory>
+#include <string>
+#include <vector>
 
 #include "command.h"
 
@@ -12,5 +12,9 @@ namespace tether::cli {
 
 // The subcommands in the order `tether --help` lists them; --version too.
 std::vector<std::unique_ptr<Command>> RegisterCommands(CLI::App* app, const std::string& version);
+
+// For a first argument that names no subcommand: "unknown command 'simulat' (did you mean 'simulate'?; the commands
+// are ...)"; empty when it names one. (CLI11 answers such a word with "A subcommand is required".)
+std::string UnknownCommand(CLI::App& app, const std::string& word);
 
 }  // namespace tether::cli

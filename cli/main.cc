@@ -19,6 +19,13 @@ int main(int argc, char** argv) {
   const std::vector<std::unique_ptr<cli::Command>> commands = cli::RegisterCommands(
       &app, std::string("tether ") + TETHER_VERSION + (commit.empty() ? "" : " (commit " + commit + ")"));
   InstallInterruptHandlers();
+  if (argc > 1 && argv[1][0] != '-') {  // CLI11 would answer a misspelled command "A subcommand is required"
+    const std::string unknown = cli::UnknownCommand(app, argv[1]);
+    if (!unknown.empty()) {
+      std::cerr << "tether: " << unknown << "\n(run 'tether --help' for usage)\n";
+      return 2;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
