@@ -247,6 +247,10 @@ class SceneBuilder {
       body->mass += m;
       body->p_WC += m * c;
     }
+    if (!(body->mass > 0.0) || !std::isfinite(body->mass)) {  // the centre of mass below would be 0/0
+      Fail("link '" + tree_.links[body->links[0]].name + "': its mass is " + Format(body->mass) +
+           " kg; a moving body needs a positive, finite mass");
+    }
     body->p_WC /= body->mass;
     body->I_C_W.setZero();
     for (const auto& [m, c, I] : parts) {

@@ -71,7 +71,17 @@ TEST(ImportCli, BadInputExitsTwoNamingTheFileOrFlagAndWritesNothing) {
                         "<body name=\"b\" pos=\"0 0 1\"><joint type=\"hinge\"/>"
                         "<geom size=\"0.1\"/></body></worldbody></mujoco>") +
            " -o " + out,
-       "nan_gravity.xml: the model's gravity is not finite"}};
+       "nan_gravity.xml: the model's gravity is not finite"},
+      // a massless moving link: its mass named, not principal moments of "nan, nan, -nan"
+      {"import " +
+           folder.Write("massless.urdf",
+                        "<robot name=\"r\"><link name=\"base\"/><link name=\"a\"><inertial>"
+                        "<mass value=\"0\"/><inertia ixx=\"1\" iyy=\"1\" izz=\"1\" ixy=\"0\" "
+                        "ixz=\"0\" iyz=\"0\"/></inertial></link><joint name=\"j\" "
+                        "type=\"continuous\"><parent link=\"base\"/><child link=\"a\"/>"
+                        "<axis xyz=\"0 0 1\"/></joint></robot>") +
+           " -o " + out,
+       "link 'a': its mass is 0 kg"}};
   std::filesystem::remove("MUJOCO_LOG.TXT");  // the tests run where tether runs: a log left here is its
   for (const Case& c : cases) {
     const Outcome outcome = RunTether(c.args, folder);
