@@ -165,7 +165,16 @@ KinematicTree ReadUrdf(const std::string& path) {
     model = urdf::parseURDF(text);
     if (!model) throw InputError(path + ": not a valid URDF model: " + (log.text().empty() ? "urdfdom refused it" : log.text()));
   }
-  CheckTree(*model, path);
+  try {
+    CheckTree(*model, path);
+  } catch (const InputError&) {  // urdfdom linked the links of a cycle by shared pointers: unlink them to free them
+    for (auto& [name, link] : model->links_) {
+      link->child_links.clear();
+      link->child_joints.clear();
+      link->parent_joint.reset();
+    }
+    throw;
+  }
   KinematicTree tree;
   tree.gravity = Eigen::Vector3d(0, 0, -9.81);
   const urdf::LinkConstSharedPtr root = model->getRoot();
