@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <deque>
 #include <map>
+#include <set>
 
 #include "tether/dynamics/errors.h"
 #include "tether/dynamics/input_file.h"
@@ -139,15 +140,20 @@ void CheckTree(const urdf::ModelInterface& model, const std::string& path) {
                        "' and '" + name + "'): a URDF is a tree (close a loop with a constraint after import)");
     }
   }
-  for (const auto& [link, joint] : parent_joint) {  // up from every link, the root must come within as many steps
-    std::string at = link;
-    for (size_t steps = 0; parent_joint.count(at); ++steps) {
-      if (steps > parent_joint.size()) {
+  // up from every link the root must come within as many steps as there are joints; a walk stops at a link an
+  // earlier one reached the root from, so that every link is walked once (a long chain is not quadratic)
+  std::set<std::string> rooted;
+  for (const auto& [link, joint] : parent_joint) {
+    std::vector<std::string> walked;
+    for (std::string at = link; parent_joint.count(at) && !rooted.count(at);
+         at = model.joints_.at(parent_joint.at(at))->parent_link_name) {
+      if (walked.size() > parent_joint.size()) {
         throw InputError(path + ": the joints above link '" + link + "' form a cycle (through joint '" + joint +
                          "'): a URDF is a tree");
       }
-      at = model.joints_.at(parent_joint.at(at))->parent_link_name;
+      walked.push_back(at);
     }
+    rooted.insert(walked.begin(), walked.end());
   }
 }
 
