@@ -172,6 +172,13 @@ KinematicTree TreeFromMujoco(const mjModel& m) {
 
 namespace {
 
+// MuJoCo's messages have line ends (and a trailing one): one line here.
+std::string OneLine(std::string message) {
+  for (char& c : message) c = c == '\n' ? ' ' : c;
+  while (!message.empty() && message.back() == ' ') message.pop_back();
+  return message;
+}
+
 // MuJoCo's warnings go to stdout and to MUJOCO_LOG.TXT in the working folder unless a handler takes them (a stray
 // file, and a line in the middle of a scene that `import` writes to stdout): while tether loads a model they are
 // collected here instead, and become the import's warnings. (MuJoCo calls the handler on the loading thread.)
@@ -191,12 +198,7 @@ class MujocoWarnings {
     static thread_local std::vector<std::string> messages;
     return messages;
   }
-  static void Collect(const char* message) {
-    std::string line = message;
-    for (char& c : line) c = c == '\n' ? ' ' : c;
-    while (!line.empty() && line.back() == ' ') line.pop_back();
-    Collected().push_back(line);
-  }
+  static void Collect(const char* message) { Collected().push_back(OneLine(message)); }
   void (*previous_)(const char*);
 };
 
@@ -208,9 +210,7 @@ KinematicTree ReadMjcf(const std::string& path) {
   char error[1024] = "";
   const std::unique_ptr<mjModel, void (*)(mjModel*)> model(mj_loadXML(path.c_str(), nullptr, error, sizeof error),
                                                            mj_deleteModel);
-  std::string message = error;  // MuJoCo's message has line ends: one line here
-  for (char& c : message) c = c == '\n' ? ' ' : c;
-  while (!message.empty() && message.back() == ' ') message.pop_back();
+  const std::string message = OneLine(error);
   if (!model) throw InputError(path + ": MuJoCo cannot compile it: " + message);
   KinematicTree tree = TreeFromMujoco(*model);
   if (!message.empty()) tree.warnings.insert(tree.warnings.begin(), "MuJoCo's compiler: " + message);
