@@ -6,7 +6,9 @@
 //     that), and the next factorization is unaffected;
 //   - a binary tree of 5000 rows, whose breadth-first order from the root would fill L almost densely, is analysed
 //     in its minimum-degree order with little fill, and the numeric phase's update lists are built for that order
-//     only (for the breadth-first one they would have needed gigabytes).
+//     only (for the breadth-first one they would have needed gigabytes);
+//   - a hub's rows (a star) form one dense block, whose updates are too many to list: they are found as the
+//     factorization goes, with the same result, and kAuto factors such a block densely (schur_solver.h).
 #include "tether/dynamics/sparse_ldlt.h"
 
 #include <gtest/gtest.h>
@@ -17,6 +19,8 @@
 #include <random>
 #include <utility>
 #include <vector>
+
+#include "tether/dynamics/schur_solver.h"
 
 namespace tether {
 namespace {
@@ -51,6 +55,13 @@ std::vector<std::pair<int, int>> Wheel(int n) {
     links.push_back({k, n});
   }
   links.push_back({kWorld, n});
+  return links;
+}
+
+// n bodies each held to a hub (body n) by one row: every pair of rows shares the hub.
+std::vector<std::pair<int, int>> Star(int n) {
+  std::vector<std::pair<int, int>> links;
+  for (int k = 0; k < n; ++k) links.push_back({n, k});
   return links;
 }
 
@@ -159,6 +170,23 @@ TEST(SparseLdlt, ABigBinaryTreeKeepsAnOrderWithLittleFill) {
   Eigen::VectorXd product;  // S x, from its lower triangle (a dense S would take 200 MB)
   MultiplySymmetric(pattern, values, x, &product);
   EXPECT_LE((product - ones).cwiseAbs().maxCoeff(), kAgreement);
+}
+
+TEST(SparseLdlt, AHubsDenseBlockIsFactoredWithoutListingItsUpdates) {
+  const SchurPattern pattern = PatternOf(Star(400), 401);
+  const SparseLdlt ldlt(pattern);
+  EXPECT_EQ(ldlt.nonzeros(), 400 * 399 / 2);         // dense below the diagonal
+  EXPECT_GT(ldlt.updates(), std::int64_t{1} << 23);  // past the listed bound (sparse_ldlt.cc)
+  ExpectAgreesWithDense(pattern, 9);
+}
+
+TEST(SparseLdlt, AutoFactorsAHubsDenseBlockDenselyAndAChainSparsely) {
+  EXPECT_EQ(SchurSolver(PatternOf(Star(kDenseBlockRows), kDenseBlockRows + 1), KktSolver::kAuto).kind(),
+            KktSolver::kDense);
+  EXPECT_EQ(SchurSolver(PatternOf(Star(kDenseBlockRows - 1), kDenseBlockRows), KktSolver::kAuto).kind(),
+            KktSolver::kSparse);  // small blocks stay on the path tuned for them
+  EXPECT_EQ(SchurSolver(PatternOf(Chain(5000), 5000), KktSolver::kAuto).kind(), KktSolver::kSparse);
+  EXPECT_EQ(SchurSolver(PatternOf(Star(300), 301), KktSolver::kSparse).kind(), KktSolver::kSparse);  // as asked
 }
 
 }  // namespace

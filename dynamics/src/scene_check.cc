@@ -89,7 +89,8 @@ SceneCheck CheckScene(const Model<double>& model) {
   std::vector<ConstraintRow<double>> rows(infos.size());
   check.coordinates = model.NumVelocities();
   check.constraint_rows = static_cast<int>(rows.size());
-  check.solver = ResolveSolver(model.simulation.solver) == KktSolver::kDense ? "dense" : "sparse";
+  const SchurPattern pattern(infos, LayoutOf(model));
+  check.solver = SchurSolver(pattern, model.simulation.solver).kind() == KktSolver::kDense ? "dense" : "sparse";
   check.degrees_of_freedom = check.coordinates;
   try {
     check.limits = CheckLimits(model);

@@ -6,11 +6,13 @@
 #include <set>
 #include <sstream>
 
+#include "tether/dynamics/configuration_space.h"
 #include "tether/dynamics/constraint_rows.h"
 #include "tether/dynamics/errors.h"
 #include "tether/dynamics/input_file.h"
 #include "tether/dynamics/kinematics.h"
 #include "tether/dynamics/names.h"
+#include "tether/dynamics/schur_system.h"
 
 namespace tether {
 namespace {
@@ -141,6 +143,7 @@ class SceneBuilder {
     }
     ReadBodies(check_.Required(doc_, "", "bodies"));
     if (const json* c = check_.Optional(doc_, "constraints")) ReadConstraints(*c);
+    CheckRowsOnEachBody();
     if (const json* m = check_.Optional(doc_, "markers")) ReadMarkers(*m);
     if (const json* shapes = check_.Optional(doc_, "shapes")) ReadShapes(*shapes);
     if (const json* e = check_.Optional(doc_, "effects")) ReadEffects(*e);
@@ -443,6 +446,26 @@ class SceneBuilder {
       }
       AddJoint(&model_, joint);
       if (!joint.name.empty()) joints_[joint.name] = static_cast<int>(model_.joints.size()) - 1;
+    }
+  }
+
+  // The rows acting on one body are coupled pairwise in the constraint solve (schur_system.h): a hub body's rows
+  // form a dense block, refused up front past kMaxRowsOnOneBody rather than run out of memory.
+  void CheckRowsOnEachBody() const {
+    std::vector<int> rows(model_.bodies.size(), 0);
+    const ConstraintSet<double> set = BuildConstraintSet(model_, InitialState(model_).q);
+    for (const RowInfo& info : DescribeRows(model_, set)) {
+      for (const int body : {info.body_a, info.body_b}) {
+        if (body != kWorld) ++rows[body];
+      }
+    }
+    for (size_t b = 0; b < rows.size(); ++b) {
+      if (rows[b] <= kMaxRowsOnOneBody) continue;
+      check_.Fail(Child("/bodies", b),
+                  std::to_string(rows[b]) + " constraint rows act on body '" + model_.bodies[b].name +
+                      "', more than the " + std::to_string(kMaxRowsOnOneBody) +
+                      " one body may carry (the solve couples every pair of them: its memory grows with the "
+                      "square of their number); split the hub into several bodies welded together");
     }
   }
 

@@ -3,18 +3,27 @@
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <functional>
 
 namespace tether {
 
-KktSolver ResolveSolver(KktSolver requested) { return requested == KktSolver::kAuto ? KktSolver::kSparse : requested; }
+KktSolver ResolveSolver(KktSolver requested, const SparseLdlt& analysis) {
+  if (requested != KktSolver::kAuto) return requested;
+  const std::int64_t n = analysis.size();
+  const bool dense_block = n >= kDenseBlockRows && analysis.updates() > n * n * n / 24;
+  return dense_block ? KktSolver::kDense : KktSolver::kSparse;
+}
 
 SchurSolver::SchurSolver(const SchurPattern& pattern, KktSolver kind, bool factor_jet_matrices)
-    : pattern_(&pattern), kind_(ResolveSolver(kind)), factor_jet_matrices_(factor_jet_matrices) {
-  if (kind_ == KktSolver::kDense) {
-    dense_.setZero(pattern.size(), pattern.size());
-  } else {
+    : pattern_(&pattern), kind_(kind), factor_jet_matrices_(factor_jet_matrices) {
+  if (kind_ != KktSolver::kDense) {
     sparse_factor_ = SparseLdlt(pattern);
+    kind_ = ResolveSolver(kind, sparse_factor_);
+  }
+  if (kind_ == KktSolver::kDense) {
+    sparse_factor_ = SparseLdlt();
+    dense_.setZero(pattern.size(), pattern.size());
   }
   regularized_values_.reserve(pattern.nonzeros());  // a step allocates nothing, regularized or not
   regularized_jets_.reserve(pattern.nonzeros());

@@ -31,7 +31,8 @@ class UserConstraint;
 enum class BodyKind { kParticle, kPlanar, kRigid3d };
 enum class Integrator { kEuler, kSymplecticEuler, kRk4, kRk45 };
 enum class Stabilization { kNone, kBaumgarte, kProjection };
-// kAuto is kSparse, the faster path at every size (see schur_solver.h).
+// kAuto is kSparse, the faster path at every size, unless the factor is one dense block of a hub body's rows (see
+// schur_solver.h).
 enum class KktSolver { kAuto, kDense, kSparse };
 
 // Body index of the fixed ground frame.

@@ -9,7 +9,11 @@
 //            to compare.
 // kAuto is kSparse: measured with bench/chain_bench.cc, it is faster than kDense at every size from one row up
 // (0.49 against 0.88 us per rk4 step of a one-particle chain, 4.0 against 5.7 us of the four-bar;
-// studies/scaling).
+// studies/scaling), except where its factor is one dense block: a hub body couples every pair of the rows that
+// act on it (MuJoCo's softbox: 218 prismatic joints on one body, 1090 rows), and the sparse factorization's
+// scalar updates (n^3 / 6 of them) then take five times as long as Eigen's blocked Cholesky (a 0.01 s run of
+// the softbox: 3.2 s against 0.63 s). kAuto takes kDense from kDenseBlockRows rows up where the sparse
+// factorization would make more than n^3 / 24 updates, a quarter of a dense block's.
 //
 // Jets (the implicit function theorem): with S = S0 + sum_k dS_k e_k and b = b0 + sum_k db_k e_k,
 //   x0 = S0^-1 b0,   dx_k = S0^-1 (db_k - dS_k x0),
@@ -52,8 +56,10 @@ namespace tether {
 inline constexpr double kNearSingularPivotRatio = 1e-4;
 inline constexpr double kRedundantPivotRatio = 1e-9;
 
-// The path a request takes: kAuto becomes kSparse.
-KktSolver ResolveSolver(KktSolver requested);
+inline constexpr int kDenseBlockRows = 128;
+
+// The path a request takes, given the sparse analysis of its pattern: kAuto becomes kSparse or kDense (above).
+KktSolver ResolveSolver(KktSolver requested, const SparseLdlt& analysis);
 
 // What the solver carries from one step of a run to the next (a checkpoint's part of it, stepper.h): whether the
 // next factorization starts from S + eps D (after a regularized one). Plain data, the same for every scalar.
@@ -63,7 +69,7 @@ struct SolverMemory {
 
 class SchurSolver {
  public:
-  // Analyzes the pattern once; `kind` may be kAuto.
+  // Analyzes the pattern once; `kind` may be kAuto (kind() is then the path taken).
   SchurSolver(const SchurPattern& pattern, KktSolver kind, bool factor_jet_matrices = false);
 
   KktSolver kind() const { return kind_; }

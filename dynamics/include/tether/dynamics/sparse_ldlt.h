@@ -20,13 +20,16 @@
 // others, so they pipeline; the up-looking order (a triangular solve per row, each update waiting for the one
 // before) took 1.09 us where this takes 0.83 us on the humanoid tree's 51 rows, which come in dense blocks of 3
 // to 5. Work: sum over the columns of L of count (count + 1) / 2, nnz(L) for a banded S without fill (a chain:
-// one entry per column, so O(n)); nothing is allocated or searched.
+// one entry per column, so O(n)); nothing is allocated or searched. Where the updates are too many to list (a hub
+// body's rows form a dense block: count^3 / 6 of them), each column's targets are found by walking the columns
+// it updates instead, in the same order and so with the same result; memory then stays O(nnz(L)).
 //
 // Solve (x = S^-1 b in place): permute, forward substitution with L, divide by D, back substitution with L^T,
 // permute back; 2 nnz(L) + n multiply-adds.
 #pragma once
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <vector>
 
 #include "tether/dynamics/schur_system.h"
@@ -55,6 +58,7 @@ class SparseLdlt {
 
   int size() const { return static_cast<int>(d_.size()); }
   int nonzeros() const { return static_cast<int>(lower_row_.size()); }  // of L below its diagonal
+  std::int64_t updates() const { return updates_; }                     // multiply-adds of a factorization
   const Eigen::VectorXd& pivots() const { return d_; }                  // D, in elimination order
   const Eigen::VectorXi& order() const { return order_; }               // order[k]: S's row eliminated k-th
 
@@ -64,6 +68,8 @@ class SparseLdlt {
   // For the ordering chosen: where S's values land, the fill-in, every column's updates (their number is the
   // factorization's work, so they are listed only for the order kept), and the numeric storage.
   void PlanNumericPhase(const SchurPattern& pattern);
+  // Column j's updates found by walking L's columns (when they are too many to list), d_j^-1 = `inverse`.
+  void UpdateUnlisted(int j, double inverse);
   // The two triangular solves with L's values `lower` and D^-1 `inverse_d`.
   void Substitute(const double* lower, const double* inverse_d, Eigen::VectorXd* x);
 
@@ -74,7 +80,9 @@ class SparseLdlt {
   std::vector<int> value_slot_;      // per stored value of S: its index in lower_value_
   std::vector<int> fill_slot_;       // the entries of L where S has none (they start at zero)
   std::vector<int> update_target_;   // column by column, for its (p, q), q <= p in that order: the index in
-                                     // lower_value_ of the entry that pair updates
+                                     // lower_value_ of the entry that pair updates (when listed_updates_)
+  std::int64_t updates_ = 0;
+  bool listed_updates_ = true;
   Eigen::VectorXd d_, inverse_d_;    // D and its inverse (so that the solves multiply)
   Eigen::VectorXd work_;             // the permuted x of a solve
 };
