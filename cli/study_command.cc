@@ -59,7 +59,7 @@ void WriteSummary(const StudySpec& spec, const std::vector<StudyRow>& rows, cons
       std::snprintf(number, sizeof number, "%.3g", m);
       out << " " << number << " |";
     }
-    out << " " << (row.status == "ok" ? "ok" : "diverged") << " |\n";
+    out << " " << row.status.substr(0, row.status.find(':')) << " |\n";
   }
   out << "\n";
   for (size_t m = 0; m < spec.metrics.size(); ++m) {

@@ -11,7 +11,7 @@ Figure types (PNG and SVG each, in FOLDER):
             other varying column), marker by integrator; the Pareto front (no run is better in both) is drawn
             and written to pareto_Y_vs_X.csv;
   gain_map  gain_map_METRIC.png: the metric over the swept (alpha, beta) grid, a panel per combination of the
-            other columns, diverged runs hatched, with the stability bound and the marks.
+            other columns, diverged runs hatched, drifted runs marked, with the stability bound and the marks.
 Diverged runs and, on log axes, values that are not positive are left out.
 """
 import csv
@@ -70,6 +70,16 @@ def short(column):
     return column.rsplit("/", 1)[-1]
 
 
+# Units of the swept values that carry one, for "name=value unit" in legends and titles
+UNITS = {"/simulation/step": "s", "/simulation/duration": "s", "/stabilization/alpha": "1/s",
+         "/stabilization/beta": "1/s^2"}
+
+
+def setting(column, value):
+    unit = UNITS.get(column)
+    return "%s=%s%s" % (short(column), value, " " + unit if unit else "")
+
+
 def spans_decades(values):
     positive = [v for v in values if v is not None and v > 0]
     return len(positive) > 1 and max(positive) / min(positive) > 100
@@ -112,7 +122,7 @@ def lines(results, folder):
         for index, (key, members) in enumerate(groups.items()):
             pts = [(number(r[0]) if x_numeric else r[0], results.metric(r, metric)) for r in members]
             pts = [(x, y) for x, y in pts if y is not None and (y > 0 or not log)]
-            name = ", ".join("%s=%s" % (short(results.columns[k]), v) for k, v in zip(varying, key)) or metric
+            name = ", ".join(setting(results.columns[k], v) for k, v in zip(varying, key)) or metric
             colour, style, marker = line_style(index)
             ax.plot([p[0] for p in pts], [p[1] for p in pts], color=colour, ls=style, marker=marker, ms=4, label=name)
         if log:
@@ -213,7 +223,7 @@ def gain_map(results, folder, metric, marks):
     for index, panel in enumerate(panels):
         ax = axes[index // ncols][index % ncols]
         grid = [[float("nan")] * len(alphas) for _ in betas]
-        diverged = []
+        diverged, drifted = [], []
         for r in results.rows:
             if any(r[cols.index(c)] != cell for c, cell in panel["values"].items()):
                 continue
@@ -223,12 +233,17 @@ def gain_map(results, folder, metric, marks):
                 diverged.append((number(r[ia]), number(r[ib])))
             elif value > 0:
                 grid[b][a] = value
+            if r[-1].startswith("drifted"):
+                drifted.append((number(r[ia]), number(r[ib])))
         mesh = ax.pcolormesh(edges(alphas), edges(betas), grid, norm=norm, cmap="viridis", shading="flat")
         blown = [[1.0 if (a, b) in diverged else float("nan") for a in alphas] for b in betas]
         ax.pcolormesh(edges(alphas), edges(betas), blown, cmap=colors.ListedColormap(["0.88"]), shading="flat")
         if diverged:
             ax.scatter([d[0] for d in diverged], [d[1] for d in diverged], marker="x", color="0.45", s=22,
                        zorder=4, label="diverged")
+        if drifted:
+            ax.scatter([d[0] for d in drifted], [d[1] for d in drifted], marker="+", color="black", s=30,
+                       zorder=4, label="drifted past 1% of the length scale")
         bound = panel["bound"]
         ax.plot([p[0] for p in bound], [p[1] for p in bound], color="red", lw=1.3, zorder=3,
                 label="stability bound")
@@ -243,10 +258,12 @@ def gain_map(results, folder, metric, marks):
         ax.set_xlabel("alpha (1/s)")
         ax.set_ylabel("beta (1/s^2)")
         varying = [cols[k] for k in results.varying()]
-        ax.set_title(", ".join("%s=%s" % (short(c), v) for c, v in panel["values"].items() if c in varying),
-                     fontsize=10)
-        if index == 0:
-            fig.legend(*ax.get_legend_handles_labels(), fontsize=8, loc="lower center", ncol=7)
+        ax.set_title(", ".join(setting(c, v) for c, v in panel["values"].items() if c in varying), fontsize=10)
+    legend = {}  # every panel's entries, once each (only some panels have drifted runs)
+    for ax in axes.ravel():
+        for handle, text in zip(*ax.get_legend_handles_labels()):
+            legend.setdefault(text, handle)
+    fig.legend(list(legend.values()), list(legend.keys()), fontsize=8, loc="lower center", ncol=4)
     for index in range(len(panels), nrows * ncols):
         axes[index // ncols][index % ncols].axis("off")
     if mesh is not None:

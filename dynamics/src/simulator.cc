@@ -206,7 +206,8 @@ void Stepper<T>::WarnOfDrift(double t, double largest) {
       << "% of the scene's length scale " << scale_
       << " m): this is no longer the constrained motion; a smaller step, another integrator or tuned gains "
          "(tether tune) keep it";
-  report_.warnings.push_back(out.str());
+  report_.drift = out.str();
+  report_.warnings.push_back(report_.drift);
 }
 
 // Every sample is checked as it is made, the last one included (the steps' own checks see the rows of their

@@ -120,7 +120,14 @@ ResultsFolder::ResultsFolder(const StudySpec& spec, const std::string& folder, b
     cost_.push_back(RowCost(spec, i));
     cost_total_ += cost_.back();
   }
-  if (!restart && ReadText(FingerprintPath(folder)) == fingerprint_ + "\n" && fs::exists(ResultsPath(folder))) {
+  const bool ours = ReadText(FingerprintPath(folder)) == fingerprint_ + "\n";
+  if (!restart && !ours && fs::exists(ResultsPath(folder))) {
+    throw InputError("--out: " + ResultsPath(folder) +
+                     " holds the results of another study (its study file, scenes "
+                     "or tether binary differ from this one's, or it has no fingerprint: results committed to a "
+                     "repository, say); pass --restart to replace them, or choose another folder");
+  }
+  if (!restart && ours && fs::exists(ResultsPath(folder))) {
     done_already_ = true;
     const std::vector<std::string> lines = WholeLines(ReadText(ResultsPath(folder)));
     const size_t cells = spec.pointers.size() + spec.metrics.size() + 1;

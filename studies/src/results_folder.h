@@ -7,7 +7,8 @@
 // `restart` discards them. A line that is not whole (torn by a crash or a full disk) is dropped and its row run
 // again. At the end DIR/results.csv is written whole (atomically), rows in order, DIR/results.fingerprint
 // records what it is the result of, and the partial file is removed; a later run of the same study finds them
-// and recomputes nothing (Done()).
+// and recomputes nothing (Done()). A results.csv that is not this study's (another fingerprint, or none: the
+// results a repository ships) is never replaced without `restart`: InputError naming --out.
 //
 // Two studies never write into one folder at once: DIR/.lock is held (flock) while a ResultsFolder lives.
 #pragma once

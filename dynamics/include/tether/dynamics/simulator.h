@@ -65,6 +65,7 @@ struct RunReport {
   std::int64_t steps = 0;
   std::vector<std::string> warnings;  // e.g. that the initial state was moved onto the constraints
   std::vector<RunEvent> events;       // in time order
+  std::string drift;                  // when the constraints drifted past 1% of the length scale: that warning
 };
 
 // The state a run starts from: the model's initial state moved onto its constraints (the mass-weighted nearest
