@@ -162,8 +162,12 @@ std::string GradientOf(const Scene& scene, const std::vector<std::string>& names
   });
 }
 
-std::string TuneScene(const Scene& scene, const std::string& objective, const std::string& optimizer, int samples,
-                      int max_evaluations) {
+// Tunes the gains of the scene with `overrides` (duration, step, integrator, solver: the gains and the
+// stabilization are what it chooses, so Python never sets them here) in place of its settings.
+std::string TuneScene(const Scene& scene, const SettingsOverrides& overrides, const std::string& objective,
+                      const std::string& optimizer, int samples, int max_evaluations) {
+  Model<double> model = scene.model;
+  overrides.Apply(&model, "");
   TuneSettings settings;
   if (objective == "reference") {
     settings.objective.kind = GainObjectiveKind::kReference;
@@ -180,7 +184,7 @@ std::string TuneScene(const Scene& scene, const std::string& objective, const st
   settings.optimizer.max_evaluations = max_evaluations;
   return OnScene(scene, [&] {
     try {
-      return TuneJson(TuneGains(scene.model, settings), objective, optimizer, scene.model.simulation.step).dump();
+      return TuneJson(TuneGains(model, settings), objective, optimizer, model.simulation.step).dump();
     } catch (const SimulationDiverged& e) {
       throw SimulationDiverged(std::string("the reference motion diverged: ") + e.what(), e.time(), e.constraint());
     }

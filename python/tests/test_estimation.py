@@ -111,6 +111,16 @@ def test_tune_and_check_as_the_cli():
     assert [m["name"] for m in got["comparison"]] == [m["name"] for m in expected["comparison"]]
     assert tether.check(four_bar) == cli_json("check", four_bar, "--json")
     assert tether.check(source("scenes", "cardan.json"))["degrees_of_freedom"] == 1
+    # the step, integrator, duration and solver as simulate takes them (tune's flags of the same names)
+    coarse = tether.tune(four_bar, max_evaluations=20, step=1e-2, integrator="symplectic_euler", duration=0.5)
+    expected = cli_json("tune", four_bar, "--max-evaluations", "20", "--step", "1e-2", "--integrator",
+                        "symplectic_euler", "--duration", "0.5")
+    assert (coarse["alpha"], coarse["beta"], coarse["window"]) == (expected["alpha"], expected["beta"], expected["window"])
+    assert coarse["alpha"] != got["alpha"]
+    with pytest.raises(tether.InputError, match=r"step: must be > 0"):
+        tether.tune(four_bar, step=-1.0)
+    with pytest.raises(TypeError):
+        tether.tune(four_bar, alpha=5.0)  # what it chooses
     with pytest.raises(tether.InputError, match=r"objective: unknown objective 'speed'"):
         tether.tune(four_bar, objective="speed")
     with pytest.raises(tether.InputError, match=r"samples: must be a whole number from 1 to 1000, got 1001"):

@@ -12,16 +12,36 @@ a file that could not be written), and KeyboardInterrupt when Ctrl-C stops a run
 interpreter's lock is released while tether runs). An estimate that failed (identify, fit) is returned with
 "failed": true and warned as EstimateFailed.
 """
-import csv
-import json
-import os
-import warnings
-from collections import namedtuple
-from collections.abc import Mapping
+import csv as _csv
+import json as _json
+import os as _os
+import warnings as _warnings
+from collections import namedtuple as _namedtuple
+from collections.abc import Mapping as _Mapping
 
-import numpy as np
+try:
+    import numpy as _np
+except ImportError as _missing:
+    import sys as _sys
 
-from . import _tether
+    raise ImportError(
+        "tether's Python module needs NumPy, which the Python running it (%s, Python %d.%d) lacks. The module is "
+        "built for Debian's /usr/bin/python3 with python3-numpy (docs/python.md): run it with /usr/bin/python3, "
+        "or install NumPy for this interpreter (%s -m pip install numpy)"
+        % (_sys.executable, _sys.version_info[0], _sys.version_info[1], _sys.executable)) from _missing
+
+try:
+    from . import _tether
+except ImportError as _missing:
+    import glob as _glob
+    import sys as _sys
+
+    raise ImportError(
+        "tether's compiled part (%s) cannot be loaded by the Python running it (%s, Python %d.%d): it is built for "
+        "Debian's /usr/bin/python3 (docs/python.md); run it with /usr/bin/python3, or build it for this "
+        "interpreter (pip install --no-build-isolation . in the repository)"
+        % (", ".join(_os.path.basename(p) for p in _glob.glob(_os.path.join(_os.path.dirname(__file__), "_tether*")))
+           or "none found", _sys.executable, _sys.version_info[0], _sys.version_info[1])) from _missing
 from ._tether import InputError, OutputError, SimulationDiverged
 from ._tether import __version__  # the project's (CMakeLists.txt), as `tether --version` names it
 
@@ -40,7 +60,7 @@ class EstimateFailed(UserWarning):
 def _json_text(document, name):
     """The scene as JSON text; NaN and infinities, which JSON lacks, are refused as a file's would be."""
     try:
-        return json.dumps(document, allow_nan=False)
+        return _json.dumps(document, allow_nan=False)
     except ValueError:
         raise InputError(f"{name}: the scene holds NaN or an infinity, which JSON cannot") from None
     except TypeError as error:
@@ -70,7 +90,7 @@ class Scene:
     @classmethod
     def load(cls, path):
         """Reads and validates a scene file."""
-        return cls(_tether.Scene.load(os.fspath(path)))
+        return cls(_tether.Scene.load(_os.fspath(path)))
 
     @classmethod
     def from_dict(cls, document, name="<dict>"):
@@ -84,7 +104,7 @@ class Scene:
 
     def to_dict(self):
         """The scene as Python objects (a new copy)."""
-        return json.loads(self._core.text())
+        return _json.loads(self._core.text())
 
     def set(self, pointer, value):
         """Sets the value at a JSON Pointer (which must exist) and validates the scene again; returns self."""
@@ -123,7 +143,7 @@ class Scene:
         return f"tether.Scene({self.path!r})"
 
 
-Event = namedtuple("Event", ["t", "kind", "constraint", "speed_before", "speed_after"])
+Event = _namedtuple("Event", ["t", "kind", "constraint", "speed_before", "speed_after"])
 Event.__doc__ = """An event of a joint limit, as a row of `tether simulate --events`: time (s), "impact" or "release",
 the joint's name (or /constraints/K), and the gap's rate just before and after (rad/s or m/s, positive opening)."""
 
@@ -177,7 +197,7 @@ class Trajectory:
 def _scene(scene):
     if isinstance(scene, Scene):
         return scene._core
-    if isinstance(scene, Mapping):
+    if isinstance(scene, _Mapping):
         return Scene.from_dict(scene)._core
     return Scene.load(scene)._core
 
@@ -189,7 +209,7 @@ def _table(data, name):
         return [data.names[k] for k in keep], data.table[:, keep]
     if hasattr(data, "columns") and hasattr(data, "iloc"):  # a pandas DataFrame (its columns may repeat a name)
         pairs = [(str(label), data.iloc[:, k]) for k, label in enumerate(data.columns)]
-    elif isinstance(data, Mapping):
+    elif isinstance(data, _Mapping):
         pairs = [(str(label), column) for label, column in data.items()]
     else:
         raise InputError(f"{name}: expected a dict of arrays, a pandas DataFrame or a Trajectory, "
@@ -197,16 +217,16 @@ def _table(data, name):
     columns = [_numbers(column, name, label) for label, column in pairs]
     if len({len(c) for c in columns}) > 1:
         raise InputError(f"{name}: the columns have different lengths")
-    return [label for label, _ in pairs], np.column_stack(columns) if columns else np.zeros((0, 0))
+    return [label for label, _ in pairs], _np.column_stack(columns) if columns else _np.zeros((0, 0))
 
 
 def _numbers(column, name, label):
     """A column as a 1-D float array (a pandas Series' missing values as NaN)."""
     try:
         if hasattr(column, "to_numpy"):
-            values = column.to_numpy(dtype=float, na_value=np.nan)
+            values = column.to_numpy(dtype=float, na_value=_np.nan)
         else:
-            values = np.asarray(column, dtype=float)
+            values = _np.asarray(column, dtype=float)
     except (TypeError, ValueError):
         raise InputError(f"{name}: column {label!r}: not all numbers") from None
     if values.ndim != 1:
@@ -236,7 +256,7 @@ def _ties(ties):
     """{pointer: expression} or ["PTR=EXPR", ...] as "PTR=EXPR" strings (as --tie)."""
     if ties is None:
         return []
-    if isinstance(ties, Mapping):
+    if isinstance(ties, _Mapping):
         return [f"{pointer}={expression}" for pointer, expression in ties.items()]
     if isinstance(ties, str):
         return [ties]
@@ -247,9 +267,9 @@ def _bounds(bounds):
     """{pointer: (lo, hi)} (None: unbounded) as (pointer, lo, hi) triples."""
     if bounds is None:
         return []
-    if not isinstance(bounds, Mapping):
+    if not isinstance(bounds, _Mapping):
         raise InputError(f"bounds: expected a dict of {{pointer: (lo, hi)}}, got {type(bounds).__name__}")
-    out, big = [], np.finfo(float).max
+    out, big = [], _np.finfo(float).max
     for pointer, pair in bounds.items():
         try:
             lo, hi = pair
@@ -267,22 +287,28 @@ def gradient(scene, data, params, method="auto", ties=None):
     one used. ties: {pointer: expression} (or "PTR=EXPR" strings), numbers that follow others, as --tie
     ({"/bodies/1/inertia": "{/bodies/1/mass}*0.36/12"})."""
     names, values = _table(data, "data")
-    return json.loads(_tether.gradient(_scene(scene), names, values, _pointers(params), method, _ties(ties)))
+    return _json.loads(_tether.gradient(_scene(scene), names, values, _pointers(params), method, _ties(ties)))
 
 
-def tune(scene, objective="reference", optimizer="ceres", samples=1, max_evaluations=200):
-    """Tunes the Baumgarte gains for the scene's integrator and step, as `tether tune` (its JSON)."""
-    return json.loads(_tether.tune(_scene(scene), objective, optimizer, samples, max_evaluations))
+def tune(scene, objective="reference", optimizer="ceres", samples=1, max_evaluations=200, *, duration=None, step=None,
+         integrator=None, solver=None):
+    """Tunes the Baumgarte gains for the scene's integrator and step, as `tether tune` (its JSON). duration, step,
+    integrator and solver, where given, replace the scene's settings as in Scene.simulate and as tune's flags do;
+    the gains and the stabilization are what it chooses."""
+    overrides = _tether.SettingsOverrides()
+    for name, value in (("duration", duration), ("step", step), ("integrator", integrator), ("solver", solver)):
+        setattr(overrides, name, value)
+    return _json.loads(_tether.tune(_scene(scene), overrides, objective, optimizer, samples, max_evaluations))
 
 
 def _estimate(scene, data, params, bounds, segments, loss, optimizer, max_evaluations, smooth, method, ties,
               effort=0.0, at_least=None, at_most=None, starts=1, seed=1):
-    result = json.loads(_tether.identify(_scene(scene), [] if data is None else _datasets(data), _pointers(params),
+    result = _json.loads(_tether.identify(_scene(scene), [] if data is None else _datasets(data), _pointers(params),
                                          _bounds(bounds), segments, loss or "", optimizer, max_evaluations, smooth,
                                          method, _ties(ties), effort, _targets(at_least, "at_least"),
                                          _targets(at_most, "at_most"), starts, seed))
     if result["failed"]:  # where the command line exits with status 1
-        warnings.warn("the estimate failed: " + "; ".join(result["warnings"]), EstimateFailed, stacklevel=3)
+        _warnings.warn("the estimate failed: " + "; ".join(result["warnings"]), EstimateFailed, stacklevel=3)
     return result
 
 
@@ -327,7 +353,7 @@ def fit(scene, data, params, bounds=None, segments=None, loss=None, optimizer=No
 def check(scene):
     """Degrees of freedom, rank, redundant constraints, initial violation and conditioning, as `tether check
     --json`."""
-    return json.loads(_tether.check(_scene(scene)))
+    return _json.loads(_tether.check(_scene(scene)))
 
 
 def _cell(text):
@@ -340,7 +366,7 @@ def _cell(text):
 def study(path, out, threads=None, restart=False):
     """Runs (or resumes) the study file `path` into the folder `out`, as `tether study` does (results.csv, without
     the figures and summary.md the command line adds), and returns results.csv's rows as dicts."""
-    threads = (os.cpu_count() or 1) if threads is None else threads
-    _tether.study(os.fspath(path), os.fspath(out), threads, restart)
-    with open(os.path.join(os.fspath(out), "results.csv"), newline="") as f:
-        return [{k: _cell(v) for k, v in row.items()} for row in csv.DictReader(f)]
+    threads = (_os.cpu_count() or 1) if threads is None else threads
+    _tether.study(_os.fspath(path), _os.fspath(out), threads, restart)
+    with open(_os.path.join(_os.fspath(out), "results.csv"), newline="") as f:
+        return [{k: _cell(v) for k, v in row.items()} for row in _csv.DictReader(f)]
