@@ -564,6 +564,35 @@ TEST(AdjointCheckpoints, IntervalKeepsWithinTheBudget) {
   EXPECT_EQ(CheckpointInterval(1000000, 8, 8 * 100), 1000);  // nothing fits: 2 sqrt(N) states, the fewest
 }
 
+// A run whose fewest checkpoints, one segment and a step's record exceed the budget is refused before it runs,
+// naming what it would need (it used to go past the budget: a 2000-link chain kept 330 MiB).
+TEST(AdjointCheckpoints, ARunTheBudgetCannotHoldIsRefusedUpFront) {
+  std::string bodies, constraints;
+  for (int k = 0; k < 1000; ++k) {
+    const std::string name = "\"p" + std::to_string(k) + "\"";
+    bodies += std::string(k ? "," : "") + "{\"name\": " + name + ", \"type\": \"particle\", \"mass\": 0.001, " +
+              "\"position\": [0, " + std::to_string(-0.001 * (k + 1)) + "]}";
+    constraints += std::string(k ? "," : "") + "{\"type\": \"distance\", \"bodies\": [" +
+                   (k ? "\"p" + std::to_string(k - 1) + "\"" : std::string("\"world\"")) + ", " + name + "]}";
+  }
+  // 10^8 steps of 32 kB states: 2 10^4 states are 640 MB
+  const std::string text = R"({"dimension": 2, "bodies": [)" + bodies + R"(], "constraints": [)" + constraints +
+                           R"(], "simulation": {"step": 1e-6, "duration": 100}})";
+  const Scene scene = ParseScene(ParseJsonText(text, "chain.json"), "chain.json");
+  const Model<double>& chain = scene.model;
+  Observations observed;
+  observed.columns = {{"p999.x", TrajectoryColumn::Kind::kConfiguration, 0}};
+  observed.times = {100.0};
+  observed.values = {{0.0}};
+  observed.lines = {2};
+  try {
+    AdjointLossGradient(chain, ParameterSet(scene, {"/bodies/0/mass"}), observed);
+    ADD_FAILURE() << "no InputError";
+  } catch (const InputError& e) {
+    for (const char* part : {"cannot hold this run in its 256 MiB", "100000001 steps", "--method jet"})
+      EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << part << " in: " << e.what();
+  }
+}
 
 // ---------------------------------------------------------------------------------------------------------------
 // the implicit-function KKT path vs the Jet-factorization oracle

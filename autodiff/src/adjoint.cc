@@ -8,6 +8,8 @@
 #include <type_traits>
 #include <vector>
 
+#include "tether/dynamics/errors.h"
+
 namespace tether {
 namespace {
 
@@ -66,6 +68,26 @@ LossGradient AdjointGradient(const Model<double>& given, const ParameterSet& par
     parameters.ApplyTies(&tied);
   }
   const Model<double>& model = parameters.tied() ? tied : given;
+  // the recorded run, whose parameters are the tape's inputs: its construction and start (the initial state
+  // and its loss) are the prefix, swept last
+  Tape tape;
+  Model<Rev> recorded_model = CastModel<Rev>(model);
+  std::vector<Rev> inputs;
+  for (int i = 0; i < parameters.size(); ++i) {
+    Rev& field = parameters.Field(&recorded_model, i);
+    field = tape.Variable(field.a);
+    inputs.push_back(field);
+  }
+  parameters.ApplyTies(&recorded_model);
+  Rev recorded_loss(0.0);
+  Stepper<Rev> recorded(recorded_model, options, [&](const Sample<Rev>& s) {
+    if (s.stop >= 0) recorded_loss += loss.recorded(recorded_model, s);
+  });
+  recorded.Start();
+  const Rev start_loss = recorded_loss;
+  const State<Rev> start = recorded.state();
+  const int prefix = tape.size();
+
   // forward, in double: the loss, and a checkpoint every `interval` steps
   LossGradient result;
   bool forward = true;  // the segments run again backwards do not add to the loss
@@ -74,15 +96,31 @@ LossGradient AdjointGradient(const Model<double>& given, const ParameterSet& par
   });
   plain.Start();
   const int nq = model.NumCoordinates(), nv = model.NumVelocities();
+  RecordedCarry in;
+  // the budget holds the record of a step too: the first step's, recorded once to measure it (a later step's
+  // may differ: an impact, more projection iterations), twice over for the tape's growth
+  RecordInputs(&tape, plain.Save(), &in);
+  recorded.Restore(in);
+  recorded.Step();
+  const std::int64_t record_reserve = 2 * tape.Bytes();
+  tape.Rewind(prefix);
   const std::int64_t state_bytes = StateBytes(plain.Save());
   const std::int64_t planned = StepCount(model.simulation) + static_cast<std::int64_t>(options.stops.size());
-  const std::int64_t k = interval > 0 ? interval : CheckpointInterval(planned, state_bytes, kAdjointMemoryBudget);
+  const std::int64_t budget = kAdjointMemoryBudget - record_reserve;
+  const std::int64_t k = interval > 0 ? interval : CheckpointInterval(planned, state_bytes, budget);
+  const std::int64_t least = ((planned + k - 1) / k + (k > 1 ? k : 0)) * state_bytes + record_reserve;
+  if (interval == 0 && least > kAdjointMemoryBudget) {
+    throw InputError("the adjoint cannot hold this run in its " + std::to_string(kAdjointMemoryBudget >> 20) +
+                     " MiB: " + std::to_string(planned) + " steps of states of " + std::to_string(state_bytes) +
+                     " bytes and a step's record of " + std::to_string(record_reserve / 2) + " bytes need " +
+                     std::to_string((least + (1 << 20) - 1) >> 20) +
+                     " MiB even with the fewest checkpoints; use --method jet, or fewer steps");
+  }
   std::vector<PlainCarry> checkpoints;
   checkpoints.reserve(static_cast<size_t>(planned / k + 2));
   // the KKT solves of the steps whose states are kept (all when K = 1, else a segment's), while they fit in what
   // the states leave of the budget; the replay takes them instead of solving again
-  const std::int64_t solve_budget =
-      kAdjointMemoryBudget - ((planned + k - 1) / k + (k > 1 ? k : 0)) * state_bytes;
+  const std::int64_t solve_budget = budget - ((planned + k - 1) / k + (k > 1 ? k : 0)) * state_bytes;
   std::vector<KktLog> logs;  // K = 1: the first steps', one each, as long as they fit; K > 1: a segment's
   std::int64_t solve_bytes = 0, largest_solve_bytes = 0;
   const auto step_keeping_solves = [&](KktLog* log) {  // one double step, its solves kept in *log if they fit
@@ -112,34 +150,13 @@ LossGradient AdjointGradient(const Model<double>& given, const ParameterSet& par
   }
   plain.set_kkt_log(nullptr);
   forward = false;
-
-  // the recorded run, whose parameters are the tape's inputs: its construction and start (the initial state
-  // and its loss) are the prefix, swept last
-  Tape tape;
-  Model<Rev> recorded_model = CastModel<Rev>(model);
-  std::vector<Rev> inputs;
-  for (int i = 0; i < parameters.size(); ++i) {
-    Rev& field = parameters.Field(&recorded_model, i);
-    field = tape.Variable(field.a);
-    inputs.push_back(field);
-  }
-  parameters.ApplyTies(&recorded_model);
-  Rev recorded_loss(0.0);
-  Stepper<Rev> recorded(recorded_model, options, [&](const Sample<Rev>& s) {
-    if (s.stop >= 0) recorded_loss += loss.recorded(recorded_model, s);
-  });
-  recorded.Start();
-  const Rev start_loss = recorded_loss;
-  const State<Rev> start = recorded.state();
-  const int prefix = tape.size();
-  std::int64_t largest_record = prefix;
+  std::int64_t largest_record = prefix, largest_tape_bytes = tape.Bytes();
 
   // backward, segment by segment: run the segment again keeping the states its steps start from, then replay
   // its steps recorded, in reverse, each swept back at once
   Eigen::VectorXd q_bar = Eigen::VectorXd::Zero(nq), v_bar = Eigen::VectorXd::Zero(nv);
   std::vector<PlainCarry> segment;  // the states after a checkpoint that the segment's steps start from
   segment.reserve(static_cast<size_t>(k));
-  RecordedCarry in;
   for (std::int64_t c = static_cast<std::int64_t>(checkpoints.size()) - 1; c >= 0; --c) {
     const std::int64_t count = std::min(k, steps - c * k);
     segment.clear();
@@ -167,6 +184,7 @@ LossGradient AdjointGradient(const Model<double>& given, const ParameterSet& par
                                " made other KKT solves than the double run");
       }
       largest_record = std::max<std::int64_t>(largest_record, tape.size() - prefix);
+      largest_tape_bytes = std::max(largest_tape_bytes, tape.Bytes());
       tape.AddAdjoint(recorded_loss, 1.0);
       AddAdjoints(&tape, recorded.state(), q_bar, v_bar);
       tape.Backward(prefix);
@@ -185,8 +203,8 @@ LossGradient AdjointGradient(const Model<double>& given, const ParameterSet& par
     report->checkpoints = static_cast<std::int64_t>(checkpoints.size());
     report->largest_record = largest_record;
     report->kkt_solve_bytes = largest_solve_bytes;
-    report->memory_bytes = (report->checkpoints + (k > 1 ? k : 0)) * state_bytes + largest_solve_bytes +
-                           largest_record * Tape::kBytesPerNode;
+    report->memory_bytes =
+        (report->checkpoints + (k > 1 ? k : 0)) * state_bytes + largest_solve_bytes + largest_tape_bytes;
   }
   return result;
 }

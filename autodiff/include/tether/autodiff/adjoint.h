@@ -19,10 +19,14 @@
 // B bytes and a budget of kAdjointMemoryBudget bytes: every state is kept (K = 1) while N states fit; beyond, the
 // forward run keeps a checkpoint every K steps, the smallest K for which ceil(N / K) checkpoints and one segment of
 // K states fit, and backwards each segment is run again in double from its checkpoint, keeping its states; when
-// not even 2 sqrt(N) states fit, K = ceil(sqrt(N)), the fewest. Besides the states, one step's record is held,
-// and the KKT solves (multipliers and factorization, kkt_log.h) of the steps whose states are kept, as long as
-// they fit in what the states leave of the budget: a step replayed with its solves kept does not assemble, factor
-// and solve S again (a segment's last step, and the steps past the budget, do).
+// not even 2 sqrt(N) states fit, K = ceil(sqrt(N)), the fewest. Besides the states, one step's record is held
+// (the tape's buffers): the first step is recorded once before the run to measure it, and twice its size is set
+// aside from the budget for it (a later step's record can be longer, and the buffers grow by doubling); and the
+// KKT solves (multipliers and factorization, kkt_log.h) of the steps whose states are kept, as long as they fit
+// in what the states leave: a step replayed with its solves kept does not assemble, factor and solve S again (a
+// segment's last step, and the steps past the budget, do). A run whose fewest states and record exceed the
+// budget is refused before it starts (InputError). Not counted: the model, the two steppers' workspaces and the
+// externals' records, a few states' worth.
 // Time: one double run, one more for the segments (none when K = 1), and one recorded replay and sweep per step.
 #pragma once
 
@@ -40,7 +44,7 @@ struct AdjointReport {
   std::int64_t checkpoints = 0;  // states kept by the forward run
   std::int64_t largest_record = 0;  // nodes of the largest record (one step, or the initial state)
   std::int64_t kkt_solve_bytes = 0;  // the KKT solves kept at once (all steps', or a segment's)
-  std::int64_t memory_bytes = 0;     // states kept (checkpoints and one segment), solves and the largest record
+  std::int64_t memory_bytes = 0;     // states kept (checkpoints and one segment), solves and the tape's buffers
 };
 
 // The loss of one stop sample: in double for the forward run, and in Rev arithmetic for the recorded replay (the
@@ -59,7 +63,8 @@ inline constexpr std::int64_t kAdjointMemoryBudget = std::int64_t{256} << 20;  /
 std::int64_t CheckpointInterval(std::int64_t steps, std::int64_t state_bytes, std::int64_t budget_bytes);
 
 // The loss sum over the stop samples of a run of `model` with `options`, and its gradient with respect to the
-// parameters. `interval` overrides K (0: CheckpointInterval within kAdjointMemoryBudget). Throws as Simulate does.
+// parameters. `interval` overrides K (0: CheckpointInterval within kAdjointMemoryBudget, less the record's
+// share). Throws as Simulate does, and InputError when not even the fewest checkpoints fit.
 LossGradient AdjointGradient(const Model<double>& model, const ParameterSet& parameters, const RunOptions& options,
                              const SampleLoss& loss, std::int64_t interval = 0, AdjointReport* report = nullptr);
 

@@ -14,15 +14,15 @@
 // Comparisons look at values only, as with Jets; Value(x) is the value.
 #pragma once
 
+#include <Eigen/Core>
 #include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <limits>
 #include <memory>
 #include <utility>
 #include <vector>
-
-#include <Eigen/Core>
 
 namespace tether {
 
@@ -68,6 +68,10 @@ class Tape {
   // A recorded input.
   Rev Variable(double value);
   int size() const { return static_cast<int>(nodes_.size()); }
+  // What the nodes and their adjoints hold (their buffers' capacity, which only grows).
+  std::int64_t Bytes() const {
+    return static_cast<std::int64_t>(nodes_.capacity() * sizeof(Node) + adjoints_.capacity() * sizeof(double));
+  }
 
   // An external operation: `count` outputs recorded as nodes without parents, and `backward`, called with their
   // adjoints once every later node has been swept, which must add to its inputs' adjoints (AddAdjoint).
