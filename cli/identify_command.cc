@@ -7,6 +7,7 @@
 
 #include "fit_plot.h"
 #include "flags.h"
+#include "progress_line.h"
 #include "scene_overrides.h"
 #include "tether/dynamics/errors.h"
 #include "tether/dynamics/scene_reader.h"
@@ -59,6 +60,7 @@ class IdentifyCommand final : public Command {
     app_->add_option("--max-evaluations", max_evaluations_, "budget of residual evaluations for NLopt; Ceres gets half as many iterations (default 200; 1000 for a fit with constraints or starts)");
     app_->add_option("-o,--output", output_path_, "write the scene with the estimates in place");
     app_->add_option("--plot", plot_path_, "draw the data against the motion with the estimates (PNG or SVG)");
+    app_->add_flag("--quiet", quiet_, "no progress on stderr");
     if (fit) {
       app_->add_option("--smooth", smooth_, "weight W of the penalty on changes between schedule values");
       app_->add_option("--effort", effort_, "weight W of the joint motors' effort, W times the integral of torque^2");
@@ -118,10 +120,15 @@ class IdentifyCommand final : public Command {
     if (!output_path_.empty()) out = std::make_unique<AtomicOutputFile>(output_path_);
 
     IdentifyResult result;
-    try {
-      result = Identify(scene.model, parameters, recordings, settings);
-    } catch (const InputError& e) {
-      throw InputError(scene_path_ + ": " + e.what());
+    {
+      ProgressLine progress(fit_ ? "fit" : "identify", quiet_);
+      settings.optimizer.observer = progress.Observer();
+      try {
+        result = Identify(scene.model, parameters, recordings, settings);
+      } catch (const InputError& e) {
+        throw InputError(scene_path_ + ": " + e.what());
+      }
+      settings.optimizer.observer = nullptr;
     }
     if (out && !result.failed) {  // a failed fit writes no scene (its JSON says why)
       try {
@@ -153,6 +160,7 @@ class IdentifyCommand final : public Command {
 
  private:
   bool fit_;
+  bool quiet_ = false;
   CLI::App* app_;
   std::string scene_path_, output_path_, plot_path_, loss_, optimizer_ = "ceres", method_ = "auto";
   std::vector<std::string> data_paths_, pointers_, bounds_, ties_;

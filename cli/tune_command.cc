@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "flags.h"
+#include "progress_line.h"
 #include "scene_overrides.h"
 #include "tether/dynamics/errors.h"
 #include "tether/dynamics/scene_reader.h"
@@ -42,6 +43,7 @@ class TuneCommand final : public Command {
     app_->add_option("--optimizer", optimizer_, "ceres (default) or nlopt:ALGORITHM (NLopt's name, e.g. nlopt:LN_BOBYQA)");
     app_->add_option("--samples", samples_, "number of initial states (the scene's and perturbed ones; default 1)");
     app_->add_option("--max-evaluations", max_evaluations_, "budget of objective evaluations for NLopt; Ceres gets half as many iterations (default 200)");
+    app_->add_flag("--quiet", quiet_, "no progress on stderr");
     app_->add_option("-o,--output,--write-scene", write_scene_, "write the scene with the tuned gains here");
     overrides_.Register(app_, false);  // the gains and the method are what it tunes
   }
@@ -70,12 +72,17 @@ class TuneCommand final : public Command {
     if (!write_scene_.empty()) out = std::make_unique<AtomicOutputFile>(write_scene_);
 
     TuneResult result;
-    try {
-      result = TuneGains(scene.model, settings);
-    } catch (const InputError& e) {
-      throw InputError(scene_path_ + ": " + e.what());
-    } catch (const SimulationDiverged& e) {
-      throw SimulationDiverged(scene_path_ + ": the reference motion diverged: " + e.what(), e.time(), e.constraint());
+    {
+      ProgressLine progress("tune", quiet_);
+      settings.optimizer.observer = progress.Observer();
+      try {
+        result = TuneGains(scene.model, settings);
+      } catch (const InputError& e) {
+        throw InputError(scene_path_ + ": " + e.what());
+      } catch (const SimulationDiverged& e) {
+        throw SimulationDiverged(scene_path_ + ": the reference motion diverged: " + e.what(), e.time(),
+                                 e.constraint());
+      }
     }
     const bool failed = !std::isfinite(result.objective);  // the optimizer's runs failed: nothing was tuned
     if (out && !failed) {
@@ -98,6 +105,7 @@ class TuneCommand final : public Command {
   CLI::App* app_;
   std::string scene_path_, objective_ = "reference", optimizer_ = "ceres", write_scene_;
   int samples_ = 1, max_evaluations_ = 200;
+  bool quiet_ = false;
   SceneOverrides overrides_;
 };
 

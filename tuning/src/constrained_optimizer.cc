@@ -111,13 +111,14 @@ void CheckConstrainedOptimizer(const std::string& name) {
   }
 }
 
-OptimizerResult MinimizeConstrained(const ResidualFunction& residuals, const ConstraintRows& rows,
+OptimizerResult MinimizeConstrained(const ResidualFunction& unobserved, const ConstraintRows& rows,
                                     const std::vector<double>& start, const std::vector<double>& lower,
                                     const std::vector<double>& upper, const OptimizerSettings& settings) {
   CheckOptimizerName(settings.name, "optimizer");
   if (rows.equality.empty() && rows.inequality.empty() && settings.name == "ceres") {
-    return Minimize(residuals, start, lower, upper, settings);
+    return Minimize(unobserved, start, lower, upper, settings);
   }
+  const ResidualFunction residuals = Observed(unobserved, settings);
   const auto begin = std::chrono::steady_clock::now();
   CheckConstrainedOptimizer(settings.name);
   const std::string algorithm = settings.name.substr(6);

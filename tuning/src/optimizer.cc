@@ -311,10 +311,30 @@ bool UsesGradients(const std::string& optimizer_name) {
   return algorithm.rfind("LD_", 0) == 0 || algorithm.rfind("GD_", 0) == 0 || algorithm.rfind("AUGLAG", 0) == 0;
 }
 
-OptimizerResult Minimize(const ResidualFunction& residuals, const std::vector<double>& start,
+ResidualFunction Observed(const ResidualFunction& residuals, const OptimizerSettings& settings) {
+  if (!settings.observer) return residuals;
+  return [residuals, loss = settings.loss, observer = settings.observer](
+             const std::vector<double>& x, Eigen::VectorXd* r, Eigen::MatrixXd* jacobian) {
+    const bool feasible = residuals(x, r, jacobian);
+    observer(feasible ? RobustCost(loss, *r) : NAN);
+    return feasible;
+  };
+}
+
+OptimizerResult Minimize(const ResidualFunction& unobserved, const std::vector<double>& start,
                          const std::vector<double>& lower, const std::vector<double>& upper,
-                         const OptimizerSettings& settings, const CostGradientFunction& cost_gradient) {
+                         const OptimizerSettings& settings, const CostGradientFunction& unobserved_gradient) {
   CheckOptimizerName(settings.name, "optimizer");
+  const ResidualFunction residuals = Observed(unobserved, settings);
+  CostGradientFunction cost_gradient = unobserved_gradient;
+  if (settings.observer && unobserved_gradient) {
+    cost_gradient = [&unobserved_gradient, &settings](const std::vector<double>& x, double* cost,
+                                                      std::vector<double>* gradient) {
+      const bool feasible = unobserved_gradient(x, cost, gradient);
+      settings.observer(feasible ? *cost : NAN);
+      return feasible;
+    };
+  }
   const auto begin = std::chrono::steady_clock::now();
   // Both back ends have absolute tolerances somewhere (Ceres' gradient tolerance, NLopt's stopping values), so
   // they see residuals scaled to |r(start)| = 1; the minimizer is the same.

@@ -55,12 +55,21 @@ T RobustRho(const RobustLoss& loss, const T& s) {
 // Parses "huber:DELTA" or "cauchy:DELTA" (DELTA > 0); throws InputError naming `flag`.
 RobustLoss ParseRobustLoss(const std::string& text, const std::string& flag);
 
+// Told of every evaluation of the cost, with its value (NaN where the point is infeasible), from the thread that
+// made it: a progress display's hook (the command line's, cli/progress_line.h).
+using EvaluationObserver = std::function<void(double cost)>;
+
 struct OptimizerSettings {
   std::string name = "ceres";
   RobustLoss loss;
   int max_evaluations = 200;  // NLopt's budget of evaluations; Ceres gets max_evaluations / 2 iterations
   double relative_tolerance = 1e-8;  // on x (NLopt) and on the cost decrease (Ceres)
+  EvaluationObserver observer;       // none by default
 };
+
+// `residuals` telling `settings`' observer of each evaluation (the cost 1/2 sum rho(r_i^2)), or `residuals`
+// itself when there is no observer.
+ResidualFunction Observed(const ResidualFunction& residuals, const OptimizerSettings& settings);
 
 struct OptimizerResult {
   std::vector<double> x;
