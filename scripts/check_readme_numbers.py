@@ -4,6 +4,7 @@
     python3 scripts/check_readme_numbers.py [--tether build/tether]
 
 - README.md's tuning table against `bench/tune_table.py` (every column but the tuning time);
+- README.md's accuracy table of the shipped pendulum against `bench/pendulum_accuracy.py`;
 - the stability-map count in README.md and studies/README.md against `studies/stability_maps/check_bound.py`;
 - the accuracy study's readings in README.md and studies/README.md against `studies/accuracy/readings.py`
   (the committed results.csv of each study: regenerating a study means running it, then this check).
@@ -45,6 +46,11 @@ def main():
         if key not in readme:
             problems.append("README.md's tuning table lacks the row " + key + "|")
 
+    accuracy = output("bench/pendulum_accuracy.py", "--tether", args.tether).splitlines()
+    for line in [line for line in accuracy if line.startswith("| ")][1:]:  # the pendulum's accuracy table
+        if line not in readme:
+            problems.append("README.md's pendulum accuracy table lacks the row " + line)
+
     for script, readmes in (("studies/stability_maps/check_bound.py", ("README.md", "studies/README.md")),
                             ("studies/accuracy/readings.py", ("README.md", "studies/README.md"))):
         for line in output(script).splitlines():
@@ -58,7 +64,7 @@ def main():
     for problem in problems:
         print("check_readme_numbers: " + problem)
     if not problems:
-        print("check_readme_numbers: the READMEs agree with bench/tune_table.py, check_bound.py and readings.py")
+        print("check_readme_numbers: the READMEs agree with bench/tune_table.py, pendulum_accuracy.py, check_bound.py and readings.py")
     return 1 if problems else 0
 
 

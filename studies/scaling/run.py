@@ -128,7 +128,13 @@ def table(series):
 def draw(report, out):
     plt = bench_json.pyplot()
     series = parse(report)
-    figure, panels = plt.subplots(1, len(MODELS), figsize=(25, 5), sharey=True)
+    # three panels a row, so that each stays legible at the README's width (five in a row were 150 px each)
+    columns = 3
+    rows = (len(MODELS) + columns - 1) // columns
+    figure, grid = plt.subplots(rows, columns, figsize=(15, 5.2 * rows), sharey=True, squeeze=False)
+    panels = grid.ravel()
+    for unused in panels[len(MODELS):]:
+        unused.axis("off")
     for axes, (model, title) in zip(panels, MODELS):
         keys = [k for k in series if k[0] == model]
         for _, integrator, path in sorted(keys, key=lambda k: (list(INTEGRATORS).index(k[1]), k[2] == "dense")):
@@ -150,17 +156,19 @@ def draw(report, out):
             xs = [start, m_end]
             axes.plot(xs, [t_end * (x / m_end) ** power for x in xs], ":", color="0.45", linewidth=1.5)
             axes.annotate(text, (start, t_end * (start / m_end) ** power), textcoords="offset points",
-                          xytext=(-4, 2), ha="right", fontsize=9, color="0.3")
+                          xytext=(-4, 2), ha="right", fontsize=11, color="0.3")
         axes.set_xscale("log")
         axes.set_yscale("log")
-        axes.set_title(title, fontsize=10)
-        axes.set_xlabel("constraint rows m (size of the KKT system)")
+        axes.set_title(title, fontsize=12)
+        axes.set_xlabel("constraint rows m (size of the KKT system)", fontsize=11)
+        axes.tick_params(labelsize=10)
         axes.grid(True, which="major", color="0.85")
         axes.grid(True, which="minor", color="0.95")
-        axes.legend(fontsize=8, loc="upper left")
-    panels[0].set_ylabel("CPU time per step (µs)")
+        axes.legend(fontsize=10, loc="upper left")
+    for row in grid:
+        row[0].set_ylabel("CPU time per step (µs)", fontsize=11)
     figure.suptitle(f"Time per step against size for each KKT path (h = 1 ms; slopes fitted over m ≥ {FIT_FROM})",
-                    fontsize=11)
+                    fontsize=13)
     bench_json.save_figure(figure, report, out, "scaling", 110)
 
 
