@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -10,33 +11,44 @@
 #include "tether/dynamics/errors.h"
 #include "tether/dynamics/interrupts.h"
 #include "tether/dynamics/simulator.h"
+#include "tether/dynamics/trajectory_columns.h"
 #include "tether/dynamics/trajectory_csv.h"
 
 namespace tether::cli {
 namespace {
 
-// argv: fitted.csv output.png [data.csv ...] [bound:COLUMN:FROM:T:VALUE:least|most ...] (FROM = T: at T)
+// argv: fitted.csv output.png [data.csv ...] [bound:COLUMN:FROM:T:VALUE:least|most ...]
+//       [unit:COLUMN:UNIT ...] [schedule:LABEL:T0,T1,...:V0,V1,... ...]   (FROM = T: at T)
+// A panel per observed or bounded column (its unit on the axis), then one per scheduled force or torque the fit
+// may have set, drawn through its knots as the simulation interpolates them (linearly).
 constexpr const char* kScript = R"PY(
 import csv, sys
 import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
+plt.rcParams["svg.fonttype"] = "none"  # an SVG's labels stay text (searchable, and smaller)
 
 def read(path):
     with open(path) as f:
         rows = list(csv.DictReader(f))
     return {k.strip(): [float(r[k]) if r[k].strip() else None for r in rows] for k in rows[0]}
 
+def tagged(tag):
+    return [a[len(tag) + 1:] for a in sys.argv[3:] if a.startswith(tag + ":")]
+
 fitted, out = read(sys.argv[1]), sys.argv[2]
-data = [(p, read(p)) for p in sys.argv[3:] if not p.startswith("bound:")]
-bounds = [b.split(":")[1:] for b in sys.argv[3:] if b.startswith("bound:")]
+data = [(p, read(p)) for p in sys.argv[3:] if not p.startswith(("bound:", "unit:", "schedule:"))]
+bounds = [b.rsplit(":", 4) for b in tagged("bound")]  # a column's name may hold a colon
+units = dict(u.rsplit(":", 1) for u in tagged("unit"))
+schedules = [s.rsplit(":", 2) for s in tagged("schedule")]
 columns = []
 for _, d in data:
     columns += [c for c in d if c != "t" and c not in columns]
 for b in bounds:
     if b[0] not in columns:
         columns.append(b[0])
-fig, axes = plt.subplots(len(columns), 1, figsize=(8, 2.2 * len(columns)), sharex=True, squeeze=False)
+panels = len(columns) + len(schedules)
+fig, axes = plt.subplots(panels, 1, figsize=(8, 2.2 * panels), sharex=True, squeeze=False)
 for ax, column in zip(axes[:, 0], columns):
     ax.plot(fitted["t"], fitted[column], color="C0", lw=1.2, label="simulated with the estimates")
     for k, (path, d) in enumerate(data):
@@ -50,13 +62,69 @@ for ax, column in zip(axes[:, 0], columns):
                 ax.plot([float(start), float(t)], [float(value)] * 2, "-", color="C3", lw=2, label=label)
             else:
                 ax.plot([float(t)], [float(value)], "^" if side == "least" else "v", color="C3", ms=7, label=label)
-    ax.set_ylabel(column)
+    unit = units.get(column, "")
+    ax.set_ylabel(column + (" (%s)" % unit if unit else ""))
     ax.grid(alpha=0.3)
+for ax, (label, times, values) in zip(axes[len(columns):, 0], schedules):
+    ts, vs = [float(x) for x in times.split(",")], [float(x) for x in values.split(",")]
+    end = fitted["t"][-1]
+    ax.plot([min(0.0, ts[0])] + ts + [max(end, ts[-1])], [vs[0]] + vs + [vs[-1]], "-", color="C4", lw=1.2)
+    ax.plot(ts, vs, "o", ms=3, color="C4", label="fitted knots")
+    ax.set_ylabel(label, fontsize=8)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7, loc="best")
 axes[0, 0].legend(fontsize=7, loc="best")
 axes[-1, 0].set_xlabel("t (s)")
 fig.tight_layout()
 fig.savefig(out, dpi=110)
 )PY";
+
+// The unit of a trajectory column, by the suffix tether gives it (CONTRACT.md's columns).
+std::string ColumnUnit(const std::string& name) {
+  if (name == "constraint_error") return "m";
+  if (name == "energy") return "J";
+  const std::string suffix = name.substr(name.rfind('.') + 1);
+  if (suffix == "x" || suffix == "y" || suffix == "z" || suffix == "displacement") return "m";
+  if (suffix == "vx" || suffix == "vy" || suffix == "vz" || suffix == "speed") return "m/s";
+  if (suffix == "angle") return "rad";
+  if (suffix == "omega" || suffix == "wx" || suffix == "wy" || suffix == "wz") return "rad/s";
+  return "";  // a quaternion's components
+}
+
+std::string Joined(const std::vector<double>& numbers) {
+  std::ostringstream text;
+  text.precision(17);
+  for (size_t k = 0; k < numbers.size(); ++k) text << (k ? "," : "") << numbers[k];
+  return text.str();
+}
+
+// "schedule:LABEL:TIMES:VALUES" for every scheduled effect of the model: a motor's torque or force, and each
+// component of a scheduled force or torque that is not zero throughout.
+std::vector<std::string> ScheduleArguments(const Model<double>& model) {
+  std::vector<std::string> args;
+  for (const JointTorqueEffect<double>& motor : model.joint_torques) {
+    if (motor.schedule.empty()) continue;
+    const bool angle = motor.coordinate == JointCoordinate::kAngle;
+    args.push_back("schedule:motor on " + model.joints[motor.joint].name + (angle ? " (N m)" : " (N)") + ":" +
+                   Joined(motor.schedule.times) + ":" + Joined(motor.schedule.values));
+  }
+  const auto components = [&](const Schedule<Vec3<double>>& schedule, const std::string& what, const char* unit) {
+    for (int k = 0; k < 3; ++k) {
+      std::vector<double> values;
+      for (const Vec3<double>& v : schedule.values) values.push_back(v[k]);
+      if (std::all_of(values.begin(), values.end(), [](double v) { return v == 0.0; })) continue;
+      args.push_back("schedule:" + what + ", " + "xyz"[k] + " (" + unit + "):" + Joined(schedule.times) + ":" +
+                     Joined(values));
+    }
+  };
+  for (const ForceEffect<double>& force : model.forces) {
+    if (!force.schedule.empty()) components(force.schedule, "force on " + model.bodies[force.body].name, "N");
+  }
+  for (const TorqueEffect<double>& torque : model.torques) {
+    if (!torque.schedule.empty()) components(torque.schedule, "torque on " + model.bodies[torque.body].name, "N m");
+  }
+  return args;
+}
 
 }  // namespace
 
@@ -73,6 +141,11 @@ void PlotFit(const Model<double>& fitted, const std::vector<Observations>& recor
   }
   std::vector<std::string> args = {csv.string(), partial};
   for (const Observations& r : recordings) args.push_back(r.path);
+  for (const TrajectoryColumn& column : TrajectoryColumns(fitted)) {
+    const std::string unit = ColumnUnit(column.name);
+    if (!unit.empty()) args.push_back("unit:" + column.name + ":" + unit);
+  }
+  for (const std::string& schedule : ScheduleArguments(fitted)) args.push_back(schedule);
   for (const InequalityTarget& c : constraints) {
     std::ostringstream bound;
     bound.precision(17);

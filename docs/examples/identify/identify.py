@@ -10,6 +10,6 @@ run = guess.set("/bodies/1/mass", result["parameters"]["/bodies/1/mass"]).simula
 axes = data.plot(x="t", subplots=True, style=".", markersize=3, figsize=(8, 9), legend=False, xlabel="t (s)")
 for ax, column in zip(axes, data.columns[1:]):
     ax.plot(run.t, run[column], "k", linewidth=1)
-    ax.set_ylabel(column)
+    ax.set_ylabel(column + " (m)")  # positions
 axes[0].legend(["recording.csv", "simulated with the estimate"], loc="lower right", fontsize=8)
 plt.savefig("fit.png", bbox_inches="tight")
