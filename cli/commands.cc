@@ -47,6 +47,54 @@ size_t EditDistance(const std::string& a, const std::string& b) {
 
 }  // namespace
 
+std::string UnexpectedArguments(CLI::App& app, int argc, char** argv) {
+  const CLI::App* command = nullptr;
+  for (const CLI::App* sub : app.get_subcommands({})) {
+    if (sub->parsed()) command = sub;
+  }
+  std::vector<std::string> left = app.remaining(true);
+  if (left.empty()) return "";
+  // CLI11 lists them last first: put them in the command line's order, each with where it stood
+  std::vector<std::pair<int, std::string>> ordered;
+  for (int k = 1; k < argc; ++k) {
+    const auto found = std::find(left.begin(), left.end(), argv[k]);
+    if (found == left.end()) continue;
+    ordered.emplace_back(k, *found);
+    left.erase(found);
+  }
+  for (const std::string& word : left) ordered.emplace_back(-1, word);
+  std::vector<std::string> flags;  // the command's long flags, to name the nearest
+  if (command) {
+    for (const CLI::Option* option : command->get_options()) {
+      for (const std::string& name : option->get_lnames()) flags.push_back("--" + name);
+    }
+  }
+  std::string message;
+  int after_flag = -2;  // where the last unknown flag stood: the word right after it is its value
+  for (const auto& [position, word] : ordered) {
+    if (word.rfind("-", 0) != 0 || word == "-") {
+      if (position >= 0 && position == after_flag + 1) continue;
+      message += (message.empty() ? "" : "; ") + std::string("unexpected argument '") + word + "'";
+      continue;
+    }
+    after_flag = word.find('=') == std::string::npos ? position : -2;
+    if (!message.empty()) message += "; ";
+    const std::string flag = word.substr(0, word.find('='));
+    std::string nearest;
+    size_t best = flag.size();
+    for (const std::string& name : flags) {
+      const size_t distance = EditDistance(flag, name);
+      if (distance < best) {
+        best = distance;
+        nearest = name;
+      }
+    }
+    const bool close = !nearest.empty() && best <= std::max<size_t>(2, nearest.size() / 3);
+    message += "unknown flag '" + flag + "'" + (close ? " (did you mean '" + nearest + "'?)" : "");
+  }
+  return (command ? command->get_name() + ": " : std::string()) + message;
+}
+
 std::string UnknownCommand(CLI::App& app, const std::string& word) {
   std::string names, nearest;
   size_t best = word.size();

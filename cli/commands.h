@@ -17,4 +17,9 @@ std::vector<std::unique_ptr<Command>> RegisterCommands(CLI::App* app, const std:
 // are ...)"; empty when it names one. (CLI11 answers such a word with "A subcommand is required".)
 std::string UnknownCommand(CLI::App& app, const std::string& word);
 
+// After a parse that left arguments over (CLI11's ExtrasError, which lists them last first): each in the command
+// line's order, a flag with the command's nearest one ("simulate: unknown flag '--stpe' (did you mean
+// '--step'?); unexpected argument 'extra'"); empty when none is left.
+std::string UnexpectedArguments(CLI::App& app, int argc, char** argv);
+
 }  // namespace tether::cli

@@ -30,7 +30,11 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
-    std::cerr << "tether: " << e.what() << "\n(run 'tether --help' for usage)\n";
+    // a misspelled flag first: it is often why a required one is missing too
+    const std::string unexpected = cli::UnexpectedArguments(app, argc, argv);
+    if (!unexpected.empty()) std::cerr << "tether: " << unexpected << "\n";
+    if (unexpected.empty() || !dynamic_cast<const CLI::ExtrasError*>(&e)) std::cerr << "tether: " << e.what() << "\n";
+    std::cerr << "(run 'tether --help' for usage)\n";
     return 2;
   }
   for (const auto& command : commands) {

@@ -1,6 +1,7 @@
 // libFuzzer target for the command-line parser: the input, split at line breaks into at most 64 arguments,
 // is parsed as `tether ARGS` by the same CLI11 app main.cc builds (every subcommand and flag registered by
-// RegisterCommands). Nothing runs: this is the parser alone.
+// RegisterCommands), and a first argument or a refused parse gets main's messages (UnknownCommand,
+// UnexpectedArguments). Nothing runs: this is the parser alone.
 //
 // What may happen: the arguments parse, or CLI11 refuses them with one of its errors (which main turns into exit
 // status 2 and a message, or prints --help / --version). Anything else is a finding: another exception, a crash,
@@ -31,8 +32,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   CLI::App app{"tether"};
   const auto commands = tether::cli::RegisterCommands(&app, "tether fuzz");
   try {
-    app.parse(static_cast<int>(argv.size()), argv.data());
-  } catch (const CLI::Error&) {  // refused (or --help, --version): main's handled cases
+    if (argv.size() > 1) tether::cli::UnknownCommand(app, argv[1]);
+    try {
+      app.parse(static_cast<int>(argv.size()), argv.data());
+    } catch (const CLI::ParseError&) {  // refused (or --help, --version): main's message
+      tether::cli::UnexpectedArguments(app, static_cast<int>(argv.size()), argv.data());
+    }
+  } catch (const CLI::Error&) {  // main's handled cases
   } catch (const std::exception& e) {
     std::fprintf(stderr, "command_line_fuzzer: an exception CLI11 did not raise: %s\n", e.what());
     std::abort();

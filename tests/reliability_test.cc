@@ -250,6 +250,15 @@ INSTANTIATE_TEST_SUITE_P(
                    "simulat '{dir}/pendulum.json'",
                    2,
                    {"unknown command 'simulat'", "did you mean 'simulate'?"}},
+        Invocation{"misspelled_flags_in_order_with_the_nearest",  // CLI11 listed them last first, unnamed
+                   "simulate '{dir}/pendulum.json' --stpe 0.1 --durtion 2 extra",
+                   2,
+                   {"simulate: unknown flag '--stpe' (did you mean '--step'?); unknown flag '--durtion' (did you "
+                    "mean '--duration'?); unexpected argument 'extra'"}},
+        Invocation{"a_misspelled_flag_before_the_required_one_it_left_out",
+                   "identify '{dir}/pendulum.json' --data '{dir}/on_time.csv' --parm /bodies/0/mass",
+                   2,
+                   {"unknown flag '--parm' (did you mean '--param'?)\ntether: --param is required"}},
         Invocation{"tune_with_a_gain_it_chooses", "tune '{dir}/pendulum.json' --alpha 5", 2, {"--alpha"}},
         Invocation{"xml_nested_100000_deep",
                    "import '{dir}/nested.urdf' -o '{dir}/out.json'",
