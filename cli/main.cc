@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "matplotlib_script.h"
 #include "tether/dynamics/errors.h"
 #include "tether/dynamics/interrupts.h"
 
@@ -44,6 +45,9 @@ int main(int argc, char** argv) {
       std::cout.flush();
       if (!std::cout) throw OutputError("cannot write to standard output");
       return status;
+    } catch (const cli::DrawingInterrupted& e) {
+      std::cerr << "tether: interrupted while drawing the figures; what was written before them is complete\n";
+      EndAsSignal(e.signal());
     } catch (const InputError& e) {
       std::cerr << "tether: error: " << e.what() << "\n";
       return 2;

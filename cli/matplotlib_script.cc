@@ -1,7 +1,9 @@
 #include "matplotlib_script.h"
 
+#include <sys/wait.h>
 #include <unistd.h>
 
+#include <csignal>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -36,10 +38,18 @@ void RunMatplotlib(const std::string& script, const std::vector<std::string>& ar
   std::string errors;
   std::getline(std::ifstream(work / "errors.txt"), errors, '\0');
   fs::remove_all(work);
+  while (!errors.empty() && errors.back() == '\n') errors.pop_back();
+  const std::string last_error = errors.substr(errors.rfind('\n') + 1);
+  // killed by a signal: the shell itself, or python under it (the shell then exits with 128 + the signal), or
+  // python's own KeyboardInterrupt (some phases of its start exit with status 1 after it)
+  const int signal = WIFSIGNALED(status)                                ? WTERMSIG(status)
+                     : WIFEXITED(status) && WEXITSTATUS(status) > 128   ? WEXITSTATUS(status) - 128
+                     : status != 0 && last_error == "KeyboardInterrupt" ? SIGINT
+                                                                        : 0;
+  if (signal == SIGINT || signal == SIGTERM || signal == SIGHUP) throw DrawingInterrupted(signal);
   if (status != 0) {
-    while (!errors.empty() && errors.back() == '\n') errors.pop_back();
     throw InputError(flag + ": drawing failed (python3 with matplotlib is needed: apt-get install python3-matplotlib)" +
-                     (errors.empty() ? std::string() : ": " + errors.substr(errors.rfind('\n') + 1)));
+                     (errors.empty() ? std::string() : ": " + last_error));
   }
 }
 

@@ -365,6 +365,26 @@ TEST_F(ReliabilityFiles, AnInterruptedRunLeavesNoTemporaryFileAndNoOutput) {
   }
 }
 
+// Ctrl-C reaches the whole foreground group: while a study draws, python and tether (waiting with SIGINT ignored)
+// both get it. The drawing was reported as a failed one ("python3 with matplotlib is needed").
+TEST_F(ReliabilityFiles, CtrlCWhileAStudyDrawsEndsItAsCtrlCWithItsResultsComplete) {
+  folder_.Write("pendulum.json", kPendulum);
+  const std::string study = folder_.Write("study.json", R"({"scene": "pendulum.json",
+    "sweep": {"/simulation/step": [0.01, 0.005]}, "metrics": ["max_constraint_error"]})");
+  const std::string out = Path("drawn");
+  const std::string python = "tether-plot-[^ ]*/script[.]py .*" + out;  // this test's drawing, not another's
+  std::ostringstream launcher;
+  launcher << "sh -c '\"$0\" \"$@\" & pid=$!; n=0; while [ $n -lt 1200 ] && ! pgrep -f \"" << python
+           << "\" >/dev/null; do sleep 0.02; n=$((n + 1)); done; kill -2 $pid; pkill -2 -f \"" << python
+           << "\"; wait $pid' ";
+  const Outcome run = testing::RunTether("study '" + study + "' --out '" + out + "' --quiet", folder_, launcher.str());
+  EXPECT_EQ(run.status, 130) << run.err;
+  EXPECT_TRUE(Contains(run.err, "interrupted while drawing the figures")) << run.err;
+  EXPECT_FALSE(Contains(run.err, "matplotlib is needed")) << run.err;
+  EXPECT_EQ(testing::Lines(ReadText(out + "/results.csv")).size(), 3u);  // written before the figures
+  EXPECT_TRUE(std::filesystem::exists(out + "/summary.md"));
+}
+
 TEST_F(ReliabilityFiles, CtrlCDuringAStudyIsReportedAndTheStudyResumes) {
   folder_.Write("pendulum.json", kPendulum);
   const std::string study = folder_.Write("study.json", R"({"scene": "pendulum.json",

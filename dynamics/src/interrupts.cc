@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <csignal>
+#include <cstdlib>
 #include <cstring>
 #include <mutex>
 #include <stdexcept>
@@ -48,6 +49,13 @@ extern "C" void OnInterrupt(int signal) {
 }
 
 }  // namespace
+
+void EndAsSignal(int signal) {
+  RemoveTemporaries();
+  std::signal(signal, SIG_DFL);
+  std::raise(signal);
+  std::_Exit(128 + signal);  // a signal this process blocks
+}
 
 void InstallInterruptHandlers() {
   for (int signal : {SIGINT, SIGTERM, SIGHUP}) std::signal(signal, OnInterrupt);

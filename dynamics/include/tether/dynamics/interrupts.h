@@ -40,6 +40,10 @@ class CatchInterrupts {
 // The signal caught while a CatchInterrupts was held (0: none).
 int Interrupted();
 
+// Removes the temporary paths and ends the process as `signal` would (after a signal that a child process took,
+// while this one waited with it ignored).
+[[noreturn]] void EndAsSignal(int signal);
+
 // An interactive caller (the Python module, during one call) that wants a run to stop at once rather than at the
 // end of a piece of work: while any CancelRuns is held, SIGINT is caught, and a run checks for it at every step
 // and stops with RunInterrupted (errors.h); every run then held stops. When the last is released, the action it
