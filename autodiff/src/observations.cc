@@ -33,12 +33,16 @@ std::string Trim(std::string s) {
   return begin == std::string::npos ? "" : s.substr(begin, end - begin + 1);
 }
 
-// Column name -> where its value lives, for every trajectory column of the model that can be observed.
+// Column name -> where its value lives, for every trajectory column of the model that can be observed, named as
+// a trajectory CSV writes it (csv_line.h: a line break in a name, which URDF and MJCF names may hold, is a space).
 std::map<std::string, TrajectoryColumn> KnownColumns(const Model<double>& model) {
   std::map<std::string, TrajectoryColumn> known;
   for (const TrajectoryColumn& column : TrajectoryColumns(model)) {
     if (column.kind == TrajectoryColumn::Kind::kTime || column.kind == TrajectoryColumn::Kind::kConstraintError) continue;
-    known[column.name] = column;
+    std::string written = column.name;
+    std::replace_if(
+        written.begin(), written.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
+    known[written] = column;
   }
   return known;
 }

@@ -81,6 +81,16 @@ def _index(token):
     return int(token)
 
 
+def _whole(value, name):
+    """A count or a seed as the extension takes it (a C int): other values are the argument's InputError, not
+    pybind11's TypeError."""
+    if isinstance(value, bool) or not isinstance(value, (int, _np.integer)):
+        raise InputError(f"{name}: expected a whole number, got {value!r}")
+    if not -2**31 <= value < 2**31:
+        raise InputError(f"{name}: must be a whole number below 2^31 in size, got {value}")
+    return int(value)
+
+
 class Scene:
     """A validated scene: Scene.load(path) or Scene.from_dict(d)."""
 
@@ -137,7 +147,7 @@ class Scene:
         for name, value in (("duration", duration), ("step", step), ("integrator", integrator), ("alpha", alpha),
                             ("beta", beta), ("stabilization", stabilization), ("solver", solver)):
             setattr(overrides, name, value)
-        return Trajectory(_tether.simulate(self._core, overrides, every))
+        return Trajectory(_tether.simulate(self._core, overrides, _whole(every, "every")))
 
     def __repr__(self):
         return f"tether.Scene({self.path!r})"
@@ -298,15 +308,17 @@ def tune(scene, objective="reference", optimizer="ceres", samples=1, max_evaluat
     overrides = _tether.SettingsOverrides()
     for name, value in (("duration", duration), ("step", step), ("integrator", integrator), ("solver", solver)):
         setattr(overrides, name, value)
-    return _json.loads(_tether.tune(_scene(scene), overrides, objective, optimizer, samples, max_evaluations))
+    return _json.loads(_tether.tune(_scene(scene), overrides, objective, optimizer, _whole(samples, "samples"),
+                                    _whole(max_evaluations, "max_evaluations")))
 
 
 def _estimate(scene, data, params, bounds, segments, loss, optimizer, max_evaluations, smooth, method, ties,
               effort=0.0, at_least=None, at_most=None, starts=1, seed=1):
     result = _json.loads(_tether.identify(_scene(scene), [] if data is None else _datasets(data), _pointers(params),
-                                         _bounds(bounds), segments, loss or "", optimizer, max_evaluations, smooth,
-                                         method, _ties(ties), effort, _targets(at_least, "at_least"),
-                                         _targets(at_most, "at_most"), starts, seed))
+                                         _bounds(bounds), _whole(segments, "segments"), loss or "", optimizer,
+                                         _whole(max_evaluations, "max_evaluations"), smooth, method, _ties(ties),
+                                         effort, _targets(at_least, "at_least"), _targets(at_most, "at_most"),
+                                         _whole(starts, "starts"), _whole(seed, "seed")))
     if result["failed"]:  # where the command line exits with status 1
         _warnings.warn("the estimate failed: " + "; ".join(result["warnings"]), EstimateFailed, stacklevel=3)
     return result
@@ -367,6 +379,6 @@ def study(path, out, threads=None, restart=False):
     """Runs (or resumes) the study file `path` into the folder `out`, as `tether study` does (results.csv, without
     the figures and summary.md the command line adds), and returns results.csv's rows as dicts."""
     threads = (_os.cpu_count() or 1) if threads is None else threads
-    _tether.study(_os.fspath(path), _os.fspath(out), threads, restart)
+    _tether.study(_os.fspath(path), _os.fspath(out), _whole(threads, "threads"), restart)
     with open(_os.path.join(_os.fspath(out), "results.csv"), newline="") as f:
         return [{k: _cell(v) for k, v in row.items()} for row in _csv.DictReader(f)]
