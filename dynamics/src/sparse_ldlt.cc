@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <queue>
+#include <type_traits>
 
 namespace tether {
 namespace {
@@ -193,34 +194,39 @@ void SparseLdlt::PlanNumericPhase(const SchurPattern& pattern) {
 
 // Raw pointers marked __restrict: the arrays never overlap, and without the promise every store would force the
 // next load to wait for it.
+// The path is chosen once per factorization (listed is std::true_type or std::false_type), so that the listed
+// one's loop is as tight as it was before there were two.
 bool SparseLdlt::Factor(const std::vector<double>& values) {
-  const int n = size();
-  double* __restrict f = lower_value_.data();
-  const double* __restrict value = values.data();
-  const int* __restrict slot = value_slot_.data();
-  const int* __restrict target = update_target_.data();
-  for (size_t v = 0; v < values.size(); ++v) f[slot[v]] = value[v];
-  for (int position : fill_slot_) f[position] = 0.0;
-  const int diagonal = nonzeros();  // f[diagonal + j]: A(j, j) as the updates reach it
-  for (int j = 0; j < n; ++j) {
-    const double d = f[diagonal + j];
-    if (d == 0.0 || !std::isfinite(d)) return false;
-    const double inverse = 1.0 / d;
-    d_[j] = d;
-    inverse_d_[j] = inverse;
-    const int begin = column_start_[j], end = column_start_[j + 1];
-    // A(r_p, r_q) -= L(r_p, j) d_j L(r_q, j), with f still holding d_j L(., j) (the updates land right of j)
-    if (listed_updates_) {
-      for (int p = begin; p < end; ++p) {
-        const double l = f[p] * inverse;
-        for (int q = begin; q <= p; ++q) f[*target++] -= l * f[q];
+  const auto factor = [&](auto listed) {
+    const int n = size();
+    double* __restrict f = lower_value_.data();
+    const double* __restrict value = values.data();
+    const int* __restrict slot = value_slot_.data();
+    const int* __restrict target = update_target_.data();
+    for (size_t v = 0; v < values.size(); ++v) f[slot[v]] = value[v];
+    for (int position : fill_slot_) f[position] = 0.0;
+    const int diagonal = nonzeros();  // f[diagonal + j]: A(j, j) as the updates reach it
+    for (int j = 0; j < n; ++j) {
+      const double d = f[diagonal + j];
+      if (d == 0.0 || !std::isfinite(d)) return false;
+      const double inverse = 1.0 / d;
+      d_[j] = d;
+      inverse_d_[j] = inverse;
+      const int begin = column_start_[j], end = column_start_[j + 1];
+      // A(r_p, r_q) -= L(r_p, j) d_j L(r_q, j), with f still holding d_j L(., j) (the updates land right of j)
+      if constexpr (decltype(listed)::value) {
+        for (int p = begin; p < end; ++p) {
+          const double l = f[p] * inverse;
+          for (int q = begin; q <= p; ++q) f[*target++] -= l * f[q];
+        }
+      } else {
+        UpdateUnlisted(j, inverse);
       }
-    } else {
-      UpdateUnlisted(j, inverse);
+      for (int p = begin; p < end; ++p) f[p] *= inverse;
     }
-    for (int p = begin; p < end; ++p) f[p] *= inverse;
-  }
-  return true;
+    return true;
+  };
+  return listed_updates_ ? factor(std::true_type{}) : factor(std::false_type{});
 }
 
 // The same updates without the list: column r_q of L holds every row r_p > r_q of column j (that is where the
