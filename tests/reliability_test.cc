@@ -102,6 +102,8 @@ class Reliability : public ::testing::TestWithParam<Invocation> {
     folder_.Write("nested.urdf",
                   "<robot name=\"x\">" + Repeated("<a>", 100000) + Repeated("</a>", 100000) + "</robot>");
     folder_.Write("hub.json", Star(2049));
+    folder_.Write("small_study.json",
+                  R"({"scene": "pendulum.json", "sweep": {"/simulation/step": [0.01]}, "metrics": ["seconds"]})");
     folder_.Write("unassemblable.json", R"({"dimension": 2,
       "bodies": [{"name": "p", "type": "particle", "mass": 1.0, "position": [1.0, 0.0]}],
       "constraints": [{"type": "distance", "bodies": ["world", "p"], "length": 1.0},
@@ -259,6 +261,10 @@ INSTANTIATE_TEST_SUITE_P(
                    "identify '{dir}/pendulum.json' --data '{dir}/on_time.csv' --parm /bodies/0/mass",
                    2,
                    {"unknown flag '--parm' (did you mean '--param'?)\ntether: --param is required"}},
+        Invocation{"a_study_out_that_is_a_file",  // "cannot make the folder"
+                   "study '{dir}/small_study.json' --out '{dir}/pendulum.json'",
+                   2,
+                   {"--out", "pendulum.json' is a file, not a folder"}},
         Invocation{"tune_with_a_gain_it_chooses", "tune '{dir}/pendulum.json' --alpha 5", 2, {"--alpha"}},
         Invocation{"xml_nested_100000_deep",
                    "import '{dir}/nested.urdf' -o '{dir}/out.json'",

@@ -97,6 +97,9 @@ std::string FingerprintPath(const std::string& folder) {
 
 FolderLock::FolderLock(const std::string& folder) {
   std::error_code error;
+  if (fs::exists(folder) && !fs::is_directory(folder)) {
+    throw InputError("--out: '" + folder + "' is a file, not a folder");
+  }
   fs::create_directories(folder, error);
   if (!fs::is_directory(folder)) throw InputError("--out: cannot make the folder '" + folder + "'");
   const std::string lock = (fs::path(folder) / ".lock").string();
