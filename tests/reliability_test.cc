@@ -391,6 +391,32 @@ TEST_F(ReliabilityFiles, CtrlCWhileAStudyDrawsEndsItAsCtrlCWithItsResultsComplet
   EXPECT_TRUE(std::filesystem::exists(out + "/summary.md"));
 }
 
+// A process limit on threads (ulimit -u) that lets the first threads start and refuses the next: a study on two
+// threads and a fit's parallel starts left a started thread joinable behind the exception, and the process aborted.
+// The work now runs on the threads that started, or on the calling one.
+TEST_F(ReliabilityFiles, AThreadLimitRunsTheWorkOnTheThreadsThatStarted) {
+  folder_.Write("pendulum.json", kPendulum);
+  const std::string study = folder_.Write("study.json", R"({"scene": "pendulum.json",
+    "sweep": {"/simulation/step": [0.01, 0.005, 0.002, 0.001]}, "metrics": ["max_constraint_error"]})");
+  for (const char* allowed : {"0", "1"}) {
+    const std::string launcher =
+        std::string("env LD_PRELOAD=") + TETHER_THREAD_LIMIT_PRELOAD + " TETHER_THREADS_ALLOWED=" + allowed + " ";
+    const std::string out = Path(std::string("out") + allowed);
+    const Outcome run =
+        testing::RunTether("study '" + study + "' --out '" + out + "' --threads 2 --quiet", folder_, launcher);
+    EXPECT_EQ(run.status, 0) << allowed << " threads allowed\n" << run.err;
+    EXPECT_EQ(testing::Lines(ReadText(out + "/results.csv")).size(), 5u) << run.err;
+    const Outcome fit = testing::RunTether(
+        "fit '" + kSource +
+            "/docs/examples/swing_up/pendulum.json' --param '/effects/1/schedule/values/*' "
+            "--bound '/effects/1/schedule/values/*=-2:2' --at-least axle.angle=3@3 --starts 3 --max-evaluations 20",
+        folder_, launcher);
+    EXPECT_TRUE(fit.status == 0 || fit.status == 1) << allowed << " threads allowed: status " << fit.status << "\n"
+                                                    << fit.err;  // a finished fit, met or not; never an abort
+    EXPECT_TRUE(Contains(fit.out, "\"parameters\"")) << fit.out;
+  }
+}
+
 TEST_F(ReliabilityFiles, CtrlCDuringAStudyIsReportedAndTheStudyResumes) {
   folder_.Write("pendulum.json", kPendulum);
   const std::string study = folder_.Write("study.json", R"({"scene": "pendulum.json",

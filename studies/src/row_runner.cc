@@ -11,6 +11,7 @@
 #include <map>
 #include <mutex>
 #include <sstream>
+#include <system_error>
 #include <thread>
 
 #include "tether/dynamics/csv_line.h"
@@ -134,7 +135,7 @@ void RunRows(const StudySpec& spec, const std::vector<int>& indices, int threads
   std::deque<FinishedRow> finished;
   std::exception_ptr failure;
   auto work = [&] {
-    for (size_t k; !stop && (k = next++) < indices.size();) {
+    for (size_t k; !stop && !Interrupted() && (k = next++) < indices.size();) {
       try {
         FinishedRow row{indices[k], Line(MeasureRow(spec, indices[k], &references))};
         std::lock_guard<std::mutex> lock(mutex);
@@ -149,7 +150,13 @@ void RunRows(const StudySpec& spec, const std::vector<int>& indices, int threads
   };
   std::vector<std::thread> pool;
   const int workers = std::max(1, std::min(threads, static_cast<int>(indices.size())));
-  for (int t = 0; t < workers && !indices.empty(); ++t) pool.emplace_back(work);
+  try {
+    for (int t = 0; t < workers && !indices.empty(); ++t) pool.emplace_back(work);
+  } catch (const std::system_error&) {
+    // the system refused a thread (a process limit on threads): the rows run on those that did start, or on this
+    // one when none did (a joinable thread left behind by the exception would abort the process)
+    if (pool.empty()) work();
+  }
   // the calling thread hands rows on as they come, until every row is in (or one failed)
   for (size_t handed = 0; handed < indices.size();) {
     if (Interrupted()) stop = true;

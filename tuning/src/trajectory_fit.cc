@@ -3,13 +3,14 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <cstdlib>
 #include <cmath>
+#include <cstdlib>
 #include <exception>
 #include <limits>
 #include <mutex>
 #include <random>
 #include <sstream>
+#include <system_error>
 #include <thread>
 
 #include "fit_judgement.h"
@@ -339,7 +340,12 @@ IdentifyResult FitTrajectory(const Model<double>& model, const ParameterSet& par
   };
   const int threads = std::min<int>(static_cast<int>(starts.size()), std::max(1u, std::thread::hardware_concurrency()));
   std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(work);
+  try {
+    for (int t = 1; t < threads; ++t) pool.emplace_back(work);
+  } catch (const std::system_error&) {
+    // the system refused a thread (a process limit on threads): the starts run on those that did start and on
+    // this one (a joinable thread left behind by the exception would abort the process)
+  }
   work();
   for (std::thread& t : pool) t.join();
   if (error) std::rethrow_exception(error);
