@@ -265,6 +265,15 @@ INSTANTIATE_TEST_SUITE_P(
                    "study '{dir}/small_study.json' --out '{dir}/pendulum.json'",
                    2,
                    {"--out", "pendulum.json' is a file, not a folder"}},
+        Invocation{"an_mjcf_name_that_is_not_utf8",  // the importer fuzzer's: JSON's exception ended the process
+                   "import '{src}/fuzz/corpus/findings/mjcf/name_not_utf8.xml' -o '{dir}/out.json'",
+                   2,
+                   {"name_not_utf8.xml", "not valid UTF-8"}},
+        Invocation{
+            "a_urdf_prismatic_joint_at_its_stop_by_rounding",  // refused: 1.7e-16 m outside its range
+            "import '{src}/fuzz/corpus/findings/urdf/prismatic_at_its_stop_by_rounding.urdf' -o '{dir}/out.json'",
+            0,
+            {}},
         Invocation{"tune_with_a_gain_it_chooses", "tune '{dir}/pendulum.json' --alpha 5", 2, {"--alpha"}},
         Invocation{"xml_nested_100000_deep",
                    "import '{dir}/nested.urdf' -o '{dir}/out.json'",

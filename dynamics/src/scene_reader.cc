@@ -17,6 +17,10 @@
 namespace tether {
 namespace {
 
+// How far outside its range a joint may start, in rad or m: rounding, not a position (a URDF prismatic joint at its
+// lower stop started 1.7e-16 m below it and its import was refused).
+constexpr double kRangeRounding = 1e-12;
+
 using nlohmann::json;
 
 const char* TypeName(const json& j) {
@@ -379,8 +383,9 @@ class SceneBuilder {
                   "a 2D pin has a range only between planar rigid bodies (or one and the world), which give it "
                   "an angle");
     }
+    // a start computed from positions (a displacement, an imported joint at its stop) may lie outside by rounding
     const double start = angle ? joint->angle : InitialDisplacement(*joint);
-    if ((r.has_low && start < r.low) || (r.has_high && start > r.high)) {
+    if ((r.has_low && start < r.low - kRangeRounding) || (r.has_high && start > r.high + kRangeRounding)) {
       check_.Fail(rp, std::string("the joint's ") + (angle ? "angle " : "displacement ") + Format(start) +
                           " at the start lies outside its range");
     }

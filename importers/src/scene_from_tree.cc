@@ -592,7 +592,13 @@ class SceneBuilder {
     if (tree_.time_step) out.scene["simulation"] = {{"step", *tree_.time_step}};
     out.warnings = tree_.warnings;
     out.warnings.insert(out.warnings.end(), warnings_.begin(), warnings_.end());
-    ParseScene(nlohmann::json::parse(out.scene.dump()), source_ + " (imported)");
+    std::string text;
+    try {
+      text = out.scene.dump();
+    } catch (const nlohmann::json::type_error&) {  // MuJoCo and urdfdom take any bytes in a name
+      throw InputError(source_ + ": a name in the model is not valid UTF-8, which a scene (JSON) cannot hold");
+    }
+    ParseScene(nlohmann::json::parse(text), source_ + " (imported)");
     return out;
   }
 
