@@ -3,17 +3,26 @@ Scene.set, Scene.simulate, gradient, identify, fit and tune. Each call returns, 
 (naming the argument or the pointer) or tether.SimulationDiverged; anything else (another exception, a crash of
 the interpreter) is a finding. Hypothesis (Debian's python3-hypothesis) draws the cases, derandomized so that CI
 sees the same ones every run: 200 cases an entry point, 1400 in all, in a few seconds."""
+import atexit
 import math
+import shutil
+import tempfile
 
 import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from hypothesis.configuration import set_hypothesis_home_dir
+
+HYPOTHESIS_HOME = tempfile.mkdtemp(prefix="tether-hypothesis-")  # its caches stay out of the tree, and go after
+set_hypothesis_home_dir(HYPOTHESIS_HOME)
+atexit.register(shutil.rmtree, HYPOTHESIS_HOME, True)
 
 import tether
 from conftest import source
 
 ALLOWED = (tether.InputError, tether.SimulationDiverged)
-FUZZ = settings(max_examples=200, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck))
+FUZZ = settings(max_examples=200, deadline=None, derandomize=True, database=None,  # nothing written to the tree
+               suppress_health_check=list(HealthCheck))
 
 PENDULUM = tether.Scene.load(source("scenes", "pendulum.json"))
 GUESS = source("docs", "examples", "identify", "guess.json")
