@@ -45,6 +45,22 @@ size_t EditDistance(const std::string& a, const std::string& b) {
   return row[b.size()];
 }
 
+// The candidate nearest to `word` by edit distance when it is close enough to be a misspelling of it (within a
+// third of its length, or 2), as " (did you mean 'NAME'?)"; else empty.
+std::string DidYouMean(const std::string& word, const std::vector<std::string>& candidates) {
+  std::string nearest;
+  size_t best = word.size();
+  for (const std::string& name : candidates) {
+    const size_t distance = EditDistance(word, name);
+    if (distance < best) {
+      best = distance;
+      nearest = name;
+    }
+  }
+  const bool close = !nearest.empty() && best <= std::max<size_t>(2, nearest.size() / 3);
+  return close ? " (did you mean '" + nearest + "'?)" : "";
+}
+
 }  // namespace
 
 std::string UnexpectedArguments(CLI::App& app, int argc, char** argv) {
@@ -80,37 +96,20 @@ std::string UnexpectedArguments(CLI::App& app, int argc, char** argv) {
     after_flag = word.find('=') == std::string::npos ? position : -2;
     if (!message.empty()) message += "; ";
     const std::string flag = word.substr(0, word.find('='));
-    std::string nearest;
-    size_t best = flag.size();
-    for (const std::string& name : flags) {
-      const size_t distance = EditDistance(flag, name);
-      if (distance < best) {
-        best = distance;
-        nearest = name;
-      }
-    }
-    const bool close = !nearest.empty() && best <= std::max<size_t>(2, nearest.size() / 3);
-    message += "unknown flag '" + flag + "'" + (close ? " (did you mean '" + nearest + "'?)" : "");
+    message += "unknown flag '" + flag + "'" + DidYouMean(flag, flags);
   }
   return (command ? command->get_name() + ": " : std::string()) + message;
 }
 
 std::string UnknownCommand(CLI::App& app, const std::string& word) {
-  std::string names, nearest;
-  size_t best = word.size();
+  std::vector<std::string> names;
   for (const CLI::App* command : app.get_subcommands({})) {
     if (command->check_name(word)) return "";
-    const std::string& name = command->get_name();
-    names += (names.empty() ? "" : ", ") + name;
-    const size_t distance = EditDistance(word, name);
-    if (distance < best) {
-      best = distance;
-      nearest = name;
-    }
+    names.push_back(command->get_name());
   }
-  const bool close = !nearest.empty() && best <= std::max<size_t>(2, nearest.size() / 3);
-  return "unknown command '" + word + "'" + (close ? " (did you mean '" + nearest + "'?)" : "") +
-         "; the commands are " + names;
+  std::string list;
+  for (const std::string& name : names) list += (list.empty() ? "" : ", ") + name;
+  return "unknown command '" + word + "'" + DidYouMean(word, names) + "; the commands are " + list;
 }
 
 }  // namespace tether::cli
