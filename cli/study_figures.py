@@ -18,6 +18,7 @@ import csv
 import json
 import math
 import os
+import re
 import sys
 
 import matplotlib
@@ -70,14 +71,10 @@ def short(column):
     return column.rsplit("/", 1)[-1]
 
 
-# Units of the swept values that carry one, for "name=value unit" in legends and titles
-UNITS = {"/simulation/step": "s", "/simulation/duration": "s", "/stabilization/alpha": "1/s",
-         "/stabilization/beta": "1/s^2"}
-
-
 def setting(column, value):
-    unit = UNITS.get(column)
-    return "%s=%s%s" % (short(column), value, " " + unit if unit else "")
+    """ "name=value unit" for legends and titles, the unit as LABELS gives it (its last parentheses)."""
+    unit = re.search(r"\(([^()]*)\)$", LABELS.get(column, ""))
+    return "%s=%s%s" % (short(column), value, " " + unit.group(1) if unit else "")
 
 
 def spans_decades(values):
