@@ -4,8 +4,8 @@
 #include <string>
 #include <vector>
 
-#include "tether/dynamics/default_gains.h"
-#include "tether/dynamics/integrators.h"
+#include "tether/dynamics/integration/default_gains.h"
+#include "tether/dynamics/integration/integrators.h"
 
 namespace tether::bench {
 namespace {

@@ -5,7 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "tether/dynamics/model.h"
+#include "tether/dynamics/model/model.h"
 
 namespace tether::bench {
 

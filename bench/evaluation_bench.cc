@@ -17,14 +17,14 @@
 #include <string>
 
 #include "peer/tether_models.h"
-#include "tether/dynamics/configuration_space.h"
-#include "tether/dynamics/constrained_dynamics.h"
-#include "tether/dynamics/default_gains.h"
-#include "tether/dynamics/effects.h"
-#include "tether/dynamics/integrators.h"
-#include "tether/dynamics/simulator.h"
-#include "tether/dynamics/sparse_ldlt.h"
-#include "tether/dynamics/workspace.h"
+#include "tether/dynamics/effects/effects.h"
+#include "tether/dynamics/integration/default_gains.h"
+#include "tether/dynamics/integration/integrators.h"
+#include "tether/dynamics/integration/simulator.h"
+#include "tether/dynamics/integration/workspace.h"
+#include "tether/dynamics/model/configuration_space.h"
+#include "tether/dynamics/solvers/constrained_dynamics.h"
+#include "tether/dynamics/solvers/sparse_ldlt.h"
 
 namespace tether::bench {
 namespace {

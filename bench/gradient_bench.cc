@@ -23,6 +23,7 @@
 //                at 10 times (60 cells).
 // The observations are the nominal simulation shifted by 1 cm, so that the loss and the gradient are not zero.
 // bench/gradient_cost.py runs this and prints the Markdown table quoted in the README.
+#include <benchmark/benchmark.h>
 #include <time.h>
 
 #include <algorithm>
@@ -31,12 +32,10 @@
 #include <string>
 #include <vector>
 
-#include <benchmark/benchmark.h>
-
 #include "bench_models.h"
 #include "tether/autodiff/adjoint.h"
 #include "tether/autodiff/residuals.h"
-#include "tether/dynamics/scene_reader.h"
+#include "tether/dynamics/io/scene_reader.h"
 
 namespace tether::bench {
 namespace {

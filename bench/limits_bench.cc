@@ -8,7 +8,7 @@
 
 #include "bench_models.h"
 #include "peer/tether_models.h"
-#include "tether/dynamics/stepper.h"
+#include "tether/dynamics/integration/stepper.h"
 
 namespace tether::bench {
 namespace {

@@ -5,9 +5,9 @@
 #include <string>
 
 #include "scene_overrides.h"
-#include "tether/dynamics/scene_check.h"
-#include "tether/dynamics/scene_reader.h"
-#include "tether/dynamics/simulator.h"
+#include "tether/dynamics/integration/simulator.h"
+#include "tether/dynamics/io/scene_check.h"
+#include "tether/dynamics/io/scene_reader.h"
 
 namespace tether::cli {
 namespace {

@@ -8,11 +8,11 @@
 #include <sstream>
 
 #include "matplotlib_script.h"
-#include "tether/dynamics/errors.h"
-#include "tether/dynamics/interrupts.h"
-#include "tether/dynamics/simulator.h"
-#include "tether/dynamics/trajectory_columns.h"
-#include "tether/dynamics/trajectory_csv.h"
+#include "tether/dynamics/integration/simulator.h"
+#include "tether/dynamics/io/interrupts.h"
+#include "tether/dynamics/io/trajectory_columns.h"
+#include "tether/dynamics/io/trajectory_csv.h"
+#include "tether/dynamics/model/errors.h"
 
 namespace tether::cli {
 namespace {

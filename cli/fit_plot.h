@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "tether/autodiff/observations.h"
-#include "tether/dynamics/model.h"
+#include "tether/dynamics/model/model.h"
 #include "tether/tuning/identification.h"
 
 namespace tether::cli {

@@ -3,8 +3,8 @@
 #include <filesystem>
 #include <system_error>
 
-#include "tether/dynamics/errors.h"
-#include "tether/dynamics/output_file.h"
+#include "tether/dynamics/io/output_file.h"
+#include "tether/dynamics/model/errors.h"
 
 namespace tether::cli {
 

@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "tether/dynamics/request_limits.h"  // CheckCount and the limits of counts, shared with Python
+#include "tether/dynamics/io/request_limits.h"  // CheckCount and the limits of counts, shared with Python
 
 namespace tether::cli {
 

@@ -6,7 +6,7 @@
 
 #include "scene_overrides.h"
 #include "tether/autodiff/gradient_method.h"
-#include "tether/dynamics/errors.h"
+#include "tether/dynamics/model/errors.h"
 
 namespace tether::cli {
 namespace {

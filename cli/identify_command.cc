@@ -9,9 +9,9 @@
 #include "flags.h"
 #include "progress_line.h"
 #include "scene_overrides.h"
-#include "tether/dynamics/errors.h"
-#include "tether/dynamics/scene_reader.h"
-#include "tether/dynamics/trajectory_csv.h"
+#include "tether/dynamics/io/scene_reader.h"
+#include "tether/dynamics/io/trajectory_csv.h"
+#include "tether/dynamics/model/errors.h"
 #include "tether/tuning/identification.h"
 #include "tether/tuning/reports.h"
 

@@ -6,8 +6,8 @@
 #include <sstream>
 
 #include "flags.h"
-#include "tether/dynamics/errors.h"
-#include "tether/dynamics/output_file.h"
+#include "tether/dynamics/io/output_file.h"
+#include "tether/dynamics/model/errors.h"
 #include "tether/importers/import_model.h"
 
 namespace tether::cli {

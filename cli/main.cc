@@ -10,8 +10,8 @@
 
 #include "commands.h"
 #include "matplotlib_script.h"
-#include "tether/dynamics/errors.h"
-#include "tether/dynamics/interrupts.h"
+#include "tether/dynamics/io/interrupts.h"
+#include "tether/dynamics/model/errors.h"
 
 int main(int argc, char** argv) {
   using namespace tether;

@@ -8,8 +8,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "tether/dynamics/errors.h"
-#include "tether/dynamics/interrupts.h"
+#include "tether/dynamics/io/interrupts.h"
+#include "tether/dynamics/model/errors.h"
 
 namespace tether::cli {
 namespace {

@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "tether/dynamics/errors.h"
+#include "tether/dynamics/model/errors.h"
 
 namespace tether::cli {
 

@@ -4,7 +4,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "tether/dynamics/settings_overrides.h"
+#include "tether/dynamics/io/settings_overrides.h"
 
 namespace tether::cli {
 

@@ -6,10 +6,10 @@
 
 #include "flags.h"
 #include "scene_overrides.h"
-#include "tether/dynamics/errors.h"
-#include "tether/dynamics/scene_reader.h"
-#include "tether/dynamics/simulator.h"
-#include "tether/dynamics/trajectory_csv.h"
+#include "tether/dynamics/integration/simulator.h"
+#include "tether/dynamics/io/scene_reader.h"
+#include "tether/dynamics/io/trajectory_csv.h"
+#include "tether/dynamics/model/errors.h"
 
 namespace tether::cli {
 namespace {

@@ -1,5 +1,7 @@
 #include "study_command.h"
 
+#include <unistd.h>
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -7,15 +9,13 @@
 #include <iostream>
 #include <thread>
 
-#include <unistd.h>
-
 #include "flags.h"
 #include "matplotlib_script.h"
 #include "study_figures_script.h"
-#include "tether/dynamics/errors.h"
-#include "tether/dynamics/interrupts.h"
-#include "tether/dynamics/output_file.h"
-#include "tether/dynamics/scene_reader.h"
+#include "tether/dynamics/io/interrupts.h"
+#include "tether/dynamics/io/output_file.h"
+#include "tether/dynamics/io/scene_reader.h"
+#include "tether/dynamics/model/errors.h"
 #include "tether/studies/gain_map.h"
 #include "tether/studies/study.h"
 #include "tether/studies/study_mpi.h"

@@ -13,8 +13,8 @@
 #include <cstdlib>
 #include <string>
 
-#include "tether/dynamics/errors.h"
-#include "tether/dynamics/scene_reader.h"
+#include "tether/dynamics/io/scene_reader.h"
+#include "tether/dynamics/model/errors.h"
 #include "tether/importers/import_model.h"
 
 namespace {

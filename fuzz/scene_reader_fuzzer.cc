@@ -12,10 +12,10 @@
 #include <cstdlib>
 #include <string>
 
-#include "tether/dynamics/errors.h"
-#include "tether/dynamics/configuration_space.h"
-#include "tether/dynamics/effects.h"
-#include "tether/dynamics/scene_reader.h"
+#include "tether/dynamics/effects/effects.h"
+#include "tether/dynamics/io/scene_reader.h"
+#include "tether/dynamics/model/configuration_space.h"
+#include "tether/dynamics/model/errors.h"
 
 namespace {
 

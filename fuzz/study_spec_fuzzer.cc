@@ -14,7 +14,7 @@
 #include <fstream>
 #include <string>
 
-#include "tether/dynamics/errors.h"
+#include "tether/dynamics/model/errors.h"
 #include "tether/studies/study_spec.h"
 
 namespace {

@@ -17,8 +17,8 @@
 #include <vector>
 
 #include "tether/autodiff/observations.h"
-#include "tether/dynamics/errors.h"
-#include "tether/dynamics/scene_reader.h"
+#include "tether/dynamics/io/scene_reader.h"
+#include "tether/dynamics/model/errors.h"
 
 namespace {
 

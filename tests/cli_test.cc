@@ -11,11 +11,11 @@
 #include <string>
 #include <vector>
 
-#include "tether/dynamics/default_gains.h"
-#include "tether/dynamics/scene_reader.h"
-#include "tether/dynamics/simulator.h"
-#include "tether/dynamics/trajectory_csv.h"
 #include "test_files.h"
+#include "tether/dynamics/integration/default_gains.h"
+#include "tether/dynamics/integration/simulator.h"
+#include "tether/dynamics/io/scene_reader.h"
+#include "tether/dynamics/io/trajectory_csv.h"
 
 namespace tether {
 namespace {

@@ -4,7 +4,7 @@
 //   (b) the bias Jdot q' against central differences of s -> J(q + s v) v at s = 0;
 //   (c) values, Jacobians and bias against the same constraint written as a user residual (user_constraint.h),
 //       whose derivatives tether derives with dual numbers.
-#include "tether/dynamics/constraint_rows.h"
+#include "tether/dynamics/constraints/constraint_rows.h"
 
 #include <gtest/gtest.h>
 
@@ -14,7 +14,7 @@
 #include <random>
 #include <vector>
 
-#include "tether/dynamics/user_constraint.h"
+#include "tether/dynamics/constraints/user_constraint.h"
 
 namespace tether {
 namespace {

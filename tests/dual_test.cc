@@ -1,7 +1,7 @@
 // Dual numbers (dual.h): arithmetic and every listed function for Dual<double> (first derivatives) and
 // Dual<Dual<double>> (second derivatives, seeded at both levels as the user-constraint derivation does) against
 // analytic derivatives; Dual<Jet> carries the Jet's derivative parts through value and derivative.
-#include "tether/dynamics/dual.h"
+#include "tether/dynamics/constraints/dual.h"
 
 #include <gtest/gtest.h>
 
@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-#include "tether/dynamics/scalar.h"
+#include "tether/dynamics/model/scalar.h"
 
 namespace tether {
 namespace {

@@ -16,9 +16,9 @@
 #include <vector>
 
 #include "test_files.h"
-#include "tether/dynamics/errors.h"
-#include "tether/dynamics/scene_reader.h"
-#include "tether/dynamics/trajectory_csv.h"
+#include "tether/dynamics/io/scene_reader.h"
+#include "tether/dynamics/io/trajectory_csv.h"
+#include "tether/dynamics/model/errors.h"
 #include "tether/tuning/identification.h"
 
 namespace tether {

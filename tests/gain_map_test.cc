@@ -1,16 +1,17 @@
 // The marks of a gain_map figure (studies/include/tether/studies/gain_map.h): one panel per combination of the
 // columns other than the gains, its bound curve on h omega = B(zeta) with the error dynamics unstable just past
 // it, and the presets and the panel's tuned gains as marks.
+#include "tether/studies/gain_map.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <string>
 
-#include "tether/dynamics/scene_reader.h"
-#include "tether/studies/gain_map.h"
+#include "test_files.h"
+#include "tether/dynamics/io/scene_reader.h"
 #include "tether/tuning/gain_tuning.h"
 #include "tether/tuning/stability.h"
-#include "test_files.h"
 
 namespace tether {
 namespace {

@@ -11,10 +11,10 @@
 #include <string>
 #include <vector>
 
-#include "tether/autodiff/gradient_method.h"
-#include "tether/dynamics/scene_reader.h"
-#include "tether/dynamics/trajectory_csv.h"
 #include "test_files.h"
+#include "tether/autodiff/gradient_method.h"
+#include "tether/dynamics/io/scene_reader.h"
+#include "tether/dynamics/io/trajectory_csv.h"
 
 namespace tether {
 namespace {

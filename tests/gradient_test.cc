@@ -27,10 +27,10 @@
 #include "test_scenes.h"
 #include "tether/autodiff/adjoint.h"
 #include "tether/autodiff/residuals.h"
-#include "tether/dynamics/kinematics.h"
-#include "tether/dynamics/schur_solver.h"
-#include "tether/dynamics/scene_reader.h"
-#include "tether/dynamics/trajectory_csv.h"
+#include "tether/dynamics/io/scene_reader.h"
+#include "tether/dynamics/io/trajectory_csv.h"
+#include "tether/dynamics/model/kinematics.h"
+#include "tether/dynamics/solvers/schur_solver.h"
 
 namespace tether {
 namespace {

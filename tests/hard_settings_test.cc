@@ -3,16 +3,15 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "test_files.h"
 #include "test_scenes.h"
-#include "tether/dynamics/errors.h"
-#include "tether/dynamics/scene_reader.h"
-#include "tether/dynamics/simulator.h"
+#include "tether/dynamics/integration/simulator.h"
+#include "tether/dynamics/io/scene_reader.h"
+#include "tether/dynamics/model/errors.h"
 #include "tether/tuning/gain_objective.h"
 #include "tether/tuning/stability.h"
 

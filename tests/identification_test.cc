@@ -27,9 +27,9 @@
 #include "test_files.h"
 #include "test_scenes.h"
 #include "tether/autodiff/residuals.h"
-#include "tether/dynamics/errors.h"
-#include "tether/dynamics/scene_reader.h"
-#include "tether/dynamics/trajectory_csv.h"
+#include "tether/dynamics/io/scene_reader.h"
+#include "tether/dynamics/io/trajectory_csv.h"
+#include "tether/dynamics/model/errors.h"
 
 namespace tether {
 namespace {

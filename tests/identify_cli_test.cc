@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "test_files.h"
-#include "tether/dynamics/scene_reader.h"
-#include "tether/dynamics/simulator.h"
+#include "tether/dynamics/integration/simulator.h"
+#include "tether/dynamics/io/scene_reader.h"
 #include "tether/tuning/identification.h"
 
 namespace tether {

@@ -12,8 +12,8 @@
 #include <tuple>
 #include <vector>
 
-#include "tether/dynamics/kinematics.h"
-#include "tether/dynamics/simulator.h"
+#include "tether/dynamics/integration/simulator.h"
+#include "tether/dynamics/model/kinematics.h"
 
 namespace tether {
 namespace {

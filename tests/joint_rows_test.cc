@@ -14,12 +14,12 @@
 #include <random>
 #include <vector>
 
-#include "tether/dynamics/configuration_space.h"
-#include "tether/dynamics/constraint_rows.h"
-#include "tether/dynamics/errors.h"
-#include "tether/dynamics/joint_coordinates.h"
-#include "tether/dynamics/limit_events.h"
-#include "tether/dynamics/rotation.h"
+#include "tether/dynamics/constraints/constraint_rows.h"
+#include "tether/dynamics/constraints/joint_coordinates.h"
+#include "tether/dynamics/constraints/limit_events.h"
+#include "tether/dynamics/model/configuration_space.h"
+#include "tether/dynamics/model/errors.h"
+#include "tether/dynamics/model/rotation.h"
 
 namespace tether {
 namespace {

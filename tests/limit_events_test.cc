@@ -15,9 +15,9 @@
 #include "test_scenes.h"
 #include "tether/autodiff/adjoint.h"
 #include "tether/autodiff/residuals.h"
-#include "tether/dynamics/active_set.h"
-#include "tether/dynamics/scene_reader.h"
-#include "tether/dynamics/stepper.h"
+#include "tether/dynamics/constraints/active_set.h"
+#include "tether/dynamics/integration/stepper.h"
+#include "tether/dynamics/io/scene_reader.h"
 
 namespace tether {
 namespace {

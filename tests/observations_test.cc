@@ -14,9 +14,9 @@
 
 #include "test_files.h"
 #include "test_scenes.h"
-#include "tether/dynamics/errors.h"
-#include "tether/dynamics/simulator.h"
-#include "tether/dynamics/trajectory_csv.h"
+#include "tether/dynamics/integration/simulator.h"
+#include "tether/dynamics/io/trajectory_csv.h"
+#include "tether/dynamics/model/errors.h"
 
 namespace tether {
 namespace {

@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "tether/dynamics/errors.h"
-#include "tether/dynamics/scene_reader.h"
+#include "tether/dynamics/io/scene_reader.h"
+#include "tether/dynamics/model/errors.h"
 
 namespace tether {
 namespace {

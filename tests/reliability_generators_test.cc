@@ -20,11 +20,11 @@
 
 #include "test_files.h"
 #include "tether/autodiff/observations.h"
-#include "tether/dynamics/csv_line.h"
-#include "tether/dynamics/errors.h"
-#include "tether/dynamics/scene_reader.h"
-#include "tether/dynamics/simulator.h"
-#include "tether/dynamics/trajectory_csv.h"
+#include "tether/dynamics/integration/simulator.h"
+#include "tether/dynamics/io/csv_line.h"
+#include "tether/dynamics/io/scene_reader.h"
+#include "tether/dynamics/io/trajectory_csv.h"
+#include "tether/dynamics/model/errors.h"
 
 namespace tether {
 namespace {

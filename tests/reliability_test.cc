@@ -3,24 +3,22 @@
 // temporary file left in the folder and no input damaged. The reproducers of the issue come first, quoted in
 // the case names; docs/robustness.md lists the suite with its counts.
 #include <gtest/gtest.h>
-
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <sstream>
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
-#include "tether/dynamics/errors.h"
-#include "tether/dynamics/scene_reader.h"
-#include "tether/dynamics/simulator.h"
 #include "test_files.h"
+#include "tether/dynamics/integration/simulator.h"
+#include "tether/dynamics/io/scene_reader.h"
+#include "tether/dynamics/model/errors.h"
 
 namespace tether {
 namespace {

@@ -16,9 +16,9 @@
 #include <vector>
 
 #include "test_scenes.h"
-#include "tether/dynamics/configuration_space.h"
-#include "tether/dynamics/rotation.h"
-#include "tether/dynamics/trajectory_columns.h"
+#include "tether/dynamics/io/trajectory_columns.h"
+#include "tether/dynamics/model/configuration_space.h"
+#include "tether/dynamics/model/rotation.h"
 
 namespace tether {
 namespace {

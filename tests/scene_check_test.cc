@@ -1,6 +1,6 @@
 // CheckScene and `tether check`: rank, degrees of freedom, redundant constraints, initial violation and
 // conditioning, on scenes whose answers are known by hand.
-#include "tether/dynamics/scene_check.h"
+#include "tether/dynamics/io/scene_check.h"
 
 #include <gtest/gtest.h>
 

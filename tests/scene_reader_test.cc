@@ -1,6 +1,6 @@
 // The scene reader: every validation error names the file and the JSON Pointer of the offending value (or the
 // line and column of a syntax error), and the documented defaults are filled in.
-#include "tether/dynamics/scene_reader.h"
+#include "tether/dynamics/io/scene_reader.h"
 
 #include <gtest/gtest.h>
 
@@ -9,8 +9,8 @@
 #include <typeinfo>
 #include <vector>
 
-#include "tether/dynamics/configuration_space.h"
-#include "tether/dynamics/errors.h"
+#include "tether/dynamics/model/configuration_space.h"
+#include "tether/dynamics/model/errors.h"
 
 namespace tether {
 namespace {

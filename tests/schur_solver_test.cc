@@ -5,7 +5,7 @@
 //     least-norm choice) and the acceleration of the model without the copy;
 //   - the Jet path (implicit function theorem, one factorization of the value part) matches an oracle that
 //     builds the Schur matrix as a dense matrix of Jets and factors it with Eigen.
-#include "tether/dynamics/schur_solver.h"
+#include "tether/dynamics/solvers/schur_solver.h"
 
 #include <gtest/gtest.h>
 
@@ -17,9 +17,9 @@
 #include <vector>
 
 #include "test_scenes.h"
-#include "tether/dynamics/configuration_space.h"
-#include "tether/dynamics/constrained_dynamics.h"
-#include "tether/dynamics/effects.h"
+#include "tether/dynamics/effects/effects.h"
+#include "tether/dynamics/model/configuration_space.h"
+#include "tether/dynamics/solvers/constrained_dynamics.h"
 
 namespace tether {
 namespace {

@@ -3,17 +3,17 @@
 // differences of the residuals themselves, for the acrobot with multiple shooting (its segment start states among
 // the unknowns, held to the constraints by their own rows), an inequality target, smoothing and effort; the
 // effort rows against the integral they stand for.
+#include "shooting_problem.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
-#include "shooting_problem.h"
-#include "tether/dynamics/scene_reader.h"
+#include "tether/dynamics/io/scene_reader.h"
 
 namespace tether {
 namespace {

@@ -1,11 +1,11 @@
 // The simulator's contract: output grid, first and last rows, assembly of an inconsistent initial state,
 // divergence reports.
-#include "tether/dynamics/simulator.h"
+#include "tether/dynamics/integration/simulator.h"
 
 #include <gtest/gtest.h>
 
-#include "tether/dynamics/errors.h"
 #include "test_scenes.h"
+#include "tether/dynamics/model/errors.h"
 
 namespace tether {
 namespace {

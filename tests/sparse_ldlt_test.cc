@@ -9,7 +9,7 @@
 //     only (for the breadth-first one they would have needed gigabytes);
 //   - a hub's rows (a star) form one dense block, whose updates are too many to list: they are found as the
 //     factorization goes, with the same result, and kAuto factors such a block densely (schur_solver.h).
-#include "tether/dynamics/sparse_ldlt.h"
+#include "tether/dynamics/solvers/sparse_ldlt.h"
 
 #include <gtest/gtest.h>
 
@@ -20,7 +20,7 @@
 #include <utility>
 #include <vector>
 
-#include "tether/dynamics/schur_solver.h"
+#include "tether/dynamics/solvers/schur_solver.h"
 
 namespace tether {
 namespace {

@@ -22,8 +22,8 @@
 #include "test_scenes.h"
 #include "tether/autodiff/adjoint.h"
 #include "tether/autodiff/residuals.h"
-#include "tether/dynamics/scene_check.h"
-#include "tether/dynamics/scene_reader.h"
+#include "tether/dynamics/io/scene_check.h"
+#include "tether/dynamics/io/scene_reader.h"
 
 namespace tether {
 namespace {

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "test_scenes.h"
-#include "tether/dynamics/errors.h"
+#include "tether/dynamics/model/errors.h"
 #include "tether/tuning/stability.h"
 
 namespace tether {

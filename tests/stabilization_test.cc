@@ -8,7 +8,7 @@
 #include <string>
 
 #include "test_scenes.h"
-#include "tether/dynamics/default_gains.h"
+#include "tether/dynamics/integration/default_gains.h"
 
 namespace tether {
 namespace {

@@ -4,6 +4,8 @@
 // against the reference motion, marks a diverged row with NaN metrics without touching the others, and resumes
 // from results.partial.csv. Labelled scenes add a leading `scene` column; "tuned" runs the tuner's gains; the
 // figures list is validated.
+#include "tether/studies/study.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -13,15 +15,14 @@
 #include <string>
 #include <vector>
 
-#include "tether/dynamics/default_gains.h"
-#include "tether/dynamics/errors.h"
-#include "tether/dynamics/scene_reader.h"
-#include "tether/dynamics/simulator.h"
-#include "tether/studies/study.h"
-#include "tether/tuning/gain_tuning.h"
-#include "tether/tuning/reference.h"
 #include "test_files.h"
 #include "test_scenes.h"
+#include "tether/dynamics/integration/default_gains.h"
+#include "tether/dynamics/integration/simulator.h"
+#include "tether/dynamics/io/scene_reader.h"
+#include "tether/dynamics/model/errors.h"
+#include "tether/tuning/gain_tuning.h"
+#include "tether/tuning/reference.h"
 
 namespace tether {
 namespace {

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "tether/dynamics/trajectory_csv.h"
+#include "tether/dynamics/io/trajectory_csv.h"
 
 namespace tether::testing {
 

@@ -5,9 +5,9 @@
 #include <string>
 #include <vector>
 
-#include "tether/dynamics/scene_reader.h"
-#include "tether/dynamics/simulator.h"
-#include "tether/dynamics/trajectory.h"
+#include "tether/dynamics/integration/simulator.h"
+#include "tether/dynamics/integration/trajectory.h"
+#include "tether/dynamics/io/scene_reader.h"
 
 namespace tether::testing {
 

@@ -13,9 +13,9 @@
 #include "tether/autodiff/parameters.h"
 #include "tether/autodiff/residuals.h"
 #include "tether/autodiff/tie_expression.h"
-#include "tether/dynamics/errors.h"
-#include "tether/dynamics/scene_reader.h"
-#include "tether/dynamics/simulator.h"
+#include "tether/dynamics/integration/simulator.h"
+#include "tether/dynamics/io/scene_reader.h"
+#include "tether/dynamics/model/errors.h"
 #include "tether/tuning/identification.h"
 
 namespace tether {

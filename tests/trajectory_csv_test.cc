@@ -1,6 +1,6 @@
 // The trajectory CSV of CONTRACT.md: its columns for particles (2D, 3D) and planar rigid bodies, numbers that
 // round-trip a double exactly, and an output file that appears only when committed.
-#include "tether/dynamics/trajectory_csv.h"
+#include "tether/dynamics/io/trajectory_csv.h"
 
 #include <gtest/gtest.h>
 
@@ -16,7 +16,7 @@
 
 #include "test_files.h"
 #include "test_scenes.h"
-#include "tether/dynamics/errors.h"
+#include "tether/dynamics/model/errors.h"
 
 namespace tether {
 namespace {

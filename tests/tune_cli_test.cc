@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "test_files.h"
-#include "tether/dynamics/scene_reader.h"
+#include "tether/dynamics/io/scene_reader.h"
 #include "tether/tuning/gain_tuning.h"
 
 namespace tether {

@@ -1,7 +1,7 @@
 // User-defined constraints (user_constraint.h) simulate like the built-in constraints they restate: the
 // documented bead on a circle, a constraint between two bodies (a particle and a rigid bar), and a multi-row
 // constraint (a hinge of a rigid bar to the world written as two rows).
-#include "tether/dynamics/user_constraint.h"
+#include "tether/dynamics/constraints/user_constraint.h"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "test_scenes.h"
-#include "tether/dynamics/configuration_space.h"
+#include "tether/dynamics/model/configuration_space.h"
 
 namespace tether {
 namespace {

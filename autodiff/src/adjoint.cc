@@ -8,7 +8,7 @@
 #include <type_traits>
 #include <vector>
 
-#include "tether/dynamics/errors.h"
+#include "tether/dynamics/model/errors.h"
 
 namespace tether {
 namespace {

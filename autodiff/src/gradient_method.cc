@@ -1,6 +1,6 @@
 #include "tether/autodiff/gradient_method.h"
 
-#include "tether/dynamics/errors.h"
+#include "tether/dynamics/model/errors.h"
 
 namespace tether {
 

@@ -9,10 +9,10 @@
 #include <optional>
 #include <sstream>
 
-#include "tether/dynamics/csv_line.h"
-#include "tether/dynamics/errors.h"
-#include "tether/dynamics/input_file.h"
-#include "tether/dynamics/trajectory_csv.h"
+#include "tether/dynamics/io/csv_line.h"
+#include "tether/dynamics/io/input_file.h"
+#include "tether/dynamics/io/trajectory_csv.h"
+#include "tether/dynamics/model/errors.h"
 
 namespace tether {
 namespace {

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cstdlib>
 
-#include "tether/dynamics/errors.h"
+#include "tether/dynamics/model/errors.h"
 
 namespace tether {
 namespace {

@@ -7,8 +7,8 @@
 #include <initializer_list>
 #include <utility>
 
-#include "tether/dynamics/errors.h"
-#include "tether/dynamics/scalar.h"
+#include "tether/dynamics/model/errors.h"
+#include "tether/dynamics/model/scalar.h"
 
 namespace tether {
 

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "tether/dynamics/scalar.h"
+#include "tether/dynamics/model/scalar.h"
 
 namespace tether::bench {
 

@@ -29,7 +29,7 @@
 #include <utility>
 #include <vector>
 
-#include "tether/dynamics/scalar.h"
+#include "tether/dynamics/model/scalar.h"
 
 namespace tether::bench {
 

@@ -16,8 +16,8 @@
 #include <vector>
 
 #include "mujoco_models.h"
-#include "tether/dynamics/errors.h"
-#include "tether/dynamics/simulator.h"
+#include "tether/dynamics/integration/simulator.h"
+#include "tether/dynamics/model/errors.h"
 #include "tether_models.h"
 
 namespace tether::bench {

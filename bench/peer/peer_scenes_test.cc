@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "mujoco_models.h"
-#include "tether/dynamics/simulator.h"
+#include "tether/dynamics/integration/simulator.h"
 #include "tether_models.h"
 
 namespace tether::bench {

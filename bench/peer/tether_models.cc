@@ -2,7 +2,7 @@
 
 #include "bench_models.h"
 #include "humanoid_tree.h"
-#include "tether/dynamics/kinematics.h"
+#include "tether/dynamics/model/kinematics.h"
 
 namespace tether::bench {
 

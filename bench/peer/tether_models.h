@@ -10,7 +10,7 @@
 // h = 1e-3; symplectic_euler is paired with MuJoCo's semi-implicit "Euler", rk4 with "RK4"; KKT solver auto.
 #pragma once
 
-#include "tether/dynamics/model.h"
+#include "tether/dynamics/model/model.h"
 
 namespace tether::bench {
 

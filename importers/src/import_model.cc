@@ -1,7 +1,8 @@
+#include "tether/importers/import_model.h"
+
 #include <string>
 
-#include "tether/dynamics/errors.h"
-#include "tether/importers/import_model.h"
+#include "tether/dynamics/model/errors.h"
 
 namespace tether::importers {
 namespace {

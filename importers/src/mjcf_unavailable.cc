@@ -1,6 +1,6 @@
 // ReadMjcf in a build without MuJoCo (importers/CMakeLists.txt): MJCF is compiled by MuJoCo's own compiler, so
 // the message says how to get it.
-#include "tether/dynamics/errors.h"
+#include "tether/dynamics/model/errors.h"
 #include "tether/importers/import_model.h"
 
 namespace tether::importers {

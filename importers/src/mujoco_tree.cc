@@ -4,8 +4,8 @@
 #include <sstream>
 #include <string>
 
-#include "tether/dynamics/errors.h"
-#include "tether/dynamics/input_file.h"
+#include "tether/dynamics/io/input_file.h"
+#include "tether/dynamics/model/errors.h"
 #include "tether/importers/import_model.h"
 
 namespace tether::importers {

@@ -15,8 +15,8 @@
 
 #include "joint_mapping.h"
 #include "placement.h"
-#include "tether/dynamics/errors.h"
-#include "tether/dynamics/scene_reader.h"
+#include "tether/dynamics/io/scene_reader.h"
+#include "tether/dynamics/model/errors.h"
 #include "tether/importers/import_model.h"
 
 namespace tether::importers {

@@ -11,9 +11,9 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "tether/dynamics/csv_line.h"
-#include "tether/dynamics/errors.h"
-#include "tether/dynamics/output_file.h"
+#include "tether/dynamics/io/csv_line.h"
+#include "tether/dynamics/io/output_file.h"
+#include "tether/dynamics/model/errors.h"
 
 namespace tether {
 namespace {

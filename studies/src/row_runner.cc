@@ -14,12 +14,12 @@
 #include <system_error>
 #include <thread>
 
-#include "tether/dynamics/csv_line.h"
-#include "tether/dynamics/default_gains.h"
-#include "tether/dynamics/errors.h"
-#include "tether/dynamics/integrator_descriptor.h"
-#include "tether/dynamics/interrupts.h"
-#include "tether/dynamics/simulator.h"
+#include "tether/dynamics/integration/default_gains.h"
+#include "tether/dynamics/integration/integrator_descriptor.h"
+#include "tether/dynamics/integration/simulator.h"
+#include "tether/dynamics/io/csv_line.h"
+#include "tether/dynamics/io/interrupts.h"
+#include "tether/dynamics/model/errors.h"
 #include "tether/tuning/gain_objective.h"
 #include "tether/tuning/gain_tuning.h"
 #include "tether/tuning/reference.h"

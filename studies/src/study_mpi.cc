@@ -8,7 +8,7 @@
 
 #include "results_folder.h"
 #include "row_runner.h"
-#include "tether/dynamics/errors.h"
+#include "tether/dynamics/model/errors.h"
 
 namespace tether {
 namespace {

@@ -1,5 +1,5 @@
 // study_mpi.h for a build without MPI (TETHER_MPI off or libopenmpi-dev missing).
-#include "tether/dynamics/errors.h"
+#include "tether/dynamics/model/errors.h"
 #include "tether/studies/study_mpi.h"
 
 namespace tether {

@@ -5,9 +5,9 @@
 #include <sstream>
 
 #include "tether/autodiff/parameters.h"
-#include "tether/dynamics/errors.h"
-#include "tether/dynamics/input_file.h"
-#include "tether/dynamics/scene_reader.h"
+#include "tether/dynamics/io/input_file.h"
+#include "tether/dynamics/io/scene_reader.h"
+#include "tether/dynamics/model/errors.h"
 
 namespace tether {
 namespace {

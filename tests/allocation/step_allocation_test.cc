@@ -16,8 +16,8 @@
 #include <vector>
 
 #include "test_scenes.h"
-#include "tether/dynamics/scene_reader.h"
-#include "tether/dynamics/simulator.h"
+#include "tether/dynamics/integration/simulator.h"
+#include "tether/dynamics/io/scene_reader.h"
 
 extern "C" {
 void* __libc_malloc(size_t size);

@@ -4,8 +4,8 @@
 #include <cstdio>
 
 #include "tether/autodiff/residuals.h"
-#include "tether/dynamics/scene_reader.h"
-#include "tether/dynamics/simulator.h"
+#include "tether/dynamics/integration/simulator.h"
+#include "tether/dynamics/io/scene_reader.h"
 
 int main() {
   const tether::Scene scene = tether::ParseScene(nlohmann::json::parse(R"({

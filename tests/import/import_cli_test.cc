@@ -8,7 +8,7 @@
 #include <string>
 
 #include "test_files.h"
-#include "tether/dynamics/scene_reader.h"
+#include "tether/dynamics/io/scene_reader.h"
 
 namespace tether::testing {
 namespace {

@@ -14,8 +14,8 @@
 #include <gtest/gtest.h>
 
 #include <cctype>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <memory>
 #include <random>
@@ -24,8 +24,8 @@
 #include <vector>
 
 #include "test_files.h"
-#include "tether/dynamics/scene_reader.h"
-#include "tether/dynamics/simulator.h"
+#include "tether/dynamics/integration/simulator.h"
+#include "tether/dynamics/io/scene_reader.h"
 #include "tether/importers/import_model.h"
 #include "tether/importers/mujoco_tree.h"
 

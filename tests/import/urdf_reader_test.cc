@@ -5,7 +5,7 @@
 #include <string>
 
 #include "test_files.h"
-#include "tether/dynamics/errors.h"
+#include "tether/dynamics/model/errors.h"
 #include "tether/importers/import_model.h"
 
 namespace tether::importers {

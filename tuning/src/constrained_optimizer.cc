@@ -8,8 +8,8 @@
 #include <nlopt.hpp>
 #include <stdexcept>
 
-#include "tether/dynamics/errors.h"
-#include "tether/dynamics/interrupts.h"
+#include "tether/dynamics/io/interrupts.h"
+#include "tether/dynamics/model/errors.h"
 #include "tether/tuning/optimizer.h"
 
 namespace tether {

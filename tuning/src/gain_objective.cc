@@ -3,11 +3,11 @@
 #include <cmath>
 #include <random>
 
-#include "tether/dynamics/configuration_space.h"
-#include "tether/dynamics/constraint_rows.h"
-#include "tether/dynamics/effects.h"
-#include "tether/dynamics/errors.h"
-#include "tether/dynamics/simulator.h"
+#include "tether/dynamics/constraints/constraint_rows.h"
+#include "tether/dynamics/effects/effects.h"
+#include "tether/dynamics/integration/simulator.h"
+#include "tether/dynamics/model/configuration_space.h"
+#include "tether/dynamics/model/errors.h"
 
 namespace tether {
 namespace {

@@ -4,9 +4,9 @@
 #include <chrono>
 #include <cmath>
 
-#include "tether/dynamics/default_gains.h"
-#include "tether/dynamics/errors.h"
-#include "tether/dynamics/simulator.h"
+#include "tether/dynamics/integration/default_gains.h"
+#include "tether/dynamics/integration/simulator.h"
+#include "tether/dynamics/model/errors.h"
 #include "tether/tuning/stability.h"
 
 namespace tether {

@@ -6,12 +6,12 @@
 #include <limits>
 #include <sstream>
 
-#include "tether/autodiff/adjoint.h"
-#include "tether/autodiff/residuals.h"
-#include "tether/dynamics/errors.h"
-#include "tether/dynamics/simulator.h"
 #include "fit_judgement.h"
 #include "shooting_problem.h"
+#include "tether/autodiff/adjoint.h"
+#include "tether/autodiff/residuals.h"
+#include "tether/dynamics/integration/simulator.h"
+#include "tether/dynamics/model/errors.h"
 #include "trajectory_fit.h"
 
 namespace tether {

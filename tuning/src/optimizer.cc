@@ -7,11 +7,11 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
-#include <stdexcept>
 #include <nlopt.hpp>
+#include <stdexcept>
 
-#include "tether/dynamics/errors.h"
-#include "tether/dynamics/interrupts.h"
+#include "tether/dynamics/io/interrupts.h"
+#include "tether/dynamics/model/errors.h"
 
 namespace tether {
 

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "tether/dynamics/simulator.h"
+#include "tether/dynamics/integration/simulator.h"
 
 namespace tether {
 

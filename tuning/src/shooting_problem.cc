@@ -7,12 +7,12 @@
 #include <type_traits>
 
 #include "tether/autodiff/adjoint.h"
-#include "tether/dynamics/configuration_space.h"
-#include "tether/dynamics/errors.h"
-#include "tether/dynamics/joint_coordinates.h"
-#include "tether/dynamics/kinematics.h"
-#include "tether/dynamics/schedule.h"
-#include "tether/dynamics/simulator.h"
+#include "tether/dynamics/constraints/joint_coordinates.h"
+#include "tether/dynamics/effects/schedule.h"
+#include "tether/dynamics/integration/simulator.h"
+#include "tether/dynamics/model/configuration_space.h"
+#include "tether/dynamics/model/errors.h"
+#include "tether/dynamics/model/kinematics.h"
 
 namespace tether {
 namespace {

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <complex>
 
-#include "tether/dynamics/integrator_descriptor.h"
+#include "tether/dynamics/integration/integrator_descriptor.h"
 
 namespace tether {
 namespace {

@@ -15,8 +15,8 @@
 
 #include "fit_judgement.h"
 #include "shooting_problem.h"
-#include "tether/dynamics/errors.h"
-#include "tether/dynamics/simulator.h"
+#include "tether/dynamics/integration/simulator.h"
+#include "tether/dynamics/model/errors.h"
 
 namespace tether {
 namespace {

@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "tether/dynamics/errors.h"
+#include "tether/dynamics/model/errors.h"
 #include "tether/importers/import_model.h"
 
 namespace tether::importers {

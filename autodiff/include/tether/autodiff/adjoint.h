@@ -34,7 +34,7 @@
 #include <functional>
 
 #include "tether/autodiff/residuals.h"
-#include "tether/dynamics/stepper.h"
+#include "tether/dynamics/integration/stepper.h"
 
 namespace tether {
 

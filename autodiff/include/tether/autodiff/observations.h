@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "tether/dynamics/trajectory_columns.h"
+#include "tether/dynamics/io/trajectory_columns.h"
 
 namespace tether {
 

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "tether/autodiff/tie_expression.h"
-#include "tether/dynamics/scene_reader.h"
+#include "tether/dynamics/io/scene_reader.h"
 
 namespace tether {
 

@@ -17,7 +17,7 @@
 
 #include "tether/autodiff/observations.h"
 #include "tether/autodiff/parameters.h"
-#include "tether/dynamics/simulator.h"
+#include "tether/dynamics/integration/simulator.h"
 
 namespace tether {
 

@@ -21,13 +21,12 @@
 #pragma once
 
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
-#include "tether/dynamics/errors.h"
+#include "tether/dynamics/model/errors.h"
 #include "tether/studies/study_spec.h"
 
 namespace tether {

@@ -14,12 +14,11 @@
 // asks for Baumgarte with the gains `tether tune` finds for that row's scene.
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
-#include "tether/dynamics/model.h"
+#include "tether/dynamics/model/model.h"
 
 namespace tether {
 

@@ -22,7 +22,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "tether/dynamics/model.h"
+#include "tether/dynamics/model/model.h"
 #include "tether/tuning/reference.h"
 
 namespace tether {

@@ -6,7 +6,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "tether/dynamics/trajectory.h"
+#include "tether/dynamics/integration/trajectory.h"
 
 namespace tether {
 

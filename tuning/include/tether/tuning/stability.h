@@ -11,7 +11,7 @@
 // x such that rho(M(x', zeta)) <= 1 for every x' in (0, x]: h omega must stay below it.
 #pragma once
 
-#include "tether/dynamics/model.h"
+#include "tether/dynamics/model/model.h"
 
 namespace tether {
 

@@ -1,0 +1,128 @@
+// Joint limits as unilateral constraints, resolved at events (CONTRACT.md, "Joint limits, contact and impacts").
+//
+// Each declared side of a joint's range is a gap g = s (x - bound) >= 0 on the joint's coordinate x (s = +1 at
+// the low bound, -1 at the high one), with g' = s x'. A side is inactive (no row, no cost) or active (one more
+// KKT row of law kGap, constraint_rows.h, with pushing multiplier mu = -lambda >= 0). Between events the active
+// set is fixed and the motion is smooth; the stepper (stepper.h) finds the first event inside a step by root
+// finding on the integrator's own step map tau -> x(t + tau) (its continuous extension, so the event time is
+// as accurate as the steps: order kept across events), on g for an inactive side and on mu for an active one,
+// and takes the step up to the event, then Resolve:
+//
+//   impact   touching sides (|g| <= kTouching) that approach (g' < -kRestingSpeed) get an impulse P >= 0 along
+//            their rows such that g'+ = -e g'- (Newton's law), with every equality row's velocity J v kept and
+//            every active side held at g'+ = 0. Several sides touching at once (simultaneous impacts) are
+//            solved together, S P = target - J v on the Schur complement of the rows involved; a side whose
+//            impulse would pull (P < 0) is left out and the system solved again (active_set.h).
+//   capture  a rebound whose free flight would close the gap again within kCaptureFlight of the step is not
+//            followed (Zeno: the bounces of a ball coming to rest add up to a finite time): the side is held
+//            with g' = 0 instead. The flight is estimated from the rebound speed and the gap's acceleration.
+//   contact  sides that touch and rest (|g'| <= kRestingSpeed) are made active and the accelerations solved;
+//            a side whose multiplier would pull (mu <= 0) is left out and the system solved again (active_set.h).
+//            A side that was active and is left out releases (an event of its own when its mu crosses zero in a
+//            step).
+//   grazing  an approach slower than kRestingSpeed is a touch, not an impact: no impulse. Below kGrazingSpeed an
+//            impact's time sensitivity (g' in its denominator) is not taken, with a warning.
+//
+// Derivatives (Jets, and the adjoint's recorded replay) cross an impact through its time (DESIGN.md's saltation
+// matrix): with the event located on the values, dt* = -g / g' at the state just past it, its value removed (a zero
+// carrying dt*/dtheta), moves the state along the motion before the event, x <- x + f- dt*; the impact and the new
+// active set are resolved there; and the state moves back along the motion after it, x <- x - f+ dt*. To first order in
+// the derivatives this is x+ = Xi x- with Xi = R + (f+ - R f-) grad(g)^T / (grad(g) . f-). A release needs nothing: the
+// motion's vector field is continuous where the multiplier crosses zero. Doubles take the same moves by an exact zero,
+// so that a double run and its Rev replay make the same KKT solves (adjoint.h).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "tether/dynamics/integration/simulator.h"
+#include "tether/dynamics/integration/workspace.h"
+
+namespace tether {
+
+// gaps within this of zero touch (rad or m): the root finding leaves them at round-off
+inline constexpr double kTouching = 1e-9;
+// gap rates within this of zero rest (rad/s or m/s)
+inline constexpr double kRestingSpeed = 1e-8;
+// a rebound whose free flight would be shorter than this fraction of the step is captured
+inline constexpr double kCaptureFlight = 1e-4;
+// an impact slower than this (rad/s or m/s) grazes: its time's sensitivity is left out
+inline constexpr double kGrazingSpeed = 1e-6;
+
+template <typename T>
+class LimitEvents {
+ public:
+  struct Side {
+    int joint = 0;       // index into model.joints
+    int coordinate = 0;  // index into JointCoordinates::references
+    int side = 1;        // +1 low, -1 high
+    std::string label;   // the joint's name, or its pointer
+  };
+
+  // Every side of every joint range of the model, all inactive.
+  explicit LimitEvents(const Model<T>& model);
+
+  bool empty() const { return sides_.empty(); }
+  int size() const { return static_cast<int>(sides_.size()); }
+  bool active(int i) const { return active_[i] != 0; }
+  const Side& side(int i) const { return sides_[i]; }
+  const std::vector<char>& active_set() const { return active_; }
+  const std::vector<int>& active_order() const { return active_order_; }  // the active sides in row order
+  // Restores an active set (a saved carry): the workspace's rows follow.
+  void SetActiveSet(const std::vector<char>& active, Workspace<T>* ws);
+
+  // The gap g of side i from the tracked coordinate values (JointCoordinates::last).
+  double GapFromTracked(int i, const JointCoordinates<T>& coordinates) const;
+  // The pushing multipliers mu of the active sides at (t, q, v), in side order (one KKT solve); false when the
+  // system could not be solved.
+  bool Multipliers(double t, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws, std::vector<double>* mu);
+  // The event function of side i at (t, q, v) after a step: g when inactive, mu when active (an event where it
+  // turns negative).
+  double EventValue(int i, double t, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws);
+
+  // Impacts, then the active set, at time t (above); side `capture` (or -1) is captured at once: its gap closes
+  // again within kCaptureFlight of the step. Events are appended to report->events.
+  void Resolve(double t, double step, int capture, VecX<T>* q, VecX<T>* v, Workspace<T>* ws, RunReport* report);
+
+ private:
+  struct GapState {
+    double g = 0.0, rate = 0.0;
+  };
+  struct Gap {
+    T g, rate;
+  };
+
+  T Bound(const Side& side) const;
+  std::vector<GapState> Measure(const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws) const;
+  void Apply(Workspace<T>* ws);
+  // Impulses on the equality rows, the active sides and the sides in `impacting` so that each impacting side
+  // leaves at its target rate; a side whose impulse would pull is left out, unless `capture` (the sides in
+  // `impacting` are then held at their target, a capture's last, tiny pull).
+  void Impulse(const std::vector<int>& impacting, const std::vector<T>& target, bool capture, const VecX<T>& q,
+               VecX<T>* v, Workspace<T>* ws);
+  // Newton's law on the sides in `impacting` (their gaps `before`), rebounds too slow to follow captured, the
+  // events reported; returns the gaps after.
+  std::vector<GapState> Impacts(double t, double step, const std::vector<int>& impacting,
+                                const std::vector<GapState>& before, const VecX<T>& q, VecX<T>* v, Workspace<T>* ws,
+                                RunReport* report);
+  // The active set at (q, v): the touching sides at rest and the held ones still at rest, less those whose
+  // multiplier would pull.
+  void HoldTouching(double t, const std::vector<GapState>& gaps, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws);
+  // g and g' of side i at (q, v), in T; GapAt with the frames already updated there.
+  Gap GapOf(int i, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws) const;
+  Gap GapAt(int i, const VecX<T>& q, const VecX<T>& v, const Workspace<T>& ws) const;
+  // (q, v) <- (q (+) v dt, v + v' dt) with the current active set.
+  void MoveAlongMotion(double t, const T& dt, VecX<T>* q, VecX<T>* v, Workspace<T>* ws);
+  // dt* of an impact on side i (a zero value; zero when it grazes, with a warning), the state moved by it.
+  T EventTimeSensitivity(double t, int i, VecX<T>* q, VecX<T>* v, Workspace<T>* ws, RunReport* report);
+  // The gap's acceleration g'' of side i with the current active set (one KKT solve).
+  double GapAcceleration(int i, double t, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws);
+
+  const Model<T>& model_;
+  std::vector<Side> sides_;
+  std::vector<char> active_;  // per side
+  std::vector<int> active_order_;
+  VecX<T> acceleration_;
+};
+
+}  // namespace tether

@@ -1,0 +1,139 @@
+// Solving the Schur system S x = b of schur_system.h (regularized only near dependent rows), for double and Jet
+// scalars.
+//
+// Two factorizations of the double matrix, chosen by KktSolver:
+//   kSparse  LDL^T in a breadth-first or minimum-degree order (sparse_ldlt.h), whose symbolic analysis is
+//            done once per solver (per run) and only the numeric factorization per solve. For a chain the
+//            ordering keeps S banded and the cost is linear in its length;
+//   kDense   Cholesky (LLT) of S held as a dense matrix: a reference path, and a fallback for a user who wants
+//            to compare.
+// kAuto is kSparse: measured with bench/chain_bench.cc, it is faster than kDense at every size from one row up
+// (0.49 against 0.88 us per rk4 step of a one-particle chain, 4.0 against 5.7 us of the four-bar;
+// studies/scaling), except where its factor is one dense block: a hub body couples every pair of the rows that
+// act on it (MuJoCo's softbox: 218 prismatic joints on one body, 1090 rows), and the sparse factorization's
+// scalar updates (n^3 / 6 of them) then take five times as long as Eigen's blocked Cholesky (a 0.01 s run of
+// the softbox: 3.2 s against 0.63 s). kAuto takes kDense from kDenseBlockRows rows up where the sparse
+// factorization would make more than n^3 / 24 updates, a quarter of a dense block's.
+//
+// Jets (the implicit function theorem): with S = S0 + sum_k dS_k e_k and b = b0 + sum_k db_k e_k,
+//   x0 = S0^-1 b0,   dx_k = S0^-1 (db_k - dS_k x0),
+// so the double matrix S0 is factored once and every derivative direction costs one more pair of triangular
+// solves. The right-hand sides db_k - dS_k x0 are the derivative parts of the Jet residual b - S x0.
+// Factoring the matrix of Jets itself (same dense or sparse method, in Jet arithmetic) is kept only as a test
+// oracle and a benchmark baseline (factor_jet_matrices).
+//
+// Conditioning. Every factorization S = P^T L D L^T P (D = diag(L)^2 for the dense Cholesky) also reveals how
+// close the rows are to dependence: the pivot ratio d_i / S_ii (ordered as the factorization orders the rows) is
+// sin^2 of the angle, in the M^-1 metric, between row i's Jacobian and the span of the rows before it.
+//
+// Regularization only where it is needed. S itself is factored first; where every pivot ratio is at least
+// kNearSingularPivotRatio that factorization is the one solved with, exactly. Otherwise (a ratio below it, a
+// zero or negative pivot, a failed Cholesky) the regularized S + eps D of schur_system.h is factored instead, and
+// its ratios are read: one below kNearSingularPivotRatio but above kRedundantPivotRatio marks a configuration
+// near a singular one (a mechanism at a dead centre or a bifurcation, a light body between nearly collinear
+// rods), which the solver records and after which the simulator projects the state back onto the constraints
+// (simulator.cc); ratios at the regularization's floor belong to exactly redundant rows, whose least-norm
+// multipliers the regularization gives. Near a singular configuration the regularized solution is also the
+// wanted one: it damps the nearly dependent direction that carries a mechanism through it (a four-bar's
+// unstabilized singular pass diverges without).
+// Why not always regularize: the regularized solution meets S x = b - eps D x, and where one S_ii dwarfs the
+// others (a thin rod's spin, S_ii ~ 1 / I_axial) eps S_ii lambda_i is a constraint acceleration error that no
+// step size removes (a four-rod hinge chain drifted off its hinges by 2.5e-8 m in 1 s without stabilization).
+// What it costs: a scene whose rows stay redundant would factor twice per solve, so after a regularized solve the
+// next one factors S + eps D first, and S again only where that one turns out well conditioned.
+// For Jets the value part decides, and the derivative parts are solved with the same matrix.
+#pragma once
+
+#include <Eigen/Cholesky>
+#include <Eigen/SparseCore>
+#include <memory>
+
+#include "tether/dynamics/solvers/schur_system.h"
+#include "tether/dynamics/solvers/sparse_ldlt.h"
+
+namespace tether {
+
+inline constexpr double kNearSingularPivotRatio = 1e-4;
+inline constexpr double kRedundantPivotRatio = 1e-9;
+
+inline constexpr int kDenseBlockRows = 128;
+
+// The path a request takes, given the sparse analysis of its pattern: kAuto becomes kSparse or kDense (above).
+KktSolver ResolveSolver(KktSolver requested, const SparseLdlt& analysis);
+
+// What the solver carries from one step of a run to the next (a checkpoint's part of it, stepper.h): whether the
+// next factorization starts from S + eps D (after a regularized one). Plain data, the same for every scalar.
+struct SolverMemory {
+  bool starts_regularized = false;
+};
+
+class SchurSolver {
+ public:
+  // Analyzes the pattern once; `kind` may be kAuto (kind() is then the path taken).
+  SchurSolver(const SchurPattern& pattern, KktSolver kind, bool factor_jet_matrices = false);
+
+  KktSolver kind() const { return kind_; }
+
+  // Whether a factorization since the last call to ForgetConditioning() was near a singular configuration.
+  bool saw_near_singular() const { return saw_near_singular_; }
+  void ForgetConditioning() { saw_near_singular_ = false; }
+
+  // Whether the next factorization starts from S + eps D (after a regularized one): state a replayed step restores.
+  bool starts_regularized() const { return regularized_; }
+  SolverMemory memory() const { return {regularized_}; }
+  void Restore(const SolverMemory& memory) { regularized_ = memory.starts_regularized; }
+  // What a solve leaves behind, as a replay that skips a solve it knows the outcome of sets it (kkt_log.h).
+  void RestoreConditioning(bool regularized, bool near_singular) {
+    regularized_ = regularized;
+    saw_near_singular_ = saw_near_singular_ || near_singular;
+  }
+
+  // x = S^-1 b, S given by its stored values (AssembleSchur). Returns false, leaving x unchanged, when the
+  // factorization fails (a non-finite or indefinite matrix: the run is diverging).
+  template <typename T>
+  bool Solve(const std::vector<T>& values, const VecX<T>& b, VecX<T>* x);
+
+  // The factorization the last Solve used (of S, or of S + eps D where it regularized), kept to solve with again
+  // after later ones: an adjoint sweep's solve with a recorded evaluation's matrix (S is symmetric).
+  struct Factorization {
+    SparseLdlt::Numeric sparse;
+    Eigen::LLT<Eigen::MatrixXd> dense;
+  };
+  void SaveFactorization(Factorization* factorization) const;
+  // x = A^-1 x with a saved factorization of A.
+  void SolveWith(const Factorization& factorization, Eigen::VectorXd* x);
+
+ private:
+  // Factors S, or S + eps D where S's rows are close to dependence (above); regularized_ says which.
+  bool Factor(const std::vector<double>& values);
+  // Factors `values` as given; false on a failed factorization.
+  bool FactorAsGiven(const std::vector<double>& values);
+  // Over the last factorization of `values`: whether every pivot ratio is at least kNearSingularPivotRatio, and
+  // (with note_near_singular) records a ratio between the redundant and the near-singular marks.
+  bool WellConditioned(const std::vector<double>& values, bool note_near_singular);
+  void SolveInPlace(Eigen::VectorXd* x);
+  // The values of the matrix factored last: `values` itself, or regularized_jets_ after a regularized factorization.
+  const std::vector<Jet>& FactoredJets(const std::vector<Jet>& values);
+  bool SolveByFactoringJets(const std::vector<Jet>& values, const VecX<Jet>& b, VecX<Jet>* x);
+
+  const SchurPattern* pattern_;
+  KktSolver kind_;
+  Eigen::MatrixXd dense_;
+  Eigen::LLT<Eigen::MatrixXd> dense_factor_;
+  SparseLdlt sparse_factor_;
+  Eigen::VectorXd pivots_;
+  bool saw_near_singular_ = false;
+  bool regularized_ = false;  // the last factorization was of S + eps D (it starts the next attempt)
+  std::vector<double> regularized_values_;
+  std::vector<Jet> regularized_jets_;
+  // scratch for the Jet path
+  std::vector<double> value_part_;
+  Eigen::VectorXd x0_, column_;
+  VecX<Jet> product_;
+  // the oracle path
+  bool factor_jet_matrices_;
+  Eigen::Matrix<Jet, Eigen::Dynamic, Eigen::Dynamic> jet_dense_;
+  Eigen::SparseMatrix<Jet> jet_sparse_;
+};
+
+}  // namespace tether

@@ -1,0 +1,103 @@
+// The Schur complement of the KKT system, assembled in its sparsity pattern.
+//
+// Each derivative evaluation solves  [M J^T; J 0] [q''; lambda] = [f; gamma].  M is diagonal, so eliminating
+// q'' = M^-1 (f - J^T lambda) leaves
+//   S lambda = J M^-1 f - gamma,      S = J M^-1 J^T,      S_ij = sum_b g_ib . M_b^-1 g_jb
+// over the bodies b that rows i and j share (g_ib: row i's Jacobian block on body b). S therefore has the
+// sparsity of the constraint graph: banded for a chain, tree-shaped for a tree, a few extra entries per loop.
+//
+// Regularization (applied by SchurSolver only where the rows are close to dependence, schur_solver.h):
+//   S + eps (diag(S) + delta max diag(S)),   eps = kSchurRegularization, delta = kSchurDiagonalFloor.
+// For redundant rows (a duplicated rod, a parallelogram's extra bar) it selects the multipliers of least norm, as
+// Tikhonov regularization does when eps -> 0, instead of dividing by a round-off pivot.
+//
+// The pattern (lower triangle, compressed columns, rows sorted) and the scatter list are built once per model;
+// assembly is then a loop over the scatter list with no allocation. A 3D rigid body, whose blocks have six
+// numbers each and which enters many entries (a hinge puts five rows on each of its bodies), is assembled as a
+// small dense product instead: its k blocks G (k x 6) are gathered once, W = G M_b^-1, and the k (k + 1) / 2
+// entries of G W^T are added where the pattern puts them.
+#pragma once
+
+#include <vector>
+
+#include "tether/dynamics/constraints/constraint_rows.h"
+
+namespace tether {
+
+inline constexpr double kSchurRegularization = 1e-12;
+inline constexpr double kSchurDiagonalFloor = 1e-12;  // delta above, for rows whose Jacobian vanishes
+// Every pair of rows acting on one body shares an entry of S, so a body held by k rows (a hub: MuJoCo's softbox
+// has 1090 on its centre) makes a dense k x k block, of memory k^2 and factorization time k^3. A scene may put at
+// most this many rows on one body (the scene reader refuses more): a block of 32 MiB a copy, factored in about half
+// a second (a star of 2048 particles on one hub: 2 rk4 steps in 4.6 s, 285 MB).
+inline constexpr int kMaxRowsOnOneBody = 2048;
+
+// What the assembly needs of a body, compact: its kind and where its velocities start.
+struct BodyLayout {
+  BodyKind kind = BodyKind::kParticle;
+  int v_offset = 0;
+};
+template <typename T>
+std::vector<BodyLayout> LayoutOf(const Model<T>& model);
+
+class SchurPattern {
+ public:
+  SchurPattern() = default;
+  // `infos` as DescribeRows(model); `layout` the model's bodies (LayoutOf).
+  SchurPattern(const std::vector<RowInfo>& infos, const std::vector<BodyLayout>& layout);
+  // The same for `num_bodies` particles (the pattern alone: tests, the solver's analysis).
+  SchurPattern(const std::vector<RowInfo>& infos, int num_bodies);
+
+  int size() const { return size_; }
+  int nonzeros() const { return static_cast<int>(row_index_.size()); }
+  const std::vector<int>& column_start() const { return column_start_; }  // size() + 1 entries
+  const std::vector<int>& row_index() const { return row_index_; }        // row of each stored value
+  const std::vector<int>& column_index() const { return column_index_; }  // column of each stored value
+  const std::vector<int>& diagonal() const { return diagonal_; }          // value index of S_ii
+
+  // One term g_i . M_b^-1 g_j of entry `value` (slots: 0 = the row's first body block, 1 = its second).
+  struct Term {
+    int body;
+    int row_i, slot_i;
+    int row_j, slot_j;
+    int value;
+  };
+  const std::vector<Term>& terms() const { return terms_; }  // the bodies that are not 3D rigid bodies
+
+  // A 3D rigid body's share: its blocks blocks()[first_block, + count) as (row, slot), and the value indices
+  // entries()[first_entry, + count (count + 1) / 2) of the pairs (p, q), q <= p, in that order.
+  struct DenseBody {
+    int body, first_block, count, first_entry;
+  };
+  const std::vector<DenseBody>& dense_bodies() const { return dense_bodies_; }
+  const std::vector<std::pair<int, int>>& blocks() const { return blocks_; }
+  const std::vector<int>& entries() const { return entries_; }
+  int largest_dense_count() const { return largest_dense_count_; }
+
+ private:
+  int size_ = 0;
+  std::vector<int> column_start_, row_index_, column_index_, diagonal_;
+  std::vector<Term> terms_;
+  std::vector<DenseBody> dense_bodies_;
+  std::vector<std::pair<int, int>> blocks_;
+  std::vector<int> entries_;
+  int largest_dense_count_ = 0;
+};
+
+// values (sized pattern.nonzeros()) = S at the given rows, for M^-1 given by its diagonal over the
+// velocities (translations, planar angles) and the rotational blocks of 3D bodies (workspace.h's InverseMass);
+// `scratch` holds the dense products' G and W (12 numbers per block of the largest 3D body).
+template <typename T>
+void AssembleSchur(const std::vector<BodyLayout>& layout, const SchurPattern& pattern,
+                   const std::vector<ConstraintRow<T>>& rows, const VecX<T>& inverse_diagonal,
+                   const std::vector<Mat3<T>>& inverse_rotational, std::vector<T>* scratch, std::vector<T>* values);
+
+// values (a stored S, pattern order) += the regularization above, on the diagonal.
+template <typename T>
+void Regularize(const SchurPattern& pattern, std::vector<T>* values);
+
+// y = S x for the symmetric S stored as its lower triangle.
+template <typename S, typename X>
+void MultiplySymmetric(const SchurPattern& pattern, const std::vector<S>& values, const VecX<X>& x, VecX<S>* y);
+
+}  // namespace tether

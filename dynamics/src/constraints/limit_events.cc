@@ -1,0 +1,263 @@
+#include "tether/dynamics/constraints/limit_events.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <type_traits>
+
+#include "tether/dynamics/constraints/active_set.h"
+#include "tether/dynamics/model/configuration_space.h"
+#include "tether/dynamics/model/errors.h"
+#include "tether/dynamics/solvers/constrained_dynamics.h"
+
+namespace tether {
+
+template <typename T>
+LimitEvents<T>::LimitEvents(const Model<T>& model) : model_(model) {
+  for (size_t j = 0; j < model.joints.size(); ++j) {
+    const Joint<T>& joint = model.joints[j];
+    if (!joint.range.declared()) continue;
+    const JointKind& kind = JointKindOf(joint.type);
+    const int k = kind.limitable ? CoordinateIndex(model, static_cast<int>(j), LimitedCoordinate(kind)) : -1;
+    if (k < 0) {  // the scene reader refuses it; a model built in code may not have been through it
+      throw InputError("constraint /constraints/" + std::to_string(joint.scene_index) +
+                       " has a range but no coordinate to limit (hinge, prismatic, or a 2D pin between planar bodies)");
+    }
+    const std::string label = joint.name.empty() ? "/constraints/" + std::to_string(joint.scene_index) : joint.name;
+    if (joint.range.has_low) sides_.push_back({static_cast<int>(j), k, 1, label});
+    if (joint.range.has_high) sides_.push_back({static_cast<int>(j), k, -1, label});
+  }
+  active_.assign(sides_.size(), 0);
+  acceleration_.setZero(model.NumVelocities());
+}
+
+template <typename T>
+T LimitEvents<T>::Bound(const Side& side) const {
+  const JointRange<T>& range = model_.joints[side.joint].range;
+  return side.side > 0 ? range.low : range.high;
+}
+
+template <typename T>
+void LimitEvents<T>::Apply(Workspace<T>* ws) {
+  std::vector<LimitPrimitive<T>> limits;
+  active_order_.clear();
+  for (size_t i = 0; i < sides_.size(); ++i) {
+    if (!active_[i]) continue;
+    const Side& side = sides_[i];
+    const Joint<T>& joint = model_.joints[side.joint];
+    limits.push_back({joint.scene_index, joint.a.body, joint.b.body, ws->coordinates.references[side.coordinate],
+                      side.side, Bound(side)});
+    active_order_.push_back(static_cast<int>(i));
+  }
+  ws->SetActiveLimits(model_, limits);
+}
+
+template <typename T>
+void LimitEvents<T>::SetActiveSet(const std::vector<char>& active, Workspace<T>* ws) {
+  if (active == active_) return;
+  active_ = active;
+  Apply(ws);
+}
+
+template <typename T>
+double LimitEvents<T>::GapFromTracked(int i, const JointCoordinates<T>& coordinates) const {
+  const Side& side = sides_[i];
+  return side.side * (coordinates.last[side.coordinate] - Value(Bound(side)));
+}
+
+template <typename T>
+std::vector<typename LimitEvents<T>::GapState> LimitEvents<T>::Measure(const VecX<T>& q, const VecX<T>& v,
+                                                                       Workspace<T>* ws) const {
+  UpdateFrames(model_, q, v, true, &ws->frames);
+  std::vector<GapState> gaps(sides_.size());
+  for (int i = 0; i < size(); ++i) {
+    const Gap gap = GapAt(i, q, v, *ws);
+    gaps[i] = {Value(gap.g), Value(gap.rate)};
+  }
+  return gaps;
+}
+
+template <typename T>
+bool LimitEvents<T>::Multipliers(double t, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws,
+                                 std::vector<double>* mu) {
+  mu->clear();
+  if (!ComputeAcceleration(model_, t, q, v, ws, &acceleration_)) return false;
+  const size_t first = ws->rows.size() - active_order_.size();
+  for (size_t j = 0; j < active_order_.size(); ++j) mu->push_back(-Value(ws->kkt.lambda[first + j]));
+  return true;
+}
+
+template <typename T>
+double LimitEvents<T>::EventValue(int i, double t, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws) {
+  if (!active_[i]) return GapFromTracked(i, ws->coordinates);
+  std::vector<double> mu;
+  if (!Multipliers(t, q, v, ws, &mu)) return 0.0;
+  const auto position = std::find(active_order_.begin(), active_order_.end(), i) - active_order_.begin();
+  return mu[position];
+}
+
+template <typename T>
+double LimitEvents<T>::GapAcceleration(int i, double t, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws) {
+  if (!ComputeAcceleration(model_, t, q, v, ws, &acceleration_)) return 0.0;
+  const Side& side = sides_[i];
+  const CoordinateRow<T> x = EvaluateCoordinate(model_, ws->coordinates, side.coordinate, ws->frames, q, v, true);
+  const T rate = Dot(model_, x.a, acceleration_) + Dot(model_, x.b, acceleration_) +
+                 CoordinateBias(model_, ws->coordinates.references[side.coordinate], ws->frames, q, v);
+  return side.side * Value(rate);
+}
+
+template <typename T>
+typename LimitEvents<T>::Gap LimitEvents<T>::GapOf(int i, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws) const {
+  UpdateFrames(model_, q, v, true, &ws->frames);
+  return GapAt(i, q, v, *ws);
+}
+
+template <typename T>
+typename LimitEvents<T>::Gap LimitEvents<T>::GapAt(int i, const VecX<T>& q, const VecX<T>& v,
+                                                   const Workspace<T>& ws) const {
+  const Side& side = sides_[i];
+  const CoordinateRow<T> x = EvaluateCoordinate(model_, ws.coordinates, side.coordinate, ws.frames, q, v, true);
+  const T s(static_cast<double>(side.side));
+  return {s * (x.value - Bound(side)), s * x.rate};
+}
+
+template <typename T>
+void LimitEvents<T>::MoveAlongMotion(double t, const T& dt, VecX<T>* q, VecX<T>* v, Workspace<T>* ws) {
+  if (!ComputeAcceleration(model_, t, *q, *v, ws, &acceleration_)) return;
+  const VecX<T> increment = *v * dt;
+  VecX<T> moved(q->size());
+  Integrate(model_, *q, increment, 1.0, &moved);
+  *q = moved;
+  *v += acceleration_ * dt;
+}
+
+template <typename T>
+T LimitEvents<T>::EventTimeSensitivity(double t, int i, VecX<T>* q, VecX<T>* v, Workspace<T>* ws, RunReport* report) {
+  const Gap gap = GapOf(i, *q, *v, ws);
+  if (std::abs(Value(gap.rate)) < kGrazingSpeed) {
+    if constexpr (std::is_same_v<T, double>) return T(0.0);  // nothing is differentiated
+    std::ostringstream out;
+    out << "a grazing impact on " << sides_[i].label << " at t = " << t << " s (approach speed " << Value(gap.rate)
+        << ", below " << kGrazingSpeed << "): the derivatives leave out its time's dependence on the parameters";
+    report->warnings.push_back(out.str());
+    return T(0.0);
+  }
+  T dt = -gap.g / gap.rate;
+  dt -= T(Value(dt));
+  MoveAlongMotion(t, dt, q, v, ws);
+  return dt;
+}
+
+template <typename T>
+void LimitEvents<T>::Impulse(const std::vector<int>& impacting, const std::vector<T>& target, bool capture,
+                             const VecX<T>& q, VecX<T>* v, Workspace<T>* ws) {
+  const std::vector<char> held = active_;
+  std::vector<T> wanted(sides_.size(), T(0.0));  // g'+ of every side in the solve
+  std::vector<char> kept(sides_.size(), 0);      // a capture's sides hold whatever their impulse
+  for (size_t k = 0; k < impacting.size(); ++k) {
+    active_[impacting[k]] = 1;
+    wanted[impacting[k]] = target[k];
+    kept[impacting[k]] = capture;
+  }
+  std::vector<char> set = active_;
+  const bool solved = SolveActiveSet(
+      &set, kept, false,
+      [&](const std::vector<char>& candidate, std::vector<int>* sides, std::vector<double>* impulses) {
+        active_ = candidate;
+        Apply(ws);
+        EvaluateRows(model_, q, *v, false, ws);
+        MultiplyJacobian(model_, *v, ws);
+        const size_t first = ws->rows.size() - active_order_.size();
+        for (size_t r = 0; r < ws->rows.size(); ++r) {  // equality rows keep J v; sides leave at their target rate
+          ws->kkt.rhs[r] = r < first ? T(0.0) : wanted[active_order_[r - first]] - ws->kkt.rhs[r];
+        }
+        AssembleSchur(ws);
+        if (!ws->solver->Solve(ws->kkt.schur, ws->kkt.rhs, &ws->kkt.lambda)) return false;
+        *sides = active_order_;
+        impulses->clear();
+        for (size_t j = 0; j < active_order_.size(); ++j) impulses->push_back(Value(ws->kkt.lambda[first + j]));
+        return true;
+      });
+  if (solved) {  // the last solve is the active set's: v+ = v + M^-1 J^T P
+    ApplyReaction(model_, ws, &ws->reaction);
+    *v += ws->reaction;
+  }
+  active_ = held;
+  Apply(ws);
+}
+
+template <typename T>
+void LimitEvents<T>::Resolve(double t, double step, int capture, VecX<T>* q, VecX<T>* v, Workspace<T>* ws,
+                             RunReport* report) {
+  const std::vector<char> was_active = active_;
+  std::vector<GapState> gaps = Measure(*q, *v, ws);
+  if (capture >= 0) {  // held where it touches, at rest
+    Impulse({capture}, {T(0.0)}, true, *q, v, ws);
+    report->events.push_back({t, "impact", sides_[capture].label, gaps[capture].rate, 0.0});
+    gaps = Measure(*q, *v, ws);
+  }
+  std::vector<int> impacting;
+  for (int i = 0; i < size(); ++i) {
+    if (!active_[i] && gaps[i].g <= kTouching && gaps[i].rate < -kRestingSpeed) impacting.push_back(i);
+  }
+  if (impacting.empty()) {
+    HoldTouching(t, gaps, *q, *v, ws);
+  } else {
+    // derivatives cross the impact through its time: the state is moved along the motion before it by the time's
+    // sensitivity dt* (a zero value), resolved, and moved back along the motion after it (the saltation matrix);
+    // doubles take the same steps with a zero that is exactly zero, one sequence of KKT solves for every scalar,
+    // which the adjoint's replay of a double run relies on
+    const T event_time = EventTimeSensitivity(t, impacting.front(), q, v, ws, report);
+    gaps = Impacts(t, step, impacting, gaps, *q, v, ws, report);
+    HoldTouching(t, gaps, *q, *v, ws);
+    MoveAlongMotion(t, -event_time, q, v, ws);
+  }
+  for (int i = 0; i < size(); ++i) {
+    if (was_active[i] && !active_[i]) {
+      report->events.push_back({t, "release", sides_[i].label, gaps[i].rate, gaps[i].rate});
+    }
+  }
+}
+
+template <typename T>
+std::vector<typename LimitEvents<T>::GapState> LimitEvents<T>::Impacts(double t, double step,
+                                                                       const std::vector<int>& impacting,
+                                                                       const std::vector<GapState>& before,
+                                                                       const VecX<T>& q, VecX<T>* v, Workspace<T>* ws,
+                                                                       RunReport* report) {
+  std::vector<T> target;  // Newton's law, g'+ = -e g'-
+  for (int i : impacting)
+    target.push_back(-model_.joints[sides_[i].joint].range.restitution * GapOf(i, q, *v, ws).rate);
+  Impulse(impacting, target, false, q, v, ws);
+  std::vector<GapState> after = Measure(q, *v, ws);
+  for (int i : impacting) {  // a rebound that would land again within a sliver of the step is captured
+    if (!(after[i].rate > kRestingSpeed)) continue;
+    const double fall = GapAcceleration(i, t, q, *v, ws);
+    if (fall < 0.0 && 2.0 * after[i].rate / -fall < kCaptureFlight * step) Impulse({i}, {T(0.0)}, true, q, v, ws);
+  }
+  after = Measure(q, *v, ws);
+  for (int i : impacting) report->events.push_back({t, "impact", sides_[i].label, before[i].rate, after[i].rate});
+  return after;
+}
+
+template <typename T>
+void LimitEvents<T>::HoldTouching(double t, const std::vector<GapState>& gaps, const VecX<T>& q, const VecX<T>& v,
+                                  Workspace<T>* ws) {
+  std::vector<char> candidate(sides_.size(), 0);  // touching sides at rest, and the held ones that stay
+  for (int i = 0; i < size(); ++i) {
+    const bool resting = std::abs(gaps[i].rate) <= kRestingSpeed;
+    candidate[i] = active_[i] ? gaps[i].rate <= kRestingSpeed : gaps[i].g <= kTouching && resting;
+  }
+  const std::vector<char> none(sides_.size(), 0);  // less those whose multiplier would pull, or is zero
+  SolveActiveSet(&candidate, none, true,
+                 [&](const std::vector<char>& set, std::vector<int>* sides, std::vector<double>* mu) {
+                   SetActiveSet(set, ws);
+                   *sides = active_order_;
+                   return active_order_.empty() ? (mu->clear(), true) : Multipliers(t, q, v, ws, mu);
+                 });
+}
+
+#define TETHER_INSTANTIATE_LIMIT_EVENTS(T) template class LimitEvents<T>;
+TETHER_FOR_EACH_SCALAR(TETHER_INSTANTIATE_LIMIT_EVENTS)
+
+}  // namespace tether

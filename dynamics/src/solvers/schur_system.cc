@@ -1,0 +1,153 @@
+#include "tether/dynamics/solvers/schur_system.h"
+
+#include <algorithm>
+#include <map>
+
+namespace tether {
+
+SchurPattern::SchurPattern(const std::vector<RowInfo>& infos, int num_bodies)
+    : SchurPattern(infos, std::vector<BodyLayout>(num_bodies)) {}
+
+SchurPattern::SchurPattern(const std::vector<RowInfo>& infos, const std::vector<BodyLayout>& layout)
+    : size_(static_cast<int>(infos.size())) {
+  const int num_bodies = static_cast<int>(layout.size());
+  // rows touching each body, with the slot (0: first body of the row, 1: second)
+  std::vector<std::vector<std::pair<int, int>>> touching(num_bodies);
+  for (int i = 0; i < size_; ++i) {
+    if (infos[i].body_a != kWorld) touching[infos[i].body_a].push_back({i, 0});
+    if (infos[i].body_b != kWorld) touching[infos[i].body_b].push_back({i, 1});
+  }
+  // entries (i >= j) of the lower triangle, column by column with sorted rows; the diagonal is always stored
+  std::vector<std::vector<int>> rows_of_column(size_);
+  for (int i = 0; i < size_; ++i) rows_of_column[i].push_back(i);
+  for (const auto& list : touching) {
+    for (const auto& [i, si] : list) {
+      for (const auto& [j, sj] : list) {
+        if (i > j) rows_of_column[j].push_back(i);
+      }
+    }
+  }
+  std::map<std::pair<int, int>, int> index;  // (row, column) -> value index
+  column_start_.push_back(0);
+  for (int j = 0; j < size_; ++j) {
+    std::vector<int>& rows = rows_of_column[j];
+    std::sort(rows.begin(), rows.end());
+    rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+    for (int i : rows) {
+      index[{i, j}] = static_cast<int>(row_index_.size());
+      row_index_.push_back(i);
+      column_index_.push_back(j);
+    }
+    column_start_.push_back(static_cast<int>(row_index_.size()));
+  }
+  diagonal_.resize(size_);
+  for (int i = 0; i < size_; ++i) diagonal_[i] = index.at({i, i});
+  for (int body = 0; body < num_bodies; ++body) {
+    const std::vector<std::pair<int, int>>& list = touching[body];  // rows in increasing order
+    if (layout[body].kind == BodyKind::kRigid3d) {
+      const int count = static_cast<int>(list.size());
+      dense_bodies_.push_back({body, static_cast<int>(blocks_.size()), count, static_cast<int>(entries_.size())});
+      largest_dense_count_ = std::max(largest_dense_count_, count);
+      blocks_.insert(blocks_.end(), list.begin(), list.end());
+      for (int p = 0; p < count; ++p) {
+        for (int q = 0; q <= p; ++q) entries_.push_back(index.at({list[p].first, list[q].first}));
+      }
+      continue;
+    }
+    for (const auto& [i, si] : list) {
+      for (const auto& [j, sj] : list) {
+        if (i >= j) terms_.push_back({body, i, si, j, sj, index.at({i, j})});
+      }
+    }
+  }
+  // visit values in storage order: friendlier to the cache during assembly
+  std::sort(terms_.begin(), terms_.end(), [](const Term& x, const Term& y) { return x.value < y.value; });
+}
+
+template <typename T>
+std::vector<BodyLayout> LayoutOf(const Model<T>& model) {
+  std::vector<BodyLayout> layout;
+  for (const Body<T>& body : model.bodies) layout.push_back({body.kind, body.v_offset});
+  return layout;
+}
+
+template <typename T>
+void AssembleSchur(const std::vector<BodyLayout>& layout, const SchurPattern& pattern,
+                   const std::vector<ConstraintRow<T>>& rows, const VecX<T>& inverse_diagonal,
+                   const std::vector<Mat3<T>>& inverse_rotational, std::vector<T>* scratch, std::vector<T>* values) {
+  std::fill(values->begin(), values->end(), T(0.0));
+  // 3D rigid bodies: G (k x 6) gathered, W = G M_b^-1, the lower triangle of G W^T scattered
+  scratch->resize(12 * static_cast<size_t>(pattern.largest_dense_count()));
+  // G, W and the values never overlap: said, so that a store into values does not reload the blocks
+  T* __restrict G = scratch->data();
+  T* __restrict W = G + 6 * pattern.largest_dense_count();
+  T* __restrict value = values->data();
+  for (const SchurPattern::DenseBody& dense : pattern.dense_bodies()) {
+    const T inverse_mass = inverse_diagonal[layout[dense.body].v_offset];
+    const Mat3<T>& inverse_inertia = inverse_rotational[dense.body];
+    for (int p = 0; p < dense.count; ++p) {
+      const auto [row, slot] = pattern.blocks()[dense.first_block + p];
+      const BodyVector<T>& g = slot == 0 ? rows[row].a : rows[row].b;
+      const Vec3<T> w = inverse_inertia * g.rotation;
+      for (int k = 0; k < 3; ++k) {
+        G[6 * p + k] = g.translation[k];
+        G[6 * p + 3 + k] = g.rotation[k];
+        W[6 * p + k] = g.translation[k] * inverse_mass;
+        W[6 * p + 3 + k] = w[k];
+      }
+    }
+    const int* entry = pattern.entries().data() + dense.first_entry;
+    for (int p = 0; p < dense.count; ++p) {
+      const T g0 = G[6 * p], g1 = G[6 * p + 1], g2 = G[6 * p + 2], g3 = G[6 * p + 3], g4 = G[6 * p + 4],
+              g5 = G[6 * p + 5];
+      for (int q = 0; q <= p; ++q) {
+        const T* wq = W + 6 * q;
+        value[*entry++] += (g0 * wq[0] + g1 * wq[1]) + (g2 * wq[2] + g3 * wq[3]) + (g4 * wq[4] + g5 * wq[5]);
+      }
+    }
+  }
+  // particles and planar rigid bodies: term by term
+  for (const SchurPattern::Term& term : pattern.terms()) {
+    const BodyVector<T>& gi = term.slot_i == 0 ? rows[term.row_i].a : rows[term.row_i].b;
+    const BodyVector<T>& gj = term.slot_j == 0 ? rows[term.row_j].a : rows[term.row_j].b;
+    const BodyLayout& body = layout[term.body];
+    // translational coordinates share one inverse mass
+    T entry = gi.translation.dot(gj.translation) * inverse_diagonal[body.v_offset];
+    if (body.kind == BodyKind::kPlanar) entry += gi.rotation[2] * gj.rotation[2] * inverse_diagonal[body.v_offset + 2];
+    (*values)[term.value] += entry;
+  }
+}
+
+template <typename T>
+void Regularize(const SchurPattern& pattern, std::vector<T>* values) {
+  double largest = 0.0;
+  for (int d : pattern.diagonal()) largest = std::max(largest, Value((*values)[d]));
+  for (int d : pattern.diagonal()) {
+    (*values)[d] += kSchurRegularization * ((*values)[d] + T(kSchurDiagonalFloor * largest));
+  }
+}
+
+template <typename S, typename X>
+void MultiplySymmetric(const SchurPattern& pattern, const std::vector<S>& values, const VecX<X>& x, VecX<S>* y) {
+  y->setZero(pattern.size());
+  const std::vector<int>& row = pattern.row_index();
+  const std::vector<int>& column = pattern.column_index();
+  for (size_t k = 0; k < values.size(); ++k) {
+    const int i = row[k], j = column[k];
+    (*y)[i] += values[k] * x[j];
+    if (i != j) (*y)[j] += values[k] * x[i];
+  }
+}
+
+#define TETHER_INSTANTIATE_SCHUR_SYSTEM(T)                                                                          \
+  template std::vector<BodyLayout> LayoutOf<T>(const Model<T>&);                                                    \
+  template void AssembleSchur<T>(const std::vector<BodyLayout>&, const SchurPattern&,                               \
+                                 const std::vector<ConstraintRow<T>>&, const VecX<T>&, const std::vector<Mat3<T>>&, \
+                                 std::vector<T>*, std::vector<T>*);                                                 \
+  template void Regularize<T>(const SchurPattern&, std::vector<T>*);                                                \
+  template void MultiplySymmetric<T, T>(const SchurPattern&, const std::vector<T>&, const VecX<T>&, VecX<T>*);
+TETHER_FOR_EACH_SCALAR(TETHER_INSTANTIATE_SCHUR_SYSTEM)
+template void MultiplySymmetric<Jet, double>(const SchurPattern&, const std::vector<Jet>&, const VecX<double>&,
+                                             VecX<Jet>*);
+
+}  // namespace tether
