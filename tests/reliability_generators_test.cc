@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "test_files.h"
+#include "test_scenes.h"
 #include "tether/autodiff/observations.h"
 #include "tether/dynamics/integration/simulator.h"
 #include "tether/dynamics/io/csv_line.h"
@@ -59,23 +60,11 @@ const char* kEverything = R"({"dimension": 3,
   "simulation": {"integrator": "rk4", "step": 0.001, "duration": 0.005, "tolerance": 1e-8},
   "stabilization": {"method": "baumgarte", "alpha": 20.0, "beta": 100.0}})";
 
-// Pointers of every number in a JSON document.
-void NumberPointers(const json& node, const std::string& at, std::vector<std::string>* out) {
-  if (node.is_number()) out->push_back(at);
-  if (node.is_array()) {
-    for (size_t k = 0; k < node.size(); ++k) NumberPointers(node[k], at + "/" + std::to_string(k), out);
-  }
-  if (node.is_object()) {
-    for (auto it = node.begin(); it != node.end(); ++it) NumberPointers(it.value(), at + "/" + it.key(), out);
-  }
-}
-
 TEST(ReliabilityGenerators, EveryNumberOfAScene_AtTheEdgesOfItsDomain_IsRunOrRefusedNamingIt) {
   const json everything = json::parse(kEverything);
   ASSERT_NO_THROW(Simulate<double>(ParseScene(everything, "everything.json").model, RunOptions{},
                                    [](const Sample<double>&) {}));  // the scene itself runs
-  std::vector<std::string> pointers;
-  NumberPointers(everything, "", &pointers);
+  const std::vector<std::string> pointers = testing::NumberPointers(everything);
   const std::vector<double> edges = {0.0,   -0.0,  -1.0,   1e-300, -1e-300, 1e300, -1e300,
                                      1e-12, 2.5e9, -2.5e9, 0.5,    1e6,     -1e6};
   int cases = 0, refused = 0, ran = 0, diverged = 0;

@@ -56,4 +56,24 @@ double EllipticK(double k) {
   return M_PI / (2.0 * a);
 }
 
+namespace {
+
+void CollectNumberPointers(const nlohmann::json& node, const std::string& at, std::vector<std::string>* out) {
+  if (node.is_number()) out->push_back(at);
+  if (node.is_array()) {
+    for (size_t k = 0; k < node.size(); ++k) CollectNumberPointers(node[k], at + "/" + std::to_string(k), out);
+  }
+  if (node.is_object()) {
+    for (auto it = node.begin(); it != node.end(); ++it) CollectNumberPointers(it.value(), at + "/" + it.key(), out);
+  }
+}
+
+}  // namespace
+
+std::vector<std::string> NumberPointers(const nlohmann::json& document) {
+  std::vector<std::string> pointers;
+  CollectNumberPointers(document, "", &pointers);
+  return pointers;
+}
+
 }  // namespace tether::testing

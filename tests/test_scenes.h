@@ -27,4 +27,7 @@ double EllipticK(double k);
 // The simple pendulum of the acceptance checks: a 1 kg bob on a 0.7 m rod, released at rest from 60 degrees.
 Model<double> Pendulum60(const std::string& integrator = "rk4", double step = 1e-3, double duration = 1.0);
 
+// The JSON Pointer of every number in a document, in document order (keys hold no '/' or '~' in a scene).
+std::vector<std::string> NumberPointers(const nlohmann::json& document);
+
 }  // namespace tether::testing

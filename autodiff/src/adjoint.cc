@@ -71,14 +71,8 @@ LossGradient AdjointGradient(const Model<double>& given, const ParameterSet& par
   // the recorded run, whose parameters are the tape's inputs: its construction and start (the initial state
   // and its loss) are the prefix, swept last
   Tape tape;
-  Model<Rev> recorded_model = CastModel<Rev>(model);
   std::vector<Rev> inputs;
-  for (int i = 0; i < parameters.size(); ++i) {
-    Rev& field = parameters.Field(&recorded_model, i);
-    field = tape.Variable(field.a);
-    inputs.push_back(field);
-  }
-  parameters.ApplyTies(&recorded_model);
+  const Model<Rev> recorded_model = parameters.Recorded(model, &tape, &inputs);
   Rev recorded_loss(0.0);
   Stepper<Rev> recorded(recorded_model, options, [&](const Sample<Rev>& s) {
     if (s.stop >= 0) recorded_loss += loss.recorded(recorded_model, s);

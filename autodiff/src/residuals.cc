@@ -32,11 +32,10 @@ void EvaluateByJets(const Model<double>& model, const ParameterSet& parameters, 
                     Eigen::VectorXd* values, Eigen::MatrixXd* jacobian) {
   const int count = parameters.size();
   for (int first = 0; first == 0 || first < count; first += kJetStride) {
-    Model<Jet> seeded = CastModel<Jet>(model);
     const int chunk = std::min(kJetStride, count - first);
-    for (int k = 0; k < chunk; ++k) parameters.Field(&seeded, first + k).v[k] = 1.0;
-    parameters.ApplyTies(&seeded);
-    const VecX<Jet> r = residuals(seeded);
+    std::vector<ParameterSet::Seed> seeds;
+    for (int k = 0; k < chunk; ++k) seeds.push_back({first + k, k, 1.0});
+    const VecX<Jet> r = residuals(parameters.Seeded(model, seeds));
     if (first == 0) {
       values->resize(r.size());
       for (int i = 0; i < r.size(); ++i) (*values)[i] = r[i].a;

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <random>
 
+#include "tether/autodiff/seeds.h"
 #include "tether/dynamics/constraints/constraint_rows.h"
 #include "tether/dynamics/effects/effects.h"
 #include "tether/dynamics/integration/simulator.h"
@@ -130,14 +131,14 @@ bool GainObjective::Evaluate(double log_omega, double zeta, Eigen::VectorXd* r, 
     *r = Eigen::Map<Eigen::VectorXd>(values.data(), values.size()) * normalization_;
     return true;
   }
-  // derivative directions: 0 = log omega, 1 = zeta
-  Jet alpha_jet(alpha), beta_jet(beta);
-  alpha_jet.v[0] = 2.0 * zeta * omega;
-  alpha_jet.v[1] = 2.0 * omega;
-  beta_jet.v[0] = 2.0 * omega * omega;
+  // derivative directions: 0 = log omega, 1 = zeta (alpha = 2 zeta omega, beta = omega^2)
+  const ModelField alpha_field([](auto& m) -> auto& { return m.stabilization.alpha; });
+  const ModelField beta_field([](auto& m) -> auto& { return m.stabilization.beta; });
+  const std::vector<JetSeed> seeds = {
+      {alpha_field, 0, 2.0 * zeta * omega}, {alpha_field, 1, 2.0 * omega}, {beta_field, 0, 2.0 * omega * omega}};
   std::vector<Jet> values;
   for (const Window& w : windows_) {
-    if (!Residuals(WithGains(CastModel<Jet>(w.model), alpha_jet, beta_jet), w, &values)) return false;
+    if (!Residuals(SeededModel(WithGains(w.model, alpha, beta), seeds), w, &values)) return false;
   }
   r->resize(values.size());
   jacobian->resize(values.size(), 2);
@@ -155,6 +156,5 @@ double GainObjective::Value(double log_omega, double zeta) const {
 }
 
 template Model<double> WithGains<double>(const Model<double>&, const double&, const double&);
-template Model<Jet> WithGains<Jet>(const Model<Jet>&, const Jet&, const Jet&);
 
 }  // namespace tether

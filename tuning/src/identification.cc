@@ -17,7 +17,6 @@
 namespace tether {
 namespace {
 
-using Kind = FieldRef::Kind;
 constexpr double kUnbounded = std::numeric_limits<double>::max();
 
 
@@ -89,25 +88,6 @@ LossGradient IdentifyCostGradient(const Model<double>& model, const ParameterSet
     if (problem.LogSpace(i)) result.gradient[i] /= problem.ToParameter(i, x[i]);
   }
   return result;
-}
-
-bool PositiveKind(FieldRef::Kind kind) {
-  switch (kind) {
-    case Kind::kMass:
-    case Kind::kInertia:
-    case Kind::kInertiaMoment:
-    case Kind::kJointLength:
-    case Kind::kJointSpringStiffness:
-    case Kind::kJointSpringDamping:
-    case Kind::kSpringStiffness:
-    case Kind::kSpringRestLength:
-    case Kind::kSpringDamping:
-    case Kind::kDampingCoefficient:
-    case Kind::kDampingAngular:
-      return true;
-    default:
-      return false;
-  }
 }
 
 IdentifyResult Identify(const Model<double>& model, const ParameterSet& parameters,

@@ -20,7 +20,6 @@ namespace {
 // With data, a shooting problem may have this many segments however few rows the data has.
 constexpr int kSegmentsWithoutRows = 20;
 
-using Kind = FieldRef::Kind;
 constexpr double kUnbounded = std::numeric_limits<double>::max();
 
 // The velocity index of configuration index i when it is a translation or a planar angle, -1 otherwise (a
@@ -32,10 +31,6 @@ int VelocityIndexOf(const Model<double>& model, int i) {
     return body.kind == BodyKind::kRigid3d && k >= 3 ? -1 : body.v_offset + k;
   }
   return -1;
-}
-
-bool ScheduleKind(Kind kind) {
-  return kind == Kind::kForceSchedule || kind == Kind::kTorqueSchedule || kind == Kind::kJointTorqueSchedule;
 }
 
 // Calls piece(length, a, b) for the pieces of [0, duration] on which a schedule (held at its end values) runs
@@ -71,15 +66,12 @@ void CheckStartWithinBounds(const ParameterSet& parameters, const std::vector<do
   }
 }
 
-const std::vector<double>* ScheduleTimes(const Model<double>& model, const FieldRef& field) {
-  switch (field.kind) {
-    case Kind::kForceSchedule: return &model.forces[field.index].schedule.times;
-    case Kind::kTorqueSchedule: return &model.torques[field.index].schedule.times;
-    case Kind::kJointTorqueSchedule: return &model.joint_torques[field.index].schedule.times;
-    default: return nullptr;
-  }
+bool FittedInLogSpace(const ParameterSet& parameters, int i, double value, const IdentifySettings& settings) {
+  const double lower = settings.bounds.empty() ? -kUnbounded : settings.bounds[i].first;
+  const NumberDomain domain = parameters.number(i).domain;
+  const bool quantity = domain == NumberDomain::kPositive || domain == NumberDomain::kNonNegative;
+  return quantity && value > 0 && (lower > 0 || lower == -kUnbounded);
 }
-
 int ShootingProblem::Seeds::Slot(int unknown) const {
   for (size_t j = 0; j < unknowns.size(); ++j) {
     if (unknowns[j] == unknown) return static_cast<int>(j);
@@ -96,11 +88,8 @@ ShootingProblem::ShootingProblem(const Model<double>& model, const ParameterSet&
       settings_(settings),
       on_the_constraints_(start_rows == StartRows::kOnTheConstraints) {
   const std::vector<double> values = parameters.Values(model);
-  for (int i = 0; i < parameters.size(); ++i) {
-    const bool lower_positive =
-        settings.bounds.empty() || settings.bounds[i].first > 0 || settings.bounds[i].first == -kUnbounded;
-    log_space_.push_back(PositiveKind(parameters.field(i).kind) && values[i] > 0 && lower_positive);
-  }
+  for (int i = 0; i < parameters.size(); ++i)
+    log_space_.push_back(FittedInLogSpace(parameters, i, values[i], settings));
   for (const InequalityTarget& target : settings.inequalities) {
     targets_.push_back(MakeObservations(target.text, {"t", target.column}, {{target.time, target.value}}, model));
   }
@@ -155,9 +144,8 @@ ShootingProblem::ShootingProblem(const Model<double>& model, const ParameterSet&
   // the smoothing pairs: consecutive values of one schedule component
   for (int a = 0; a < parameters.size(); ++a) {
     for (int b = 0; b < parameters.size(); ++b) {
-      const FieldRef &fa = parameters.field(a), &fb = parameters.field(b);
-      if (ScheduleKind(fa.kind) && fb.kind == fa.kind && fb.index == fa.index && fb.component == fa.component &&
-          fb.slot == fa.slot + 1) {
+      const std::optional<ScheduleKnot>&ka = parameters.number(a).knot, &kb = parameters.number(b).knot;
+      if (ka && kb && kb->schedule == ka->schedule && kb->component == ka->component && kb->knot == ka->knot + 1) {
         smooth_pairs_.push_back({a, b});
       }
     }
@@ -210,17 +198,16 @@ Model<double> ShootingProblem::WithParameters(const std::vector<double>& x) cons
 
 template <typename T>
 Model<T> ShootingProblem::Seeded(const Model<double>& model, const Seeds& seeds) const {
-  Model<T> out = CastModel<T>(model);
   if constexpr (IsJet<T>::value) {
+    std::vector<ParameterSet::Seed> seeded;
     for (int i = 0; i < parameters_.size(); ++i) {  // d p / d x: p for log p, 1 otherwise
       const int slot = seeds.Slot(i);
-      if (slot < 0) continue;
-      T& field = parameters_.Field(&out, i);
-      field.v[slot] = log_space_[i] ? field.a : 1.0;
+      if (slot >= 0) seeded.push_back({i, slot, log_space_[i] ? parameters_.number(i).access(model) : 1.0});
     }
-    parameters_.ApplyTies(&out);  // the tied fields follow the seeded ones
+    return parameters_.Seeded(model, seeded);
+  } else {
+    return CastModel<T>(model);
   }
-  return out;
 }
 
 template <typename T>
@@ -230,10 +217,7 @@ State<T> ShootingProblem::SegmentStart(const Model<T>& model, const std::vector<
   VecX<T> d(nv), v(nv);
   for (int i = 0; i < 2 * nv; ++i) {
     T value(x[offset + i]);
-    if constexpr (IsJet<T>::value) {
-      const int slot = seeds.Slot(offset + i);
-      if (slot >= 0) value.v[slot] = 1.0;
-    }
+    if constexpr (IsJet<T>::value) value = SeededJet(x[offset + i], seeds.Slot(offset + i));
     (i < nv ? d[i] : v[i - nv]) = value;
   }
   State<T> start;
@@ -341,12 +325,11 @@ void ShootingProblem::Penalties(Model<T> model, std::vector<T>* out) const {
 }
 
 bool ShootingProblem::ActsWithin(int i, int k) const {
-  const FieldRef& f = parameters_.field(i);
-  const std::vector<double>* times = ScheduleTimes(model_, f);
-  if (parameters_.tied() || !times) return true;
-  const std::vector<double>& t = *times;
-  const double from = f.slot == 0 ? -INFINITY : t[f.slot - 1];
-  const double to = f.slot + 1 == static_cast<int>(t.size()) ? INFINITY : t[f.slot + 1];
+  const std::optional<ScheduleKnot>& knot = parameters_.number(i).knot;
+  if (parameters_.tied() || !knot) return true;
+  const std::vector<double>& t = knot->times;
+  const double from = knot->knot == 0 ? -INFINITY : t[knot->knot - 1];
+  const double to = knot->knot + 1 == static_cast<int>(t.size()) ? INFINITY : t[knot->knot + 1];
   return from < boundaries_[k + 1] && to > boundaries_[k];
 }
 

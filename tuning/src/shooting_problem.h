@@ -44,8 +44,9 @@ namespace tether {
 void CheckStartWithinBounds(const ParameterSet& parameters, const std::vector<double>& values,
                             const IdentifySettings& settings);
 
-// The knot times of the schedule a field is a value of; null for a field that is not a schedule value.
-const std::vector<double>* ScheduleTimes(const Model<double>& model, const FieldRef& field);
+// Whether parameter i is fitted as log p: a quantity the scene format keeps positive (or non-negative), whose
+// value and lower bound are positive.
+bool FittedInLogSpace(const ParameterSet& parameters, int i, double value, const IdentifySettings& settings);
 
 class ShootingProblem {
  public:

@@ -202,8 +202,7 @@ std::vector<std::vector<double>> StartValues(const Model<double>& model, const P
     for (size_t i = 0; i < values.size(); ++i) {
       const double lo = settings.bounds.empty() ? -kUnbounded : settings.bounds[i].first;
       const double hi = settings.bounds.empty() ? kUnbounded : settings.bounds[i].second;
-      const bool positive = PositiveKind(parameters.field(static_cast<int>(i)).kind) && values[i] > 0 &&
-                            (lo > 0 || lo == -kUnbounded);
+      const bool positive = FittedInLogSpace(parameters, static_cast<int>(i), values[i], settings);
       const double u = kStartSpread * unit(random);
       if (lo != -kUnbounded && hi != kUnbounded) {
         x[i] = positive ? std::exp(0.5 * (std::log(lo) + std::log(hi)) + 0.5 * u * (std::log(hi) - std::log(lo)))
@@ -285,8 +284,8 @@ int AutomaticSegments(const Model<double>& model, const ParameterSet& parameters
   for (const InequalityTarget& target : settings.inequalities) end = std::max(end, target.time);
   double knot = INFINITY;
   for (int i = 0; i < parameters.size(); ++i) {
-    const std::vector<double>* times = ScheduleTimes(model, parameters.field(i));
-    for (size_t j = 0; times && j + 1 < times->size(); ++j) knot = std::min(knot, (*times)[j + 1] - (*times)[j]);
+    const std::optional<ScheduleKnot>& of = parameters.number(i).knot;
+    for (size_t j = 0; of && j + 1 < of->times.size(); ++j) knot = std::min(knot, of->times[j + 1] - of->times[j]);
   }
   if (!std::isfinite(knot) || !(end > 0.0)) return 10;
   return std::clamp(static_cast<int>(std::lround(end / (4.0 * knot))), 2, 20);

@@ -9,6 +9,7 @@
 #include <memory>
 #include <vector>
 
+#include "tether/dynamics/adjoint/recorded.h"
 #include "tether/dynamics/adjoint/recorded_blocks.h"
 #include "tether/dynamics/effects/effects.h"
 
@@ -38,7 +39,7 @@ struct GyroscopicRecord {
 
 }  // namespace
 
-void RecordGyroscopicTorques(const Model<Rev>& model, const VecX<Rev>& v, VecX<Rev>* f) {
+bool RecordedGyroscopicTorques(const Model<Rev>& model, const VecX<Rev>& v, VecX<Rev>* f) {
   Tape* tape = ActiveTape();
   for (int index : model.spatial_bodies) {
     const Body<Rev>& body = model.bodies[index];
@@ -60,6 +61,7 @@ void RecordGyroscopicTorques(const Model<Rev>& model, const VecX<Rev>& v, VecX<R
         recorded ? tape->RecordExternal(3, [record](const double* g_bar, Tape* t) { record->Backward(g_bar, t); }) : -1;
     for (int k = 0; k < 3; ++k) (*f)[body.v_offset + 3 + k] -= first < 0 ? Rev(g[k]) : Rev(g[k], first + k);
   }
+  return true;
 }
 
 }  // namespace tether

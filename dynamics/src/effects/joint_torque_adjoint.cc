@@ -12,6 +12,7 @@
 #include <array>
 #include <memory>
 
+#include "tether/dynamics/adjoint/recorded.h"
 #include "tether/dynamics/adjoint/recorded_blocks.h"
 #include "tether/dynamics/effects/effects.h"
 
@@ -68,8 +69,8 @@ struct AngleTorqueRecord {
 
 }  // namespace
 
-bool RecordAngleTorque(const Model<Rev>& model, const JointCoordinates<Rev>& coordinates, int k,
-                       const BodyFrames<Rev>& frames, const Rev& value, VecX<Rev>* f) {
+bool RecordedAngleTorque(const Model<Rev>& model, const JointCoordinates<Rev>& coordinates, int k,
+                         const BodyFrames<Rev>& frames, const Rev& value, VecX<Rev>* f) {
   const CoordinateReference<Rev>& reference = coordinates.references[k];
   if (model.dimension != 3 || reference.coordinate != JointCoordinate::kAngle) return false;
   const Joint<Rev>& joint = model.joints[reference.joint];

@@ -20,4 +20,11 @@ std::string Printable(const std::string& text) {
   return printable;
 }
 
+std::string ListWithOr(const std::vector<std::string>& names) {
+  std::string list;
+  const size_t n = names.size();
+  for (size_t k = 0; k < n; ++k) list += std::string(k == 0 ? "" : k + 1 == n ? " or " : ", ") + names[k];
+  return list;
+}
+
 }  // namespace tether

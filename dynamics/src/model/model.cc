@@ -3,7 +3,6 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
-#include <iterator>
 #include <sstream>
 #include <string_view>
 
@@ -11,24 +10,6 @@
 
 namespace tether {
 namespace {
-
-template <typename U>
-BodyPoint<U> CastPoint(const BodyPoint<double>& p) {
-  return {p.body, p.local.cast<U>()};
-}
-
-template <typename U, typename V>
-Schedule<U> CastSchedule(const Schedule<V>& s) {
-  Schedule<U> out{s.times, {}};
-  for (const V& v : s.values) {
-    if constexpr (std::is_same_v<V, double>) {
-      out.values.push_back(U(v));
-    } else {
-      out.values.push_back(v.template cast<typename U::Scalar>());
-    }
-  }
-  return out;
-}
 
 // The unit quaternion of a rotation matrix (Shepperd's method: the largest of the four squares first).
 Vec4<double> QuaternionOf(const Mat3<double>& R) {
@@ -120,8 +101,8 @@ Model<U> CastModel(const Model<double>& m) {
     out.joints.push_back({j.scene_index,
                           j.type,
                           j.name,
-                          CastPoint<U>(j.a),
-                          CastPoint<U>(j.b),
+                          j.a.template Cast<U>(),
+                          j.b.template Cast<U>(),
                           j.axis.cast<U>(),
                           j.axis_b.cast<U>(),
                           U(j.length),
@@ -129,28 +110,12 @@ Model<U> CastModel(const Model<double>& m) {
                           {r.has_low, r.has_high, U(r.low), U(r.high), U(r.restitution)}});
   }
   out.user_constraints = m.user_constraints;
-  for (const Marker<double>& k : m.markers) out.markers.push_back({k.name, CastPoint<U>(k.point)});
-  for (const auto& e : m.gravity) out.gravity.push_back({e.scene_index, e.acceleration.cast<U>()});
-  for (const auto& e : m.damping) {
-    out.damping.push_back({e.scene_index, U(e.coefficient), U(e.angular_coefficient), e.bodies});
-  }
-  for (const auto& e : m.springs) {
-    out.springs.push_back(
-        {e.scene_index, CastPoint<U>(e.a), CastPoint<U>(e.b), U(e.stiffness), U(e.rest_length), U(e.damping)});
-  }
-  for (const auto& e : m.forces) {
-    out.forces.push_back(
-        {e.scene_index, e.body, e.point.cast<U>(), e.value.cast<U>(), CastSchedule<Vec3<U>>(e.schedule)});
-  }
-  for (const auto& e : m.torques) {
-    out.torques.push_back({e.scene_index, e.body, e.value.cast<U>(), CastSchedule<Vec3<U>>(e.schedule)});
-  }
-  for (const auto& e : m.joint_torques) {
-    out.joint_torques.push_back({e.scene_index, e.joint, e.coordinate, U(e.value), CastSchedule<U>(e.schedule)});
-  }
-  for (const auto& e : m.joint_springs) {
-    out.joint_springs.push_back({e.scene_index, e.joint, e.coordinate, U(e.stiffness), U(e.rest), U(e.damping)});
-  }
+  for (const Marker<double>& k : m.markers) out.markers.push_back({k.name, k.point.template Cast<U>()});
+  ForEachEffectList(
+      [](auto& to, const auto& from) {
+        for (const auto& effect : from) to.push_back(effect.template Cast<U>());
+      },
+      out, m);
   out.simulation = m.simulation;
   out.stabilization = {m.stabilization.method, U(m.stabilization.alpha), U(m.stabilization.beta),
                        m.stabilization.gains_from_rule};
@@ -228,10 +193,9 @@ const JointKind* FindJointKind(std::string_view name) {
 }
 
 std::string JointTypeList() {
-  std::string list;
-  const int n = static_cast<int>(std::size(kJointKinds));
-  for (int k = 0; k < n; ++k) list += std::string(k == 0 ? "" : k + 1 == n ? " or " : ", ") + kJointKinds[k].name;
-  return list;
+  std::vector<std::string> names;
+  for (const JointKind& kind : kJointKinds) names.push_back(kind.name);
+  return ListWithOr(names);
 }
 
 #define TETHER_INSTANTIATE_MODEL(T)                                                                              \

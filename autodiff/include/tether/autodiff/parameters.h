@@ -1,42 +1,21 @@
 // Parameters: numeric leaves of a scene named by JSON Pointers (RFC 6901), bound to the model fields they set,
-// so that a Model<T> can carry them as T (a Jet seeds their derivative directions).
+// so that a Model<T> can carry them as T (a Jet seeds their derivative directions, a Rev records them).
 //
-// Differentiable: /bodies/i/{mass, inertia (planar), inertia/k (3D principal moment), inertia/r/c (3D tensor:
-// a product of inertia names both I_rc and I_cr, which follow it together), position/k, angle, orientation/k,
-// velocity/k, angular_velocity[/k]}; /constraints/i/{length, points/j/k, axis/k, axes/j/k, angle};
-// /markers/i/point/k; /effects/i/{acceleration/k (gravity), coefficient, angular_coefficient (damping),
-// stiffness, rest_length, damping, points/j/k (spring), value[/k], point/k, schedule/values/j[/k] (force,
-// torque, joint_torque), stiffness, rest, damping (joint_spring)}; /stabilization/{alpha, beta}.
-// Refused with a message naming the file and the pointer: pointers that are not in the scene file (a default
-// must be written out to become a parameter), that name an array or object instead of a number, and leaves
-// that are not differentiable (names, types, the integrator, step, duration, tolerance, schedule times).
+// A pointer is a parameter when the scene reader bound the number it names (io/scene_numbers.h): every number a
+// model field holds, from a body's mass to a schedule's values; a product of inertia's two pointers name one
+// field. Refused with a message naming the file and the pointer: pointers that are not in the scene file (a
+// default must be written out to become a parameter), that name an array or object instead of a number, and
+// numbers no field holds (names, types, the integrator, step, duration, tolerance, schedule times).
 #pragma once
 
 #include <string>
 #include <vector>
 
+#include "tether/autodiff/seeds.h"
 #include "tether/autodiff/tie_expression.h"
 #include "tether/dynamics/io/scene_reader.h"
 
 namespace tether {
-
-// Where a parameter lives in a Model<T>.
-struct FieldRef {
-  enum class Kind {
-    kMass, kInertia, kInertiaMoment, kInertiaProduct,
-    kPosition, kAngle, kOrientation, kVelocity, kAngularVelocity,
-    kJointLength, kJointPoint, kJointAxis, kJointAxisB, kJointAngle, kJointRange, kJointRestitution, kMarkerPoint,
-    kGravity, kDampingCoefficient, kDampingAngular,
-    kSpringStiffness, kSpringRestLength, kSpringDamping, kSpringPoint,
-    kForceValue, kForcePoint, kForceSchedule, kTorqueValue, kTorqueSchedule,
-    kJointTorqueValue, kJointTorqueSchedule, kJointSpringStiffness, kJointSpringRest, kJointSpringDamping,
-    kAlpha, kBeta
-  };
-  Kind kind = Kind::kMass;
-  int index = 0;      // body, marker, or position in the model's list of that kind of constraint or effect
-  int slot = 0;       // which point (0: first body's, 1: second's), which schedule value, or a tensor's row
-  int component = 0;  // vector component, or a tensor's column
-};
 
 // Whether a pointer ends in "/*": it stands for every element of the array before it (ParameterSet, bounds).
 bool EndsInWildcard(const std::string& pointer);
@@ -54,11 +33,14 @@ class ParameterSet {
 
   int size() const { return static_cast<int>(pointers_.size()); }
   const std::vector<std::string>& pointers() const { return pointers_; }
-  const FieldRef& field(int i) const { return fields_[i]; }
+  // What the scene reader recorded of parameter i: its field, domain and schedule knot.
+  const SceneNumber& number(int i) const { return numbers_[i].number; }
 
   // The model field of parameter i.
   template <typename T>
-  T& Field(Model<T>* model, int i) const;
+  T& Field(Model<T>* model, int i) const {
+    return numbers_[i].number.access(*model);
+  }
 
   // Ties (`--tie PTR=EXPR`, tie_expression.h): each PTR follows its expression of other scene numbers
   // (parameters or not) instead of being an unknown, in the order given: a tie may name the pointers earlier ties
@@ -70,6 +52,18 @@ class ParameterSet {
   // Sets the tied fields from the others; every place that sets the parameters in a model calls it after them.
   template <typename T>
   void ApplyTies(Model<T>* model) const;
+
+  // The model in Jets, parameter seeds[k].parameter carrying derivative seeds[k].derivative in direction
+  // seeds[k].direction (seeds.h: 1 for the parameter itself, its value for its logarithm), the ties following.
+  struct Seed {
+    int parameter = 0;
+    int direction = 0;
+    double derivative = 1.0;
+  };
+  Model<Jet> Seeded(const Model<double>& model, const std::vector<Seed>& seeds) const;
+  // The model in Revs with every parameter a new variable of the tape, in order (`inputs`), the ties recorded
+  // from them.
+  Model<Rev> Recorded(const Model<double>& model, Tape* tape, std::vector<Rev>* inputs) const;
 
   std::vector<double> Values(const Model<double>& model) const;
   // Sets the parameters, then the ties.
@@ -83,14 +77,22 @@ class ParameterSet {
   Scene SceneWith(const Scene& scene, const std::vector<double>& values) const;
 
  private:
+  // A number and every pointer of its field (a product of inertia is written at both of its places).
+  struct Bound {
+    SceneNumber number;
+    std::vector<std::string> places;
+  };
   struct TieRef {
     std::string pointer;
-    FieldRef target;
+    Bound target;
     TieExpression expression;
-    std::vector<FieldRef> references;  // of expression.references()
+    std::vector<Bound> references;  // of expression.references()
   };
+  // The number a pointer names; throws InputError naming the file and the pointer.
+  static Bound Lookup(const Scene& scene, const std::string& pointer);
+
   std::vector<std::string> pointers_;
-  std::vector<FieldRef> fields_;
+  std::vector<Bound> numbers_;
   std::vector<TieRef> ties_;
 };
 

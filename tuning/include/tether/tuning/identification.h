@@ -138,7 +138,4 @@ LossGradient IdentifyCostGradient(const Model<double>& model, const ParameterSet
                                   const std::vector<Observations>& recordings, const IdentifySettings& settings,
                                   GradientMethod method);
 
-// True for the kinds optimized in log space.
-bool PositiveKind(FieldRef::Kind kind);
-
 }  // namespace tether

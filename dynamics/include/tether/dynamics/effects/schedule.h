@@ -3,10 +3,34 @@
 #pragma once
 
 #include <algorithm>
+#include <type_traits>
+#include <vector>
 
-#include "tether/dynamics/model/model.h"
+#include "tether/dynamics/model/scalar.h"
 
 namespace tether {
+
+// Through (times[k], values[k]); empty means "not scheduled".
+template <typename V>
+struct Schedule {
+  std::vector<double> times;
+  std::vector<V> values;
+  bool empty() const { return times.empty(); }
+
+  // The same schedule with values of scalar U (V a scalar or an Eigen vector of one).
+  template <typename U>
+  auto Cast() const {
+    if constexpr (std::is_arithmetic_v<V>) {
+      Schedule<U> out{times, {}};
+      for (const V& v : values) out.values.push_back(U(v));
+      return out;
+    } else {
+      Schedule<Vec3<U>> out{times, {}};
+      for (const V& v : values) out.values.push_back(v.template cast<U>());
+      return out;
+    }
+  }
+};
 
 template <typename V>
 V ScheduleValue(const Schedule<V>& schedule, double t) {

@@ -1,4 +1,5 @@
-// Reading scene files (CONTRACT.md, documented in docs/scene-format.md) into Model<double>.
+// Reading scene files (docs/contract.md, documented in docs/scene-format.md) into Model<double>, with the record
+// of which JSON Pointer landed in which model field (scene_numbers.h).
 //
 // Validation is strict: an unknown key anywhere, a wrong type, a number out of range, an unknown body, a
 // duplicate name, a wrong vector length are all errors. Every error is an InputError whose message starts with
@@ -9,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "tether/dynamics/io/scene_numbers.h"
 #include "tether/dynamics/model/model.h"
 
 namespace tether {
@@ -17,6 +19,7 @@ struct Scene {
   std::string path;         // as given, for messages
   nlohmann::json document;  // the file as read (for writing scenes back with changed values)
   Model<double> model;
+  SceneNumbers numbers;  // where each number of the document landed in the model (the parameters' binding)
 };
 
 // Reads and validates a scene file. Throws InputError.

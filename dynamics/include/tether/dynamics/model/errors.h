@@ -1,10 +1,11 @@
-// The ways a run can fail, kept apart as DESIGN.md asks: bad input (the user can fix the scene or the flags;
-// exit status 2), a simulation that diverges and an output that cannot be written (exit status 1). Internal
+// The ways a run can fail, kept apart (docs/architecture.md, principle 12): bad input (the user can fix the scene or
+// the flags; exit status 2), a simulation that diverges and an output that cannot be written (exit status 1). Internal
 // invariants use assert.
 #pragma once
 
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace tether {
 
@@ -12,6 +13,9 @@ namespace tether {
 // quote the user's keys and names; printed raw, a NUL would cut them short and an escape sequence would drive
 // the terminal. Both exceptions below pass their message through it.
 std::string Printable(const std::string& text);
+
+// "a, b or c": the names a message offers as the choices, in order.
+std::string ListWithOr(const std::vector<std::string>& names);
 
 // The input cannot be used as given; what() names the place (JSON Pointer, flag) and what is wrong.
 class InputError : public std::runtime_error {

@@ -10,10 +10,12 @@
 // the scene is diagonalised once, at load: R_BP (the principal axes in body axes) is fixed in the model, and
 // the tensor, which stays a parameter, is seen in P at the start of every run (constrained_dynamics.h).
 //
-// Fields mirror the scene file (CONTRACT.md) one to one, which is what lets a JSON Pointer name any of them:
-// the initial state is held as the scene gives it (world-frame angular velocity, the quaternion as written),
-// and turned into (q, v) at the start of a run (InitialState in configuration_space.h). Constraints and effects
-// are stored by kind, so evaluation loops run only over what the scene declares.
+// Fields mirror the scene file (docs/contract.md) one to one: the scene reader records which JSON Pointer lands in
+// which field (scene_reader.h), the parameters are looked up there. The initial state is held as the scene gives
+// it (world-frame angular velocity, the quaternion as written), and turned into (q, v) at the start of a run
+// (InitialState in configuration_space.h). Constraints and effects are stored by kind, so evaluation loops run
+// only over what the scene declares; each effect is a header of its own in effects/ (docs/architecture.md, "Add
+// an effect"), and ForEachEffectList below is the one list of them.
 #pragma once
 
 #include <cstdint>
@@ -22,49 +24,24 @@
 #include <vector>
 
 #include "tether/dynamics/constraints/joint_kinds.h"
-#include "tether/dynamics/model/scalar.h"
+#include "tether/dynamics/effects/damping.h"
+#include "tether/dynamics/effects/force.h"
+#include "tether/dynamics/effects/gravity.h"
+#include "tether/dynamics/effects/joint_spring.h"
+#include "tether/dynamics/effects/joint_torque.h"
+#include "tether/dynamics/effects/spring.h"
+#include "tether/dynamics/effects/torque.h"
+#include "tether/dynamics/model/bodies.h"
 
 namespace tether {
 
 class UserConstraint;
 
-enum class BodyKind { kParticle, kPlanar, kRigid3d };
 enum class Integrator { kEuler, kSymplecticEuler, kRk4, kRk45 };
 enum class Stabilization { kNone, kBaumgarte, kProjection };
 // kAuto is kSparse, the faster path at every size, unless the factor is one dense block of a hub body's rows (see
 // schur_solver.h).
 enum class KktSolver { kAuto, kDense, kSparse };
-
-// Body index of the fixed ground frame.
-inline constexpr int kWorld = -1;
-
-template <typename T>
-struct Body {
-  std::string name;
-  BodyKind kind = BodyKind::kParticle;
-  T mass = T(1.0);                                         // kg, > 0
-  T inertia = T(0.0);                                      // planar: kg m^2 about the centre of mass
-  Mat3<T> inertia_tensor = Mat3<T>::Zero();                // 3D: kg m^2 about the centre of mass, body axes, symmetric
-  Vec4<double> principal_axes = Vec4<double>(1, 0, 0, 0);  // 3D: R_BP, fixed at load (identity when the
-                                                           // scene gives principal moments)
-  // the initial state as the scene gives it
-  Vec3<T> position = Vec3<T>::Zero();                             // m, world (components beyond the dimension are zero)
-  T angle = T(0.0);                                               // planar: rad
-  Vec4<T> orientation = Vec4<T>(T(1.0), T(0.0), T(0.0), T(0.0));  // 3D: q_WB, normalised at the start of a run
-  Vec3<T> velocity = Vec3<T>::Zero();                             // m/s
-  Vec3<T> angular_velocity = Vec3<T>::Zero();                     // rad/s, world frame (planar: z only)
-  // where the body's numbers sit in q and in v
-  int q_offset = 0, q_size = 0;
-  int v_offset = 0, v_size = 0;
-};
-
-// A point fixed in a body, in body axes from the centre of mass (world coordinates when body == kWorld).
-// Components beyond the scene's dimension are zero.
-template <typename T>
-struct BodyPoint {
-  int body = kWorld;
-  Vec3<T> local = Vec3<T>::Zero();
-};
 
 // A joint's limits on its coordinate (hinge, prismatic, 2D hinge pin): the gaps coordinate - low >= 0 and
 // high - coordinate >= 0, each side present or open; Newton's restitution e at an impact on either (limit_events.h).
@@ -105,80 +82,6 @@ struct Marker {
   BodyPoint<T> point;
 };
 
-// Piecewise linear in time through (times[k], values[k]), held at the end values outside [times.front(),
-// times.back()]. Empty means "not scheduled".
-template <typename V>
-struct Schedule {
-  std::vector<double> times;
-  std::vector<V> values;
-  bool empty() const { return times.empty(); }
-};
-
-template <typename T>
-struct GravityEffect {
-  int scene_index = 0;
-  Vec3<T> acceleration = Vec3<T>::Zero();  // m/s^2
-};
-
-// Force -c v on every listed body, torque -c_r omega on the rigid ones.
-template <typename T>
-struct DampingEffect {
-  int scene_index = 0;
-  T coefficient = T(0.0);          // N s/m
-  T angular_coefficient = T(0.0);  // N m s/rad
-  std::vector<int> bodies;
-};
-
-// Tension k (l - l0) + d l' along the line between the two points, l = |p_B - p_A|.
-template <typename T>
-struct SpringEffect {
-  int scene_index = 0;
-  BodyPoint<T> a, b;
-  T stiffness = T(0.0);    // N/m
-  T rest_length = T(0.0);  // m
-  T damping = T(0.0);      // N s/m
-};
-
-// A world-frame force applied at a body point: constant `value`, or `schedule` when it is not empty.
-template <typename T>
-struct ForceEffect {
-  int scene_index = 0;
-  int body = 0;
-  Vec3<T> point = Vec3<T>::Zero();
-  Vec3<T> value = Vec3<T>::Zero();
-  Schedule<Vec3<T>> schedule;
-};
-
-// A world-frame torque on a rigid body (planar: about z, the value in z): constant or scheduled.
-template <typename T>
-struct TorqueEffect {
-  int scene_index = 0;
-  int body = 0;
-  Vec3<T> value = Vec3<T>::Zero();
-  Schedule<Vec3<T>> schedule;
-};
-
-// A motor: torque (or force) `value` on B along the joint's coordinate, and its reaction on A.
-template <typename T>
-struct JointTorqueEffect {
-  int scene_index = 0;
-  int joint = 0;  // index into Model::joints
-  JointCoordinate coordinate = JointCoordinate::kAngle;
-  T value = T(0.0);
-  Schedule<T> schedule;
-};
-
-// -k (coordinate - rest) - d coordinate' along the joint's coordinate.
-template <typename T>
-struct JointSpringEffect {
-  int scene_index = 0;
-  int joint = 0;
-  JointCoordinate coordinate = JointCoordinate::kAngle;
-  T stiffness = T(0.0);  // N m/rad or N/m
-  T rest = T(0.0);       // rad or m
-  T damping = T(0.0);    // N m s/rad or N s/m
-};
-
 struct SimulationSettings {
   Integrator integrator = Integrator::kRk4;
   double step = 1e-3;       // s
@@ -216,6 +119,7 @@ struct Model {
   std::vector<UserConstraintInstance> user_constraints;
   std::vector<Marker<T>> markers;
 
+  // the effects, a list per kind (ForEachEffectList below visits them all)
   std::vector<GravityEffect<T>> gravity;
   std::vector<DampingEffect<T>> damping;
   std::vector<SpringEffect<T>> springs;
@@ -232,17 +136,30 @@ struct Model {
   int NumConstraints() const { return static_cast<int>(joints.size() + user_constraints.size()); }
 };
 
-// Whether the scene's energy is conserved by its effects: no damping (of its own or in a spring), no applied
-// force, torque or motor. Energy drift measures an integrator's error only then.
+// f(list, ...) for every list of effects of one or more models, the same kind's lists side by side: the one place
+// that names them all (casting, forces, energy and the checks below follow from it).
+template <typename F, typename... Models>
+void ForEachEffectList(F&& f, Models&... models) {
+  f(models.gravity...);
+  f(models.damping...);
+  f(models.springs...);
+  f(models.forces...);
+  f(models.torques...);
+  f(models.joint_torques...);
+  f(models.joint_springs...);
+}
+
+// Whether the scene's energy is conserved by its effects (each says whether it is: no damping of its own or in a
+// spring, no applied force, torque or motor). Energy drift measures an integrator's error only then.
 template <typename T>
 bool ConservesEnergy(const Model<T>& model) {
-  for (const auto& s : model.springs) {
-    if (s.damping != T(0.0)) return false;
-  }
-  for (const auto& s : model.joint_springs) {
-    if (s.damping != T(0.0)) return false;
-  }
-  return model.damping.empty() && model.forces.empty() && model.torques.empty() && model.joint_torques.empty();
+  bool conserves = true;
+  ForEachEffectList(
+      [&conserves](const auto& list) {
+        for (const auto& effect : list) conserves = conserves && effect.Conservative();
+      },
+      model);
+  return conserves;
 }
 
 // Whether any joint has a range (joint limits, limit_events.h).
