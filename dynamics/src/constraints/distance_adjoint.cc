@@ -15,6 +15,7 @@
 #include <array>
 #include <memory>
 
+#include "tether/dynamics/adjoint/recorded.h"
 #include "tether/dynamics/adjoint/recorded_blocks.h"
 #include "tether/dynamics/constraints/constraint_rows_impl.h"
 
@@ -91,9 +92,9 @@ void DistanceRecord::Backward(const double* adjoint, Tape* tape) const {
 
 }  // namespace
 
-ConstraintRow<Rev>* RecordDistanceRows(const Model<Rev>& model, const std::vector<DistancePrimitive<Rev>>& distances,
-                                       const BodyFrames<Rev>& frames, const VecX<Rev>& q, const VecX<Rev>& v,
-                                       bool velocity_terms, ConstraintRow<Rev>* rows) {
+ConstraintRow<Rev>* RecordedDistanceRows(const Model<Rev>& model, const std::vector<DistancePrimitive<Rev>>& distances,
+                                         const BodyFrames<Rev>& frames, const VecX<Rev>& q, const VecX<Rev>& v,
+                                         bool velocity_terms, ConstraintRow<Rev>* rows) {
   Tape* tape = ActiveTape();
   const std::shared_ptr<DistanceRecord> record =
       tape ? tape->Reusable<DistanceRecord>() : std::make_shared<DistanceRecord>();

@@ -26,6 +26,7 @@
 #include <array>
 #include <memory>
 
+#include "tether/dynamics/adjoint/recorded.h"
 #include "tether/dynamics/adjoint/recorded_blocks.h"
 #include "tether/dynamics/constraints/constraint_rows_impl.h"
 
@@ -303,9 +304,9 @@ void SetRow(const double* value, int node, bool velocity_terms, const Vec3<doubl
 
 }  // namespace
 
-ConstraintRow<Rev>* RecordPointRows(const Model<Rev>& model, const std::vector<PointPrimitive<Rev>>& points,
-                                    const BodyFrames<Rev>& frames, const VecX<Rev>& q, const VecX<Rev>& v,
-                                    bool velocity_terms, ConstraintRow<Rev>* rows) {
+ConstraintRow<Rev>* RecordedPointRows(const Model<Rev>& model, const std::vector<PointPrimitive<Rev>>& points,
+                                      const BodyFrames<Rev>& frames, const VecX<Rev>& q, const VecX<Rev>& v,
+                                      bool velocity_terms, ConstraintRow<Rev>* rows) {
   if (!AllSpatial(model, points, [](const PointPrimitive<Rev>& c) { return std::array<int, 2>{c.a.body, c.b.body}; })) {
     for (const PointPrimitive<Rev>& c : points)
       rows = internal::EvaluatePointRows(model, frames, c, q, v, velocity_terms, rows);
@@ -356,8 +357,8 @@ ConstraintRow<Rev>* RecordPointRows(const Model<Rev>& model, const std::vector<P
   return rows;
 }
 
-ConstraintRow<Rev>* RecordAngleRows(const Model<Rev>& model, const std::vector<AnglePrimitive<Rev>>& angles,
-                                    const BodyFrames<Rev>& frames, bool velocity_terms, ConstraintRow<Rev>* rows) {
+ConstraintRow<Rev>* RecordedAngleRows(const Model<Rev>& model, const std::vector<AnglePrimitive<Rev>>& angles,
+                                      const BodyFrames<Rev>& frames, bool velocity_terms, ConstraintRow<Rev>* rows) {
   if (!AllSpatial(model, angles, [](const AnglePrimitive<Rev>& c) { return std::array<int, 2>{c.body_a, c.body_b}; })) {
     for (const AnglePrimitive<Rev>& c : angles)
       rows = internal::EvaluateAngleRows(model, frames, c, velocity_terms, rows);

@@ -19,6 +19,7 @@
 #include <tuple>
 #include <vector>
 
+#include "tether/dynamics/adjoint/recorded.h"
 #include "tether/dynamics/adjoint/recorded_blocks.h"
 #include "tether/dynamics/model/configuration_space.h"
 #include "tether/dynamics/model/rotation.h"
@@ -104,7 +105,8 @@ Eigen::Matrix<int, N, 1> NodesAt(const VecX<Rev>& x, int offset) {
 
 }  // namespace
 
-void RecordSpatialIntegrate(const Model<Rev>& model, const VecX<Rev>& q, const VecX<Rev>& v, double h, VecX<Rev>* out) {
+bool RecordedSpatialIntegrate(const Model<Rev>& model, const VecX<Rev>& q, const VecX<Rev>& v, double h,
+                              VecX<Rev>* out) {
   Tape* tape = ActiveTape();
   const std::shared_ptr<IntegrateRecord> record =
       tape ? tape->Reusable<IntegrateRecord>() : std::make_shared<IntegrateRecord>();
@@ -149,9 +151,10 @@ void RecordSpatialIntegrate(const Model<Rev>& model, const VecX<Rev>& q, const V
   for (Eigen::Index i = 0; i < out->size(); ++i) {
     (*out)[i] = recorded ? Rev(values[i], first + static_cast<int>(i)) : Rev(values[i]);
   }
+  return true;
 }
 
-void RecordSpatialDexpInv(const Model<Rev>& model, const VecX<Rev>& theta, VecX<Rev>* k) {
+bool RecordedSpatialDexpInv(const Model<Rev>& model, const VecX<Rev>& theta, VecX<Rev>* k) {
   Tape* tape = ActiveTape();
   const std::shared_ptr<DexpInvRecord> record =
       tape ? tape->Reusable<DexpInvRecord>() : std::make_shared<DexpInvRecord>();
@@ -180,6 +183,7 @@ void RecordSpatialDexpInv(const Model<Rev>& model, const VecX<Rev>& theta, VecX<
       (*k)[r.v_offset + c] = recorded ? Rev(rate[c], first + 3 * static_cast<int>(j) + c) : Rev(rate[c]);
     }
   }
+  return true;
 }
 
 }  // namespace tether

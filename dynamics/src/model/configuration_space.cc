@@ -1,7 +1,6 @@
 #include "tether/dynamics/model/configuration_space.h"
 
-#include <type_traits>
-
+#include "tether/dynamics/adjoint/recorded.h"
 #include "tether/dynamics/model/elementwise.h"
 #include "tether/dynamics/model/rotation.h"
 
@@ -22,10 +21,7 @@ TETHER_FLATTEN void Integrate(const Model<T>& model, const VecX<T>& q, const Vec
         out, [h](const auto& x, const auto& y) { return x + h * y; }, q, v);
     return;
   }
-  if constexpr (std::is_same_v<T, Rev>) {
-    RecordSpatialIntegrate(model, q, v, h, out);
-    return;
-  }
+  if (RecordedSpatialIntegrate(model, q, v, h, out)) return;
   for (const Body<T>& body : model.bodies) {
     const T* qb = q.data() + body.q_offset;
     const T* vb = v.data() + body.v_offset;
@@ -67,10 +63,7 @@ template <typename T>
 TETHER_FLATTEN void DexpInv(const Model<T>& model, const VecX<T>& theta, const VecX<T>& v, VecX<T>* k) {
   if (k != &v) *k = v;
   if (model.spatial_bodies.empty()) return;
-  if constexpr (std::is_same_v<T, Rev>) {
-    RecordSpatialDexpInv(model, theta, k);
-    return;
-  }
+  if (RecordedSpatialDexpInv(model, theta, k)) return;
   for (const Body<T>& body : model.bodies) {
     if (body.kind != BodyKind::kRigid3d) continue;
     const int r = body.v_offset + 3;

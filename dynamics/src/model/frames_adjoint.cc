@@ -15,6 +15,7 @@
 #include <memory>
 #include <vector>
 
+#include "tether/dynamics/adjoint/recorded.h"
 #include "tether/dynamics/adjoint/recorded_blocks.h"
 #include "tether/dynamics/model/kinematics.h"
 
@@ -66,9 +67,9 @@ struct FramesRecord {
 
 }  // namespace
 
-void RecordSpatialFrames(const Model<Rev>& model, const VecX<Rev>& q, const VecX<Rev>& v, bool velocities,
-                         BodyFrames<Rev>* frames) {
-  if (model.spatial_bodies.empty()) return;
+bool RecordedSpatialFrames(const Model<Rev>& model, const VecX<Rev>& q, const VecX<Rev>& v, bool velocities,
+                           BodyFrames<Rev>* frames) {
+  if (model.spatial_bodies.empty()) return true;
   Tape* tape = ActiveTape();
   const std::shared_ptr<FramesRecord> record = tape ? tape->Reusable<FramesRecord>() : std::make_shared<FramesRecord>();
   record->velocities = velocities;
@@ -112,6 +113,7 @@ void RecordSpatialFrames(const Model<Rev>& model, const VecX<Rev>& q, const VecX
       for (int k = 0; k < 3; ++k) f.w_W[k] = output(b.w_W[k], 18 + k);
     }
   }
+  return true;
 }
 
 }  // namespace tether

@@ -3,6 +3,7 @@
 #include <limits>
 #include <type_traits>
 
+#include "tether/dynamics/adjoint/recorded.h"
 #include "tether/dynamics/effects/effects.h"
 
 namespace tether {
@@ -50,6 +51,7 @@ bool KktAcceleration(const Model<S>& model, const std::vector<BodyLayout>& layou
 
 template <typename T>
 bool SolveKkt(const Model<T>& model, const VecX<T>& v, Workspace<T>* ws, VecX<T>* a) {
+  if (const std::optional<bool> recorded = RecordedKktAcceleration(model, v, ws, a)) return *recorded;
   const bool solved = KktAcceleration(model, ws->layout, *ws->pattern, ws->solver, ws->rows, ws->inverse_mass, v,
                                       ws->alpha, ws->beta, &ws->force, &ws->kkt, a);
   if constexpr (std::is_same_v<T, double>) {

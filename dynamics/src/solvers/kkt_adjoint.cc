@@ -30,6 +30,7 @@
 #include <utility>
 #include <vector>
 
+#include "tether/dynamics/adjoint/recorded.h"
 #include "tether/dynamics/adjoint/recorded_blocks.h"
 #include "tether/dynamics/solvers/constrained_dynamics.h"
 
@@ -232,8 +233,8 @@ void KktRecord::Backward(const double* a_bar_data, Tape* tape) {
 
 }  // namespace
 
-template <>
-bool SolveKkt<Rev>(const Model<Rev>& model, const VecX<Rev>& v, Workspace<Rev>* ws, VecX<Rev>* a) {
+std::optional<bool> RecordedKktAcceleration(const Model<Rev>& model, const VecX<Rev>& v, Workspace<Rev>* ws,
+                                            VecX<Rev>* a) {
   Tape* tape = ActiveTape();
   const std::shared_ptr<KktRecord> record = tape ? tape->Reusable<KktRecord>() : std::make_shared<KktRecord>();
   KktRecord& r = *record;

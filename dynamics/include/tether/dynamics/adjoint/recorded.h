@@ -10,6 +10,7 @@
 // Each returns whether it did the work (always false but for Rev).
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include "tether/dynamics/adjoint/reverse.h"
@@ -23,6 +24,80 @@ template <typename T>
 struct BodyFrame;
 template <typename T>
 struct JointCoordinates;
+template <typename T>
+struct ConstraintRow;
+template <typename T>
+struct DistancePrimitive;
+template <typename T>
+struct PointPrimitive;
+template <typename T>
+struct AnglePrimitive;
+template <typename T>
+struct Workspace;
+
+// The frames of the 3D bodies (model.spatial_bodies) at (q, v) (model/kinematics.h: UpdateFrames;
+// dynamics/src/model/frames_adjoint.cc).
+template <typename T>
+bool RecordedSpatialFrames(const Model<T>&, const VecX<T>&, const VecX<T>&, bool, std::vector<BodyFrame<T>>*) {
+  return false;
+}
+bool RecordedSpatialFrames(const Model<Rev>& model, const VecX<Rev>& q, const VecX<Rev>& v, bool velocities,
+                           std::vector<BodyFrame<Rev>>* frames);
+
+// Integrate and DexpInv of a model with 3D bodies, every body at once (model/configuration_space.h;
+// dynamics/src/model/configuration_adjoint.cc); DexpInv maps k's 3D rotations in place (k holds v).
+template <typename T>
+bool RecordedSpatialIntegrate(const Model<T>&, const VecX<T>&, const VecX<T>&, double, VecX<T>*) {
+  return false;
+}
+bool RecordedSpatialIntegrate(const Model<Rev>& model, const VecX<Rev>& q, const VecX<Rev>& v, double h,
+                              VecX<Rev>* out);
+template <typename T>
+bool RecordedSpatialDexpInv(const Model<T>&, const VecX<T>&, VecX<T>*) {
+  return false;
+}
+bool RecordedSpatialDexpInv(const Model<Rev>& model, const VecX<Rev>& theta, VecX<Rev>* k);
+
+// The rows of the distance, point and angle primitives into `rows` and on (constraints/constraint_rows_impl.h:
+// EvaluateConstraintRows; dynamics/src/constraints/distance_adjoint.cc and rigid_rows_adjoint.cc). Each returns the
+// row after them, or nullptr where it did not do them. The distance rows between particles (or a particle and the
+// world) are one node, the others node by node; the point and angle rows of a 3D scene one node each.
+template <typename T>
+ConstraintRow<T>* RecordedDistanceRows(const Model<T>&, const std::vector<DistancePrimitive<T>>&,
+                                       const std::vector<BodyFrame<T>>&, const VecX<T>&, const VecX<T>&, bool,
+                                       ConstraintRow<T>*) {
+  return nullptr;
+}
+ConstraintRow<Rev>* RecordedDistanceRows(const Model<Rev>& model, const std::vector<DistancePrimitive<Rev>>& distances,
+                                         const std::vector<BodyFrame<Rev>>& frames, const VecX<Rev>& q,
+                                         const VecX<Rev>& v, bool velocity_terms, ConstraintRow<Rev>* rows);
+template <typename T>
+ConstraintRow<T>* RecordedPointRows(const Model<T>&, const std::vector<PointPrimitive<T>>&,
+                                    const std::vector<BodyFrame<T>>&, const VecX<T>&, const VecX<T>&, bool,
+                                    ConstraintRow<T>*) {
+  return nullptr;
+}
+ConstraintRow<Rev>* RecordedPointRows(const Model<Rev>& model, const std::vector<PointPrimitive<Rev>>& points,
+                                      const std::vector<BodyFrame<Rev>>& frames, const VecX<Rev>& q, const VecX<Rev>& v,
+                                      bool velocity_terms, ConstraintRow<Rev>* rows);
+template <typename T>
+ConstraintRow<T>* RecordedAngleRows(const Model<T>&, const std::vector<AnglePrimitive<T>>&,
+                                    const std::vector<BodyFrame<T>>&, bool, ConstraintRow<T>*) {
+  return nullptr;
+}
+ConstraintRow<Rev>* RecordedAngleRows(const Model<Rev>& model, const std::vector<AnglePrimitive<Rev>>& angles,
+                                      const std::vector<BodyFrame<Rev>>& frames, bool velocity_terms,
+                                      ConstraintRow<Rev>* rows);
+
+// The KKT part of a derivative evaluation, v' from the workspace's rows, force and gains, a node per velocity
+// (solvers/constrained_dynamics.h: SolveKkt; dynamics/src/solvers/kkt_adjoint.cc): whether S could be factored,
+// or nothing where it did not do it.
+template <typename T>
+std::optional<bool> RecordedKktAcceleration(const Model<T>&, const VecX<T>&, Workspace<T>*, VecX<T>*) {
+  return std::nullopt;
+}
+std::optional<bool> RecordedKktAcceleration(const Model<Rev>& model, const VecX<Rev>& v, Workspace<Rev>* ws,
+                                            VecX<Rev>* a);
 
 // f += value dtheta'/dv for joint coordinate k when it is a 3D joint's angle (effects/joint_torque.h;
 // dynamics/src/effects/joint_torque_adjoint.cc).

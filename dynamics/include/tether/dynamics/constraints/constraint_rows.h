@@ -134,21 +134,6 @@ void EvaluateConstraintRows(const Model<T>& model, const ConstraintSet<T>& set, 
                             const VecX<T>& q, const VecX<T>& v, bool velocity_terms,
                             std::vector<ConstraintRow<T>>* rows);
 
-// Rev: the distance rows into rows[0, distances.size()), those between particles (or a particle and the world)
-// as one recorded operation whose adjoint is written out, the others node by node; returns the row after them.
-ConstraintRow<Rev>* RecordDistanceRows(const Model<Rev>& model, const std::vector<DistancePrimitive<Rev>>& distances,
-                                       const BodyFrames<Rev>& frames, const VecX<Rev>& q, const VecX<Rev>& v,
-                                       bool velocity_terms, ConstraintRow<Rev>* rows);
-
-// Rev: the point rows into rows[0, dimension * points.size()) and the angle rows into the rows that follow
-// their primitives; in 3D scenes as one recorded operation each, whose adjoint is written out
-// (rigid_rows_adjoint.cc), node by node in 2D. Each returns the row after them.
-ConstraintRow<Rev>* RecordPointRows(const Model<Rev>& model, const std::vector<PointPrimitive<Rev>>& points,
-                                    const BodyFrames<Rev>& frames, const VecX<Rev>& q, const VecX<Rev>& v,
-                                    bool velocity_terms, ConstraintRow<Rev>* rows);
-ConstraintRow<Rev>* RecordAngleRows(const Model<Rev>& model, const std::vector<AnglePrimitive<Rev>>& angles,
-                                    const BodyFrames<Rev>& frames, bool velocity_terms, ConstraintRow<Rev>* rows);
-
 // The largest geometric violation over the constraints (per constraint, the largest Euclidean norm over its
 // primitives' rows), and the scene index of the constraint where it occurs (-1 when there are none).
 struct Violation {

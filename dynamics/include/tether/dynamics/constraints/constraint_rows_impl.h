@@ -3,8 +3,8 @@
 
 #include <Eigen/Geometry>  // cross products
 #include <cmath>
-#include <type_traits>
 
+#include "tether/dynamics/adjoint/recorded.h"
 #include "tether/dynamics/constraints/constraint_rows.h"
 #include "tether/dynamics/constraints/user_constraint.h"
 
@@ -298,14 +298,14 @@ TETHER_FLATTEN void EvaluateConstraintRows(const Model<T>& model, const Constrai
                                            bool velocity_terms, std::vector<ConstraintRow<T>>* rows) {
   ConstraintRow<T>* row = rows->data();
   const bool vt = velocity_terms;
-  if constexpr (std::is_same_v<T, Rev>) {  // recorded as one operation where it can be (distance_adjoint.cc)
-    row = RecordDistanceRows(model, set.distances, frames, q, v, vt, row);
+  if (ConstraintRow<T>* next = RecordedDistanceRows(model, set.distances, frames, q, v, vt, row)) {
+    row = next;
   } else {
     for (const DistancePrimitive<T>& c : set.distances)
       internal::EvaluateDistanceRow(model, frames, c, q, v, vt, row++);
   }
-  if constexpr (std::is_same_v<T, Rev>) {  // in 3D as one operation (rigid_rows_adjoint.cc)
-    row = RecordPointRows(model, set.points, frames, q, v, vt, row);
+  if (ConstraintRow<T>* next = RecordedPointRows(model, set.points, frames, q, v, vt, row)) {
+    row = next;
   } else {
     for (const PointPrimitive<T>& c : set.points) row = internal::EvaluatePointRows(model, frames, c, q, v, vt, row);
   }
@@ -327,8 +327,8 @@ TETHER_FLATTEN void EvaluateConstraintRows(const Model<T>& model, const Constrai
       }
     }
   }
-  if constexpr (std::is_same_v<T, Rev>) {
-    row = RecordAngleRows(model, set.angles, frames, vt, row);
+  if (ConstraintRow<T>* next = RecordedAngleRows(model, set.angles, frames, vt, row)) {
+    row = next;
   } else {
     for (const AnglePrimitive<T>& c : set.angles) row = internal::EvaluateAngleRows(model, frames, c, vt, row);
   }

@@ -38,11 +38,6 @@ void Difference(const Model<T>& model, const VecX<T>& q0, const VecX<T>& q1, Vec
 template <typename T>
 void DexpInv(const Model<T>& model, const VecX<T>& theta, const VecX<T>& v, VecX<T>* k);
 
-// With Rev, the spatial cases of both as one recorded operation each, with their adjoints written out
-// (configuration_adjoint.cc). RecordSpatialDexpInv maps k's 3D rotations in place (k holds v).
-void RecordSpatialIntegrate(const Model<Rev>& model, const VecX<Rev>& q, const VecX<Rev>& v, double h, VecX<Rev>* out);
-void RecordSpatialDexpInv(const Model<Rev>& model, const VecX<Rev>& theta, VecX<Rev>* k);
-
 template <typename T>
 State<T> InitialState(const Model<T>& model);
 

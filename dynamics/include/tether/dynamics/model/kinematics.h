@@ -17,9 +17,9 @@
 #pragma once
 
 #include <cmath>
-#include <type_traits>
 #include <vector>
 
+#include "tether/dynamics/adjoint/recorded.h"
 #include "tether/dynamics/model/configuration_space.h"
 #include "tether/dynamics/model/rotation.h"
 
@@ -51,17 +51,11 @@ struct BodyFrame {
 template <typename T>
 using BodyFrames = std::vector<BodyFrame<T>>;
 
-// Rev: the frames of the 3D bodies (model.spatial_bodies) as one recorded operation, whose adjoint is written out
-// (frames_adjoint.cc).
-void RecordSpatialFrames(const Model<Rev>& model, const VecX<Rev>& q, const VecX<Rev>& v, bool velocities,
-                         BodyFrames<Rev>* frames);
-
 // Fills frames (sized to the bodies) at (q, v); v is read only when `velocities` is true.
 template <typename T>
 void UpdateFrames(const Model<T>& model, const VecX<T>& q, const VecX<T>& v, bool velocities, BodyFrames<T>* frames) {
   frames->resize(model.bodies.size());
-  constexpr bool kRecorded = std::is_same_v<T, Rev>;
-  if constexpr (kRecorded) RecordSpatialFrames(model, q, v, velocities, frames);
+  const bool spatial_recorded = RecordedSpatialFrames(model, q, v, velocities, frames);
   for (int i : model.rigid_bodies) {
     const Body<T>& body = model.bodies[i];
     BodyFrame<T>& f = (*frames)[i];
@@ -73,7 +67,7 @@ void UpdateFrames(const Model<T>& model, const VecX<T>& q, const VecX<T>& v, boo
       f.R_WB << c, -s, T(0.0), s, c, T(0.0), T(0.0), T(0.0), T(1.0);
       f.R_WP = f.R_WB;
       if (velocities) f.w_W = Vec3<T>(T(0.0), T(0.0), v[body.v_offset + 2]);
-    } else if (body.kind == BodyKind::kRigid3d && !kRecorded) {
+    } else if (body.kind == BodyKind::kRigid3d && !spatial_recorded) {
       f.R_WB = RotationMatrix(Orientation(body, q));
       const bool principal = body.principal_axes == Vec4<double>(1, 0, 0, 0);
       f.R_WP = principal ? f.R_WB : Mat3<T>(f.R_WB * RotationMatrix(Vec4<T>(body.principal_axes.template cast<T>())));

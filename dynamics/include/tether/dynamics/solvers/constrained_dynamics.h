@@ -5,7 +5,7 @@
 // v' = M^-1 (f - J^T lambda). f includes the gyroscopic torques of 3D bodies (effects.h).
 //
 // In Rev arithmetic (reverse.h) the KKT part, from the rows and forces to v', is recorded as one operation whose
-// adjoint is written out (kkt_adjoint.cc): a node per velocity instead of a few dozen per row.
+// adjoint is written out (adjoint/recorded.h; kkt_adjoint.cc): a node per velocity instead of a few dozen per row.
 #pragma once
 
 #include "tether/dynamics/integration/workspace.h"
@@ -30,7 +30,5 @@ bool KktAcceleration(const Model<S>& model, const std::vector<BodyLayout>& layou
 // with a KKT log (ws->kkt_log) keeps each solve there, and a recorded replay takes them back (kkt_log.h).
 template <typename T>
 bool SolveKkt(const Model<T>& model, const VecX<T>& v, Workspace<T>* ws, VecX<T>* a);
-template <>
-bool SolveKkt<Rev>(const Model<Rev>& model, const VecX<Rev>& v, Workspace<Rev>* ws, VecX<Rev>* a);
 
 }  // namespace tether
