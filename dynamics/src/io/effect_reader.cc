@@ -176,9 +176,17 @@ struct EffectReader {
 };
 
 // The table: one row an effect type, in the order docs/scene-format.md lists them.
+// clang-format off
 constexpr EffectReader kEffectReaders[] = {
-    {"gravity", ReadGravity}, {"damping", ReadDamping},          {"spring", ReadSpring},           {"force", ReadForce},
-    {"torque", ReadTorque},   {"joint_torque", ReadJointTorque}, {"joint_spring", ReadJointSpring}};
+    {"gravity", ReadGravity},
+    {"damping", ReadDamping},
+    {"spring", ReadSpring},
+    {"force", ReadForce},
+    {"torque", ReadTorque},
+    {"joint_torque", ReadJointTorque},
+    {"joint_spring", ReadJointSpring},
+};
+// clang-format on
 
 }  // namespace
 
