@@ -170,6 +170,32 @@ void ReadJointSpring(SceneBuilder& r, const json& e, const std::string& at, int 
   r.model().joint_springs.push_back(s);
 }
 
+void ReadDrag(SceneBuilder& r, const json& e, const std::string& at, int index) {
+  r.check().Object(e, at, {"type", "body", "point", "density", "drag_coefficient", "area"});
+  const int k = static_cast<int>(r.model().drag.size());
+  DragEffect<double> d;
+  d.scene_index = index;
+  d.body = r.BodyIndex(r.check().Required(e, at, "body"), Child(at, "body"), false);
+  if (const json* p = r.check().Optional(e, "point")) {
+    d.point = r.check().Vector(*p, Child(at, "point"), r.Dim());
+    r.BindVector(
+        Child(at, "point"), r.Dim(), D::kAny, [k](auto& m) -> auto& { return m.drag[k].point; });
+  }
+  if (const json* rho = r.check().Optional(e, "density")) {
+    d.density = r.check().NonNegative(*rho, Child(at, "density"));
+    r.Bind(
+        Child(at, "density"), D::kNonNegative, [k](auto& m) -> auto& { return m.drag[k].density; });
+  }
+  const std::string cp = Child(at, "drag_coefficient"), ap = Child(at, "area");
+  d.drag_coefficient = r.check().NonNegative(r.check().Required(e, at, "drag_coefficient"), cp);
+  r.Bind(
+      cp, D::kNonNegative, [k](auto& m) -> auto& { return m.drag[k].drag_coefficient; });
+  d.area = r.check().NonNegative(r.check().Required(e, at, "area"), ap);
+  r.Bind(
+      ap, D::kNonNegative, [k](auto& m) -> auto& { return m.drag[k].area; });
+  r.model().drag.push_back(d);
+}
+
 struct EffectReader {
   const char* type;  // the scene's "type"
   void (*read)(SceneBuilder&, const json& effect, const std::string& at, int index);
@@ -185,6 +211,7 @@ constexpr EffectReader kEffectReaders[] = {
     {"torque", ReadTorque},
     {"joint_torque", ReadJointTorque},
     {"joint_spring", ReadJointSpring},
+    {"drag", ReadDrag},
 };
 // clang-format on
 

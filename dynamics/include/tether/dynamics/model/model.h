@@ -25,6 +25,7 @@
 
 #include "tether/dynamics/constraints/joint_kinds.h"
 #include "tether/dynamics/effects/damping.h"
+#include "tether/dynamics/effects/drag.h"
 #include "tether/dynamics/effects/force.h"
 #include "tether/dynamics/effects/gravity.h"
 #include "tether/dynamics/effects/joint_spring.h"
@@ -127,6 +128,7 @@ struct Model {
   std::vector<TorqueEffect<T>> torques;
   std::vector<JointTorqueEffect<T>> joint_torques;
   std::vector<JointSpringEffect<T>> joint_springs;
+  std::vector<DragEffect<T>> drag;
 
   SimulationSettings simulation;
   StabilizationSettings<T> stabilization;
@@ -147,6 +149,7 @@ void ForEachEffectList(F&& f, Models&... models) {
   f(models.torques...);
   f(models.joint_torques...);
   f(models.joint_springs...);
+  f(models.drag...);
 }
 
 // Whether the scene's energy is conserved by its effects (each says whether it is: no damping of its own or in a
