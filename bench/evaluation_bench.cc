@@ -21,10 +21,10 @@
 #include "tether/dynamics/integration/default_gains.h"
 #include "tether/dynamics/integration/integrators.h"
 #include "tether/dynamics/integration/simulator.h"
-#include "tether/dynamics/integration/workspace.h"
 #include "tether/dynamics/model/configuration_space.h"
 #include "tether/dynamics/solvers/constrained_dynamics.h"
 #include "tether/dynamics/solvers/sparse_ldlt.h"
+#include "tether/dynamics/solvers/workspace.h"
 
 namespace tether::bench {
 namespace {

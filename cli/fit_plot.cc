@@ -8,8 +8,8 @@
 #include <sstream>
 
 #include "matplotlib_script.h"
+#include "tether/dynamics/integration/interrupts.h"
 #include "tether/dynamics/integration/simulator.h"
-#include "tether/dynamics/io/interrupts.h"
 #include "tether/dynamics/io/trajectory_columns.h"
 #include "tether/dynamics/io/trajectory_csv.h"
 #include "tether/dynamics/model/errors.h"
@@ -79,7 +79,7 @@ fig.tight_layout()
 fig.savefig(out, dpi=110)
 )PY";
 
-// The unit of a trajectory column, by the suffix tether gives it (CONTRACT.md's columns).
+// The unit of a trajectory column, by the suffix tether gives it (docs/contract.md's columns).
 std::string ColumnUnit(const std::string& name) {
   if (name == "constraint_error") return "m";
   if (name == "energy") return "J";

@@ -10,7 +10,7 @@
 
 #include "commands.h"
 #include "matplotlib_script.h"
-#include "tether/dynamics/io/interrupts.h"
+#include "tether/dynamics/integration/interrupts.h"
 #include "tether/dynamics/model/errors.h"
 
 int main(int argc, char** argv) {

@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "tether/dynamics/io/interrupts.h"
+#include "tether/dynamics/integration/interrupts.h"
 #include "tether/dynamics/model/errors.h"
 
 namespace tether::cli {

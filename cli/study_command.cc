@@ -12,7 +12,7 @@
 #include "flags.h"
 #include "matplotlib_script.h"
 #include "study_figures_script.h"
-#include "tether/dynamics/io/interrupts.h"
+#include "tether/dynamics/integration/interrupts.h"
 #include "tether/dynamics/io/output_file.h"
 #include "tether/dynamics/io/scene_reader.h"
 #include "tether/dynamics/model/errors.h"

@@ -15,7 +15,7 @@ none of them needs assembling: python3 scenes/make_3d_scenes.py [OUT_DIR] (defau
                      idle, degree of freedom), gravity
   cardan.json        a Cardan (universal) joint between an input shaft and an output shaft 30 degrees apart, both
                      on world hinges: three of its rows are redundant
-  acrobot.json       the seed lecture's acrobot: two 1 m, 1 kg rods in the plane, the shoulder pinned to the world
+  acrobot.json       the classic acrobot: two 1 m, 1 kg rods in the plane, the shoulder pinned to the world
                      and a motor at the elbow only (41 knots over 5 s), hanging at rest
   cart_pole.json     a 1 kg cart on a rail (a prismatic joint with a motor: a force along it) and a 1 m, 0.5 kg
                      pole hinged to it, hanging at rest (16 knots over 3 s)

@@ -19,7 +19,7 @@
 #include "tether/dynamics/io/scene_reader.h"
 #include "tether/dynamics/io/trajectory_csv.h"
 #include "tether/dynamics/model/errors.h"
-#include "tether/tuning/identification.h"
+#include "tether/tuning/identify.h"
 
 namespace tether {
 namespace {

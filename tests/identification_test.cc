@@ -9,8 +9,6 @@
 // here by central differences and with the empirical spread over five noise seeds; multiple shooting on a
 // chaotic double pendulum where single shooting fails; non-identifiable pairs and parameters without effect
 // reported with NaN deviations; robust losses against gross outliers; bounds; NLopt against Ceres.
-#include "tether/tuning/identification.h"
-
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -30,6 +28,7 @@
 #include "tether/dynamics/io/scene_reader.h"
 #include "tether/dynamics/io/trajectory_csv.h"
 #include "tether/dynamics/model/errors.h"
+#include "tether/tuning/identify.h"
 
 namespace tether {
 namespace {

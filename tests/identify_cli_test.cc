@@ -15,7 +15,7 @@
 #include "test_files.h"
 #include "tether/dynamics/integration/simulator.h"
 #include "tether/dynamics/io/scene_reader.h"
-#include "tether/tuning/identification.h"
+#include "tether/tuning/identify.h"
 
 namespace tether {
 namespace {

@@ -1,4 +1,4 @@
-// Whole simulations with T = Jet (DESIGN.md principle 1: one templated code path), for a damped pendulum, a
+// Whole simulations with T = Jet (docs/architecture.md, principle 1: one templated code path), for a damped pendulum, a
 // rigid four-bar on pins and a slider + spring + damping oscillator, under every integrator and every
 // stabilization. Four derivative directions are seeded on model fields (masses, lengths, gravity, stiffness,
 // damping, initial velocities). Checked at every output row, positions and velocities:

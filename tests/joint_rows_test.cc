@@ -16,7 +16,7 @@
 
 #include "tether/dynamics/constraints/constraint_rows.h"
 #include "tether/dynamics/constraints/joint_coordinates.h"
-#include "tether/dynamics/constraints/limit_events.h"
+#include "tether/dynamics/integration/limit_events.h"
 #include "tether/dynamics/model/configuration_space.h"
 #include "tether/dynamics/model/errors.h"
 #include "tether/dynamics/model/rotation.h"

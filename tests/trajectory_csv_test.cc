@@ -1,4 +1,4 @@
-// The trajectory CSV of CONTRACT.md: its columns for particles (2D, 3D) and planar rigid bodies, numbers that
+// The trajectory CSV of docs/contract.md: its columns for particles (2D, 3D) and planar rigid bodies, numbers that
 // round-trip a double exactly, and an output file that appears only when committed.
 #include "tether/dynamics/io/trajectory_csv.h"
 

@@ -8,7 +8,7 @@
 #include <utility>
 
 #include "tether/dynamics/model/errors.h"
-#include "tether/dynamics/model/scalar.h"
+#include "tether/dynamics/scalars/scalar.h"
 
 namespace tether {
 

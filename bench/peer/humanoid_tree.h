@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "tether/dynamics/model/scalar.h"
+#include "tether/dynamics/scalars/scalar.h"
 
 namespace tether::bench {
 

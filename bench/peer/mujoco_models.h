@@ -29,7 +29,7 @@
 #include <utility>
 #include <vector>
 
-#include "tether/dynamics/model/scalar.h"
+#include "tether/dynamics/scalars/scalar.h"
 
 namespace tether::bench {
 

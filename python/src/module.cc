@@ -18,8 +18,8 @@
 #include <vector>
 
 #include "tether/autodiff/gradient_method.h"
+#include "tether/dynamics/integration/interrupts.h"
 #include "tether/dynamics/integration/simulator.h"
-#include "tether/dynamics/io/interrupts.h"
 #include "tether/dynamics/io/request_limits.h"
 #include "tether/dynamics/io/scene_check.h"
 #include "tether/dynamics/io/scene_reader.h"
@@ -27,7 +27,7 @@
 #include "tether/dynamics/io/trajectory_columns.h"
 #include "tether/dynamics/model/errors.h"
 #include "tether/studies/study.h"
-#include "tether/tuning/identification.h"
+#include "tether/tuning/identify.h"
 #include "tether/tuning/optimizer.h"
 #include "tether/tuning/reports.h"
 

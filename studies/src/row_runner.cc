@@ -16,9 +16,9 @@
 
 #include "tether/dynamics/integration/default_gains.h"
 #include "tether/dynamics/integration/integrator_descriptor.h"
+#include "tether/dynamics/integration/interrupts.h"
 #include "tether/dynamics/integration/simulator.h"
 #include "tether/dynamics/io/csv_line.h"
-#include "tether/dynamics/io/interrupts.h"
 #include "tether/dynamics/model/errors.h"
 #include "tether/tuning/gain_objective.h"
 #include "tether/tuning/gain_tuning.h"

@@ -1,7 +1,7 @@
-// A step allocates nothing (DESIGN.md, principle 2): a run of 2K steps makes exactly as many heap allocations as
-// a run of K steps of the same model (the difference being the steps), for every integrator, both KKT paths,
-// every stabilization (the singular-configuration guard's projections included, on a four-bar near its
-// collinear configurations) and for Jets.
+// A step allocates nothing (docs/architecture.md, principle 2): a run of 2K steps makes exactly as many heap
+// allocations as a run of K steps of the same model (the difference being the steps), for every integrator, both KKT
+// paths, every stabilization (the singular-configuration guard's projections included, on a four-bar near its collinear
+// configurations) and for Jets.
 //
 // The count comes from this program's own malloc, calloc and realloc, which count and forward to glibc's
 // (__libc_malloc ...). They replace the C library's for the whole process, Eigen's and operator new's

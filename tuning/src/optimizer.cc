@@ -10,7 +10,7 @@
 #include <nlopt.hpp>
 #include <stdexcept>
 
-#include "tether/dynamics/io/interrupts.h"
+#include "tether/dynamics/integration/interrupts.h"
 #include "tether/dynamics/model/errors.h"
 
 namespace tether {

@@ -35,7 +35,7 @@
 
 #include "tether/autodiff/observations.h"
 #include "tether/autodiff/parameters.h"
-#include "tether/dynamics/model/scalar.h"
+#include "tether/dynamics/scalars/scalar.h"
 #include "tether/tuning/identification.h"
 
 namespace tether {

@@ -219,31 +219,6 @@ std::vector<std::vector<double>> StartValues(const Model<double>& model, const P
 
 }  // namespace
 
-InequalityTarget ParseInequality(const std::string& text, bool at_least, const std::string& flag) {
-  const size_t at = text.rfind('@'), equals = text.rfind('=', at);
-  if (at == std::string::npos || equals == std::string::npos || equals == 0) {
-    throw InputError(flag + ": '" + text + "' is not COLUMN=VALUE@T or COLUMN=VALUE@T0:T1 (e.g. tip.y=1.99@5)");
-  }
-  const auto number = [&](const std::string& s) {
-    char* end = nullptr;
-    const double x = std::strtod(s.c_str(), &end);
-    if (s.empty() || end != s.c_str() + s.size() || !std::isfinite(x)) {
-      throw InputError(flag + ": '" + text + "': '" + s + "' is not a finite number");
-    }
-    return x;
-  };
-  const std::string when = text.substr(at + 1);
-  const size_t colon = when.find(':');
-  InequalityTarget target{text.substr(0, equals), number(text.substr(equals + 1, at - equals - 1)),
-                          number(when.substr(colon == std::string::npos ? 0 : colon + 1)), at_least,
-                          flag + " " + text};
-  target.from = colon == std::string::npos ? target.time : number(when.substr(0, colon));
-  if (!(target.from <= target.time)) {
-    throw InputError(flag + ": '" + text + "': the interval must run forward (T0 < T1)");
-  }
-  return target;
-}
-
 std::vector<InequalityTarget> AtEveryStep(const std::vector<InequalityTarget>& targets, double step,
                                           double duration, std::vector<int>* origin) {
   std::vector<InequalityTarget> out;

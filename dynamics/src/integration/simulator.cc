@@ -9,9 +9,9 @@
 #include "tether/dynamics/effects/effects.h"
 #include "tether/dynamics/integration/default_gains.h"
 #include "tether/dynamics/integration/integrators.h"
+#include "tether/dynamics/integration/interrupts.h"
 #include "tether/dynamics/integration/projection.h"
 #include "tether/dynamics/integration/stepper.h"
-#include "tether/dynamics/io/interrupts.h"
 #include "tether/dynamics/model/configuration_space.h"
 #include "tether/dynamics/model/errors.h"
 

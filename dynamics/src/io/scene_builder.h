@@ -613,7 +613,7 @@ class SceneBuilder {
     }
   }
 
-  // Contact shapes (CONTRACT.md) are not simulated yet: an empty list is the scene without them, and any shape is
+  // Contact shapes (docs/contract.md) are not simulated yet: an empty list is the scene without them, and any shape is
   // refused rather than silently left out of the motion.
   void ReadShapes(const json& shapes) const {
     check_.Array(shapes, "/shapes");

@@ -1,4 +1,4 @@
-// Observations: a trajectory CSV (CONTRACT.md) with a `t` column and any subset of the trajectory's columns
+// Observations: a trajectory CSV (docs/contract.md) with a `t` column and any subset of the trajectory's columns
 // (trajectory_columns.h), at any times within the simulated interval, in any row order; an empty cell is a
 // missing value. Coordinates, quaternion components, velocities, joint coordinates (encoders), markers and
 // `energy` can be observed; `constraint_error` is a diagnostic and cannot. q and -q are one rotation: a recorded

@@ -10,8 +10,8 @@
 
 #include <vector>
 
-#include "tether/dynamics/adjoint/reverse.h"
 #include "tether/dynamics/model/model_field.h"
+#include "tether/dynamics/scalars/reverse.h"
 
 namespace tether {
 

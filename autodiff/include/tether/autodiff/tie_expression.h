@@ -1,4 +1,4 @@
-// The expression of a tied parameter (`--tie PTR=EXPR`, CONTRACT.md): numbers, other scene numbers named by their
+// The expression of a tied parameter (`--tie PTR=EXPR`, docs/contract.md): numbers, other scene numbers named by their
 // JSON Pointers in braces, + - * / and ^ (power, right-associative, above unary minus: -a^2 = -(a^2)), and
 // parentheses:
 //   expression := term (('+' | '-') term)*     term := unary (('*' | '/') unary)*

@@ -5,7 +5,7 @@
 // step (the cost function returns false); NLopt gets a large finite value, kInfeasibleValue, and a zero
 // gradient, never NaN.
 //
-// Optimizer names (CONTRACT.md): "ceres" (Levenberg-Marquardt with the Jacobian, box bounds), or
+// Optimizer names (docs/contract.md): "ceres" (Levenberg-Marquardt with the Jacobian, box bounds), or
 // "nlopt:ALGORITHM" with any NLopt algorithm name: gradient based (LD_LBFGS, LD_MMA, LD_SLSQP, ...) get
 // g = J^T r; derivative free (LN_BOBYQA, LN_COBYLA, LN_SBPLX, LN_NELDERMEAD, ...) and global ones (GN_DIRECT_L,
 // GN_CRS2_LM, ...) only f. The multi-level single-linkage methods (GN_MLSL, GN_MLSL_LDS, G_MLSL, G_MLSL_LDS) run

@@ -13,8 +13,8 @@
 #include <optional>
 #include <vector>
 
-#include "tether/dynamics/adjoint/reverse.h"
-#include "tether/dynamics/model/scalar.h"
+#include "tether/dynamics/scalars/reverse.h"
+#include "tether/dynamics/scalars/scalar.h"
 
 namespace tether {
 

@@ -4,7 +4,7 @@
 // nodes, entry by entry (AddAdjoint skips constants).
 #pragma once
 
-#include "tether/dynamics/model/scalar.h"
+#include "tether/dynamics/scalars/scalar.h"
 
 namespace tether {
 

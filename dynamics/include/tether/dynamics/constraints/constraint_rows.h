@@ -53,7 +53,8 @@ struct ConstraintRow {
   BodyVector<T> b;   // J_i restricted to the second body
 };
 
-// A row's law (DESIGN.md): an equality C = 0, or a one-sided gap g >= 0 whose multiplier may push, never pull.
+// A row's law (docs/architecture.md, principle 4): an equality C = 0, or a one-sided gap g >= 0 whose multiplier may
+// push, never pull.
 enum class RowLaw { kEquality, kGap };
 
 // What is known about a row before any evaluation: the constraint it belongs to, the bodies it touches and its

@@ -1,4 +1,4 @@
-// Joint coordinates (CONTRACT.md): a hinge's angle, a prismatic joint's displacement, both for a cylindrical
+// Joint coordinates (docs/contract.md): a hinge's angle, a prismatic joint's displacement, both for a cylindrical
 // joint, the angle of a 2D pin between planar rigid bodies; with their rates and their gradients with respect to
 // v, which is how motors and joint springs act (a torque tau on the coordinate is the generalized force
 // tau dq'/dv, equal and opposite on the two bodies, so it does no net work on the pair but through the joint).

@@ -3,7 +3,7 @@
 #pragma once
 
 #include "tether/dynamics/constraints/joint_kinds.h"
-#include "tether/dynamics/model/scalar.h"
+#include "tether/dynamics/scalars/scalar.h"
 
 namespace tether {
 

@@ -4,7 +4,7 @@
 
 #include "tether/dynamics/constraints/joint_kinds.h"
 #include "tether/dynamics/effects/schedule.h"
-#include "tether/dynamics/model/scalar.h"
+#include "tether/dynamics/scalars/scalar.h"
 
 namespace tether {
 

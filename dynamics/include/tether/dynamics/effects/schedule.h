@@ -6,7 +6,7 @@
 #include <type_traits>
 #include <vector>
 
-#include "tether/dynamics/model/scalar.h"
+#include "tether/dynamics/scalars/scalar.h"
 
 namespace tether {
 

@@ -37,7 +37,7 @@
 #include <functional>
 
 #include "tether/dynamics/integration/integrator_descriptor.h"
-#include "tether/dynamics/integration/workspace.h"
+#include "tether/dynamics/solvers/workspace.h"
 
 namespace tether {
 

@@ -9,7 +9,7 @@
 // the values converge so that Jet derivatives settle too (for every scalar, so that values never differ).
 #pragma once
 
-#include "tether/dynamics/integration/workspace.h"
+#include "tether/dynamics/solvers/workspace.h"
 
 namespace tether {
 

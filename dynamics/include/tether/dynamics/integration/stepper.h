@@ -16,8 +16,8 @@
 #include <functional>
 #include <vector>
 
-#include "tether/dynamics/constraints/limit_events.h"
 #include "tether/dynamics/integration/integrators.h"
+#include "tether/dynamics/integration/limit_events.h"
 #include "tether/dynamics/integration/simulator.h"
 #include "tether/dynamics/model/errors.h"
 

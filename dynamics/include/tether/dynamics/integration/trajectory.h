@@ -1,5 +1,5 @@
 // Trajectory<T>: a run's samples kept in memory, the one recorder that tuning, identification, studies and tests
-// read (DESIGN.md principle 5). Streaming consumers (the CSV writer) observe Simulate directly instead.
+// read (docs/architecture.md, principle 5). Streaming consumers (the CSV writer) observe Simulate directly instead.
 //
 // Record keeps the output rows (RunOptions::every, the first and the last) or only the samples at
 // RunOptions::stops, with what each consumer needs of a sample: time, q, v, the largest violation, the energy,

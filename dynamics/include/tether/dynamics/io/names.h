@@ -1,5 +1,5 @@
 // The names that scene files and the command line use for integrators, KKT solver paths and stabilization
-// methods (CONTRACT.md), in one place. A name that is not known throws InputError
+// methods (docs/contract.md), in one place. A name that is not known throws InputError
 // "<where>: unknown <kind> '<name>' (expected ...)", where `where` names the JSON Pointer or the flag.
 #pragma once
 

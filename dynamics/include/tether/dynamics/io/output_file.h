@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "tether/dynamics/io/interrupts.h"
+#include "tether/dynamics/integration/interrupts.h"
 
 namespace tether {
 

@@ -1,4 +1,4 @@
-// The columns of the trajectory CSV (CONTRACT.md), each a function of a sample, for output, data and targets:
+// The columns of the trajectory CSV (docs/contract.md), each a function of a sample, for output, data and targets:
 //   t; per body in scene order: NAME.x, NAME.y[, NAME.z], then NAME.angle (planar rigid) or NAME.qw .. NAME.qz
 //   (3D rigid), then NAME.vx, NAME.vy[, NAME.vz], then NAME.omega (planar) or NAME.wx .. NAME.wz (3D, world
 //   frame); per named joint with coordinates, in scene order: NAME.angle, NAME.omega and/or NAME.displacement,

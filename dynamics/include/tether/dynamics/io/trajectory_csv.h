@@ -1,4 +1,4 @@
-// The trajectory CSV of CONTRACT.md: a header row, then one row per output state with the columns of
+// The trajectory CSV of docs/contract.md: a header row, then one row per output state with the columns of
 // trajectory_columns.h, every number printed in the shortest form that reads back as the same double (std::to_chars):
 // full double precision without noise digits (0.1, not 0.10000000000000001).
 #pragma once

@@ -3,7 +3,7 @@
 
 #include <string>
 
-#include "tether/dynamics/model/scalar.h"
+#include "tether/dynamics/scalars/scalar.h"
 
 namespace tether {
 

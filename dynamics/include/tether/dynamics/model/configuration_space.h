@@ -1,5 +1,5 @@
 // The configuration space of a model: q and v have their own layouts (model.h), and only these functions move
-// a configuration along a velocity (DESIGN.md principle 3; Pinocchio's integrate/difference).
+// a configuration along a velocity (docs/architecture.md, principle 3; Pinocchio's integrate/difference).
 //
 //   Integrate(q, v, h)   q (+) h v: translations and planar angles add; a 3D body's orientation turns by the
 //                        exponential map in its own frame, q_WB <- q_WB (x) Exp(h R_BP w_P) (rotation.h), and is

@@ -10,7 +10,7 @@
 // DexpInv solves theta' for R(t) = R0 Exp(theta(t)) with R' = R [w]x (w the angular velocity in the body
 // frame): Exp(theta)^-1 d/dt Exp(theta) = [dexp_{-theta} theta']x, so theta' = dexp_{-theta}^-1 w.
 //
-// Derivative-safe (DESIGN.md principle 9): near theta = 0 (and v = 0) the functions switch to their Taylor
+// Derivative-safe (docs/architecture.md, principle 9): near theta = 0 (and v = 0) the functions switch to their Taylor
 // series on the value of |theta|^2, so that no sqrt or division is taken at zero and Jets get exact derivatives.
 #pragma once
 
@@ -19,7 +19,7 @@
 #include <cmath>
 #include <utility>
 
-#include "tether/dynamics/model/scalar.h"
+#include "tether/dynamics/scalars/scalar.h"
 
 namespace tether {
 

@@ -1,4 +1,4 @@
-// The constrained equations of motion: v' from the KKT system (DESIGN.md, seed lecture)
+// The constrained equations of motion: v' from the KKT system (docs/architecture.md, "The physics")
 //   [M J^T; J 0] [v'; lambda] = [f; -Jdot v - alpha J v - beta C]
 // which is Baumgarte's C'' + alpha C' + beta C = 0 (alpha = beta = 0 keeps C'' = 0). It is solved through the
 // Schur complement (schur_system.h): S lambda = J M^-1 f + Jdot v + alpha J v + beta C, then
@@ -8,7 +8,7 @@
 // adjoint is written out (adjoint/recorded.h; kkt_adjoint.cc): a node per velocity instead of a few dozen per row.
 #pragma once
 
-#include "tether/dynamics/integration/workspace.h"
+#include "tether/dynamics/solvers/workspace.h"
 
 namespace tether {
 

@@ -1,4 +1,4 @@
-#include "tether/dynamics/integration/workspace.h"
+#include "tether/dynamics/solvers/workspace.h"
 
 #include <Eigen/LU>  // 3 x 3 inverses
 #include <algorithm>

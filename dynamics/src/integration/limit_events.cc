@@ -1,4 +1,4 @@
-#include "tether/dynamics/constraints/limit_events.h"
+#include "tether/dynamics/integration/limit_events.h"
 
 #include <algorithm>
 #include <cmath>

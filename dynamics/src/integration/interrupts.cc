@@ -1,4 +1,4 @@
-#include "tether/dynamics/io/interrupts.h"
+#include "tether/dynamics/integration/interrupts.h"
 
 #include <signal.h>
 #include <unistd.h>

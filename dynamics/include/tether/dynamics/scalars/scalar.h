@@ -12,7 +12,7 @@
 
 #include <Eigen/Core>
 
-#include "tether/dynamics/adjoint/reverse.h"
+#include "tether/dynamics/scalars/reverse.h"
 
 namespace tether {
 
@@ -73,7 +73,8 @@ TETHER_HOT_INLINE Eigen::Matrix<T, 3, 1> Zero3() {
 
 }  // namespace tether
 
-// Expands MACRO(T) once for every scalar the library is compiled for (explicit instantiation, see DESIGN.md).
+// Expands MACRO(T) once for every scalar the library is compiled for (explicit instantiation: docs/architecture.md,
+// principle 10).
 #define TETHER_FOR_EACH_SCALAR(MACRO) \
   MACRO(double)                       \
   MACRO(::tether::Jet)                \

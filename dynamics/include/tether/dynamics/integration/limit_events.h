@@ -1,4 +1,4 @@
-// Joint limits as unilateral constraints, resolved at events (CONTRACT.md, "Joint limits, contact and impacts").
+// Joint limits as unilateral constraints, resolved at events (docs/contract.md, "Joint limits, contact and impacts").
 //
 // Each declared side of a joint's range is a gap g = s (x - bound) >= 0 on the joint's coordinate x (s = +1 at
 // the low bound, -1 at the high one), with g' = s x'. A side is inactive (no row, no cost) or active (one more
@@ -23,7 +23,7 @@
 //   grazing  an approach slower than kRestingSpeed is a touch, not an impact: no impulse. Below kGrazingSpeed an
 //            impact's time sensitivity (g' in its denominator) is not taken, with a warning.
 //
-// Derivatives (Jets, and the adjoint's recorded replay) cross an impact through its time (DESIGN.md's saltation
+// Derivatives (Jets, and the adjoint's recorded replay) cross an impact through its time (the saltation
 // matrix): with the event located on the values, dt* = -g / g' at the state just past it, its value removed (a zero
 // carrying dt*/dtheta), moves the state along the motion before the event, x <- x + f- dt*; the impact and the new
 // active set are resolved there; and the state moves back along the motion after it, x <- x - f+ dt*. To first order in
@@ -36,7 +36,7 @@
 #include <vector>
 
 #include "tether/dynamics/integration/simulator.h"
-#include "tether/dynamics/integration/workspace.h"
+#include "tether/dynamics/solvers/workspace.h"
 
 namespace tether {
 

@@ -1,4 +1,4 @@
-#include "tether/dynamics/adjoint/reverse.h"
+#include "tether/dynamics/scalars/reverse.h"
 
 #include <algorithm>
 
