@@ -29,7 +29,13 @@ void RunMatplotlib(const std::string& script, const std::vector<std::string>& ar
   const fs::path work(pattern);
   const TemporaryPath folder(work.string()), script_file((work / "script.py").string()),
       error_file((work / "errors.txt").string());  // removed if the process is interrupted meanwhile
-  std::ofstream(work / "script.py") << script;
+  // A signal ends python as it would any program (its default action), not as a KeyboardInterrupt: raised inside
+  // an import, numpy turns that into an ImportError, which read as a missing matplotlib (a Ctrl-C while a study
+  // started drawing)
+  std::ofstream(work / "script.py") << "import signal\n"
+                                       "for s in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):\n"
+                                       "    signal.signal(s, signal.SIG_DFL)\n"
+                                    << script;
   const char* python = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
   std::string command = std::string(python) + " " + Quote((work / "script.py").string());
   for (const std::string& a : args) command += " " + Quote(a);
@@ -40,8 +46,8 @@ void RunMatplotlib(const std::string& script, const std::vector<std::string>& ar
   fs::remove_all(work);
   while (!errors.empty() && errors.back() == '\n') errors.pop_back();
   const std::string last_error = errors.substr(errors.rfind('\n') + 1);
-  // killed by a signal: the shell itself, or python under it (the shell then exits with 128 + the signal), or
-  // python's own KeyboardInterrupt (some phases of its start exit with status 1 after it)
+  // killed by a signal: the shell itself, or python under it (the shell then exits with 128 + the signal), or,
+  // before the script's first line restores the default action, python's own KeyboardInterrupt
   const int signal = WIFSIGNALED(status)                                ? WTERMSIG(status)
                      : WIFEXITED(status) && WEXITSTATUS(status) > 128   ? WEXITSTATUS(status) - 128
                      : status != 0 && last_error == "KeyboardInterrupt" ? SIGINT
