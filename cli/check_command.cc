@@ -59,6 +59,11 @@ class CheckCommand final : public Command {
                   : l.high_active ? "active at the start on its high bound"
                                   : "inactive at the start");
     }
+    for (const ContactCheck& contact : c.contacts) {
+      std::printf("contact: %s (/shapes/%d, /shapes/%d): gap %.9g m at the start, %s\n", contact.pair.c_str(),
+                  contact.shape_a, contact.shape_b, contact.gap, contact.touching ? "touching" : "apart");
+    }
+    if (c.contacts.empty() && !scene.model.shapes.empty()) std::printf("contact: no pair of shapes may touch\n");
     if (!c.assembly_error.empty()) {
       std::printf("cannot be assembled: %s\n", c.assembly_error.c_str());
       return 1;  // simulate refuses this scene

@@ -16,7 +16,7 @@
 
 #include "tether/dynamics/constraints/constraint_rows.h"
 #include "tether/dynamics/constraints/joint_coordinates.h"
-#include "tether/dynamics/integration/limit_events.h"
+#include "tether/dynamics/integration/unilateral_events.h"
 #include "tether/dynamics/model/configuration_space.h"
 #include "tether/dynamics/model/errors.h"
 #include "tether/dynamics/model/rotation.h"
@@ -261,9 +261,9 @@ TEST(JointKinds, EachTypeIsOneRowWhoseRowsAndCoordinatesAreItsParts) {
     limited.joints[0].range.has_low = true;
     limited.joints[0].range.low = -10.0;
     if (kind.limitable && (angle || HasDisplacement(kind))) {
-      EXPECT_EQ(LimitEvents<double>(limited).size(), 1) << kind.name;  // its low side
+      EXPECT_EQ(UnilateralEvents<double>(limited).size(), 1) << kind.name;  // its low side
     } else {
-      EXPECT_THROW(LimitEvents<double>{limited}, InputError) << kind.name;
+      EXPECT_THROW(UnilateralEvents<double>{limited}, InputError) << kind.name;
     }
   }
   EXPECT_EQ(FindJointKind("ball"), nullptr);

@@ -131,6 +131,11 @@ std::string DescribeConstraint(const Model<T>& model, int scene_index) {
   for (const auto& c : model.user_constraints) {
     if (c.scene_index == scene_index) return describe("user-defined", c.body_a, c.body_b);
   }
+  if (scene_index >= model.NumConstraints() && !model.shapes.empty()) {  // a contact pair's row
+    const std::vector<ContactPair> pairs = BuildContactGeometry(model).pairs;
+    const size_t pair = static_cast<size_t>(scene_index - model.NumConstraints());
+    if (pair < pairs.size()) return "the contact " + pairs[pair].label;
+  }
   return "no constraint";
 }
 
@@ -144,7 +149,7 @@ Stepper<T>::Stepper(const Model<T>& model, const RunOptions& options, Observer o
       integrator_(model),
       scale_(LengthScale(model)),
       h_(model.simulation.step),
-      limits_(model) {
+      gaps_(model) {
   if (options.every < 1) throw InputError("RunOptions::every must be >= 1, got " + std::to_string(options.every));
   const double duration = model.simulation.duration;
   const double t0 = options.start_time;
@@ -167,7 +172,7 @@ Stepper<T>::Stepper(const Model<T>& model, const RunOptions& options, Observer o
   v_projected_ = state_.v;
   settle_ = [this](double t, VecX<T>* q, VecX<T>* v) { return Settle(t, q, v); };
   // a limit the run starts on, at rest or moving into it
-  if (!limits_.empty()) limits_.Resolve(t0, h_, -1, &state_.q, &state_.v, &ws_, &report_);
+  if (!gaps_.empty()) gaps_.Resolve(t0, h_, -1, &state_.q, &state_.v, &ws_, &report_);
 }
 
 template <typename T>
@@ -260,7 +265,12 @@ bool Stepper<T>::Settle(double t, VecX<T>* q, VecX<T>* v) {
 // One step of the plan from t to t + dt, split at the events of the joint limits inside it (stepper.h).
 template <typename T>
 void Stepper<T>::Advance(double t, double dt) {
-  if (limits_.empty()) return AdvanceSmooth(t, dt);
+  if (gaps_.empty()) return AdvanceSmooth(t, dt);
+  if (gaps_.stepping()) {  // events taken where the step ends (docs/contact.md, "Time stepping")
+    AdvanceSmooth(t, dt);
+    if (CollectDue(t + dt)) gaps_.Resolve(t + dt, h_, -1, &state_.q, &state_.v, &ws_, &report_);
+    return;
+  }
   const double t_end = t + dt;
   for (int events = 0; events < kMostEventsPerStep; ++events) {
     SaveInto(&before_);
@@ -268,7 +278,7 @@ void Stepper<T>::Advance(double t, double dt) {
     const double tau = FirstEvent(t, t_end - t);  // leaves the state at the event
     if (tau < 0.0) return;
     t += tau;
-    limits_.Resolve(t, h_, capture_, &state_.q, &state_.v, &ws_, &report_);
+    gaps_.Resolve(t, h_, capture_, &state_.q, &state_.v, &ws_, &report_);
     if (t_end - t <= kEventTimeTolerance * h_) {  // the event closes the step
       if (t < t_end) AdvanceSmooth(t, t_end - t);
       return;
@@ -278,29 +288,33 @@ void Stepper<T>::Advance(double t, double dt) {
                         " joint-limit events within one step (a sequence of impacts that does not end)");
 }
 
+// The sides due for an event at time t (the state now): inactive ones overlapping, active ones pulling.
+template <typename T>
+bool Stepper<T>::CollectDue(double t) {
+  due_.clear();
+  gaps_.Overlapping(state_.q, &ws_, &due_);
+  if (!gaps_.active_order().empty()) {
+    gaps_.Multipliers(t, state_.q, state_.v, &ws_, &multipliers_);
+    for (size_t j = 0; j < multipliers_.size(); ++j) {
+      if (multipliers_[j] < 0.0) due_.push_back(gaps_.active_order()[j]);
+    }
+  }
+  return !due_.empty();
+}
+
 // After a step from t of dt (the state saved in before_): the time from t of the first event within it, the
 // state left there (just past it: a gap closed, or a multiplier turned negative); -1 with the state at t + dt
 // when there is none.
 template <typename T>
 double Stepper<T>::FirstEvent(double t, double dt) {
-  due_.clear();
-  for (int i = 0; i < limits_.size(); ++i) {
-    if (!limits_.active(i) && limits_.GapFromTracked(i, ws_.coordinates) < 0.0) due_.push_back(i);
-  }
-  if (!limits_.active_order().empty()) {
-    limits_.Multipliers(t + dt, state_.q, state_.v, &ws_, &multipliers_);
-    for (size_t j = 0; j < multipliers_.size(); ++j) {
-      if (multipliers_[j] < 0.0) due_.push_back(limits_.active_order()[j]);
-    }
-  }
-  if (due_.empty()) return -1.0;
+  if (!CollectDue(t + dt)) return -1.0;
   double first = dt;
   capture_ = -1;
   for (int i : due_) {
     const double tau = Locate(i, t, first);
     if (tau < first) {
       first = tau;
-      capture_ = tau == 0.0 && !limits_.active(i) ? i : -1;  // a held side at 0 just releases
+      capture_ = tau == 0.0 && !gaps_.active(i) ? i : -1;  // a held side at 0 just releases
     }
   }
   Restore(before_);
@@ -317,13 +331,13 @@ double Stepper<T>::Locate(int side, double t, double dt) {
   auto value_after = [&](double tau) {
     Restore(before_);
     if (tau > 0.0) AdvanceSmooth(t, tau);
-    return limits_.EventValue(side, t + tau, state_.q, state_.v, &ws_);
+    return gaps_.EventValue(side, t + tau, state_.q, state_.v, &ws_);
   };
   double hi = dt, f_hi = value_after(dt);
   if (!(f_hi < 0.0)) return dt;
   double lo = 0.0, f_lo = value_after(0.0);
   // a gap at zero at the start (it has just opened): bracket from the first probe where it is open
-  const bool gap = !limits_.active(side);
+  const bool gap = !gaps_.active(side);
   for (double probe = kCaptureFlight * dt; gap && !(f_lo > 0.0) && probe < dt; probe *= 2.0) {
     const double f = value_after(probe);
     if (f > 0.0) {
@@ -436,7 +450,7 @@ void Stepper<T>::SaveInto(Carry* carry) const {
   memory.integrator = integrator_.memory();
   memory.solver = ws_.solver->memory();
   memory.coordinate_branches = ws_.coordinates.last;
-  memory.active_limits = limits_.active_set();
+  memory.active_sides = gaps_.active_set();
 }
 
 template <typename T>
@@ -448,7 +462,7 @@ void Stepper<T>::Restore(const Carry& carry) {
   time_ = memory.time;
   next_stop_ = memory.next_stop;
   integrator_.Restore(memory.integrator);
-  limits_.SetActiveSet(memory.active_limits, &ws_);  // before the solver's memory: the set picks the solver
+  gaps_.SetActiveSet(memory.active_sides, &ws_);  // before the solver's memory: the set picks the solver
   ws_.solver->Restore(memory.solver);
   ws_.coordinates.last = memory.coordinate_branches;
 }

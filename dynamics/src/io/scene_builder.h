@@ -144,9 +144,9 @@ class SceneBuilder {
 
   // The model, and the record of where each of its numbers came from.
   void Build(Model<double>* model, SceneNumbers* numbers) {
-    check_.Object(
-        doc_, "",
-        {"dimension", "bodies", "constraints", "effects", "markers", "shapes", "simulation", "stabilization"});
+    check_.Object(doc_, "",
+                  {"dimension", "bodies", "constraints", "contact", "effects", "markers", "shapes", "simulation",
+                   "stabilization"});
     if (const json* d = check_.Optional(doc_, "dimension")) {
       const double dim = check_.Number(*d, "/dimension");
       if (dim != 2 && dim != 3) check_.Fail("/dimension", "must be 2 or 3, got " + Format(dim));
@@ -156,7 +156,9 @@ class SceneBuilder {
     if (const json* c = check_.Optional(doc_, "constraints")) ReadConstraints(*c);
     CheckRowsOnEachBody();
     if (const json* m = check_.Optional(doc_, "markers")) ReadMarkers(*m);
+    if (const json* c = check_.Optional(doc_, "contact")) ReadContact(*c);
     if (const json* shapes = check_.Optional(doc_, "shapes")) ReadShapes(*shapes);
+    if (!model_.shapes.empty()) CheckContactPairs();
     if (const json* e = check_.Optional(doc_, "effects")) ReadEffects(*e);
     if (const json* s = check_.Optional(doc_, "simulation")) ReadSimulation(*s);
     if (const json* s = check_.Optional(doc_, "stabilization")) ReadStabilization(*s);
@@ -454,7 +456,7 @@ class SceneBuilder {
   }
 
   // A joint's "range" [low, high] (rad or m, either side null for open) and "restitution" e in [0, 1]: its
-  // limits (limit_events.h). The coordinate at the start (a hinge's or pin's "angle" key, a prismatic joint's
+  // limits (unilateral_events.h). The coordinate at the start (a hinge's or pin's "angle" key, a prismatic joint's
   // displacement from the initial positions) must lie within the range.
   void ReadRange(const json& c, const std::string& at, Joint<double>* joint) const {
     const json* range = check_.Optional(c, "range");
@@ -615,13 +617,12 @@ class SceneBuilder {
 
   // Contact shapes (docs/contract.md) are not simulated yet: an empty list is the scene without them, and any shape is
   // refused rather than silently left out of the motion.
-  void ReadShapes(const json& shapes) const {
-    check_.Array(shapes, "/shapes");
-    if (!shapes.empty()) {
-      check_.Fail("/shapes/0", "contact shapes are not simulated yet (joint limits are: a joint's \"range\"); "
-                               "remove \"shapes\" or leave it empty");
-    }
-  }
+  // "contact" (the law's defaults and the excluded body pairs) and "shapes", read by shape_reader.cc.
+  void ReadContact(const json& contact);
+  void ReadShapes(const json& shapes);
+  // Every pair the rules let touch has its gaps (contact_geometry.h).
+  void CheckContactPairs() const;
+  ContactMode ContactModeNamed(const json& j, const std::string& at) const;
 
   void ReadMarkers(const json& markers) {
     check_.Array(markers, "/markers");
@@ -718,7 +719,7 @@ class SceneBuilder {
   }
 
   void ReadSimulation(const json& s) {
-    check_.Object(s, "/simulation", {"integrator", "step", "duration", "tolerance", "solver"});
+    check_.Object(s, "/simulation", {"integrator", "step", "duration", "tolerance", "solver", "contact"});
     SimulationSettings& sim = model_.simulation;
     if (const json* i = check_.Optional(s, "integrator")) {
       sim.integrator =
@@ -730,6 +731,7 @@ class SceneBuilder {
     if (const json* k = check_.Optional(s, "solver")) {
       sim.solver = ParseKktSolver(check_.String(*k, "/simulation/solver"), check_.Where("/simulation/solver"));
     }
+    if (const json* c = check_.Optional(s, "contact")) sim.contact = ContactModeNamed(*c, "/simulation/contact");
     CheckStepCount(sim, check_.Where("/simulation/duration"));
   }
 

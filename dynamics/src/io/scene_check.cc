@@ -8,6 +8,7 @@
 #include <Eigen/SparseCore>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <set>
 #include <stdexcept>
 
@@ -49,34 +50,49 @@ double EstimatedCondition(const Eigen::SparseMatrix<double>& a, const std::vecto
   return std::sqrt(largest * smallest_inverse);
 }
 
-// The limited joints at the start of a run; assembles the initial state once (InputError when it cannot), by the
-// stepper where there are limits (its start resolves them).
-std::vector<LimitCheck> CheckLimits(const Model<double>& model) {
-  if (!HasJointLimits(model)) {
+// The limited joints and the contact pairs at the start of a run; assembles the initial state once (InputError
+// when it cannot), by the stepper where there are limits or shapes (its start resolves them).
+void CheckGaps(const Model<double>& model, SceneCheck* check) {
+  if (!HasJointLimits(model) && model.shapes.empty()) {
     RunReport report;
     AssembledInitialState(model, &report);
-    return {};
+    return;
   }
   Stepper<double> stepper(model, RunOptions{}, [](const Sample<double>&) {});
-  std::vector<LimitCheck> out;
-  const LimitEvents<double>& sides = stepper.limits();
+  std::vector<LimitCheck>& out = check->limits;
+  const UnilateralEvents<double>& sides = stepper.gaps();
+  const ContactGeometry& contacts = sides.contacts();
+  for (const ContactPair& pair : contacts.pairs) {
+    check->contacts.push_back({pair.label, pair.a, pair.b, std::numeric_limits<double>::infinity(), false});
+  }
+  const State<double>& start = stepper.state();
+  BodyFrames<double> frames;
+  UpdateFrames(model, start.q, start.v, false, &frames);
   for (int i = 0; i < sides.size(); ++i) {
-    const Joint<double>& joint = model.joints[sides.side(i).joint];
+    const auto& side = sides.side(i);
+    if (side.feature >= 0) {
+      const ContactFeature& feature = contacts.features[side.feature];
+      ContactCheck& pair = check->contacts[feature.pair];
+      const double gap = FeatureGapValue(model, feature, frames, start.q);
+      pair.gap = std::min(pair.gap, gap);
+      pair.touching = pair.touching || sides.active(i) || gap <= kTouching;
+      continue;
+    }
+    const Joint<double>& joint = model.joints[side.joint];
     if (out.empty() || out.back().constraint != joint.scene_index) {
       LimitCheck c;
       c.constraint = joint.scene_index;
       c.name = joint.name;
       c.coordinate = LimitedCoordinate(JointKindOf(joint.type)) == JointCoordinate::kAngle ? "angle" : "displacement";
-      c.start = stepper.coordinates().last[sides.side(i).coordinate];
+      c.start = stepper.coordinates().last[side.coordinate];
       c.has_low = joint.range.has_low;
       c.has_high = joint.range.has_high;
       c.low = joint.range.low;
       c.high = joint.range.high;
       out.push_back(c);
     }
-    (sides.side(i).side > 0 ? out.back().low_active : out.back().high_active) = sides.active(i);
+    (side.side > 0 ? out.back().low_active : out.back().high_active) = sides.active(i);
   }
-  return out;
 }
 
 }  // namespace
@@ -93,7 +109,7 @@ SceneCheck CheckScene(const Model<double>& model) {
   check.solver = SchurSolver(pattern, model.simulation.solver).kind() == KktSolver::kDense ? "dense" : "sparse";
   check.degrees_of_freedom = check.coordinates;
   try {
-    check.limits = CheckLimits(model);
+    CheckGaps(model, &check);
   } catch (const InputError& e) {
     check.assembly_error = e.what();
   }
@@ -190,6 +206,13 @@ nlohmann::json SceneCheckJson(const SceneCheck& c) {
                              {"start", l.start},
                              {"range", {low, high}},
                              {"active", active}});
+  }
+  out["contacts"] = nlohmann::json::array();
+  for (const ContactCheck& contact : c.contacts) {
+    out["contacts"].push_back({{"pair", contact.pair},
+                               {"shapes", {contact.shape_a, contact.shape_b}},
+                               {"gap", contact.gap},
+                               {"touching", contact.touching}});
   }
   return out;
 }

@@ -57,6 +57,20 @@ int AppendBody(Model<T>* model, Body<T> body, int q_size, int v_size) {
 
 }  // namespace
 
+const char* ShapeTypeName(ShapeType type) {
+  switch (type) {
+    case ShapeType::kSphere:
+      return "sphere";
+    case ShapeType::kCapsule:
+      return "capsule";
+    case ShapeType::kBox:
+      return "box";
+    case ShapeType::kPlane:
+      return "plane";
+  }
+  return "?";
+}
+
 std::int64_t StepCount(const SimulationSettings& simulation) {
   const double steps = std::ceil(simulation.duration / simulation.step - 1e-9);
   if (!(steps <= static_cast<double>(kMaxSteps))) return kMaxSteps + 1;  // NaN too
@@ -111,6 +125,8 @@ Model<U> CastModel(const Model<double>& m) {
   }
   out.user_constraints = m.user_constraints;
   for (const Marker<double>& k : m.markers) out.markers.push_back({k.name, k.point.template Cast<U>()});
+  for (const Shape<double>& shape : m.shapes) out.shapes.push_back(shape.template Cast<U>());
+  out.contact = m.contact.template Cast<U>();
   ForEachEffectList(
       [](auto& to, const auto& from) {
         for (const auto& effect : from) to.push_back(effect.template Cast<U>());

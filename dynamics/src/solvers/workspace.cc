@@ -79,11 +79,11 @@ Workspace<T>::Workspace(const Model<T>& model, const VecX<T>& q_start, bool fact
 }
 
 template <typename T>
-void Workspace<T>::SetActiveLimits(const Model<T>& model, const std::vector<LimitPrimitive<T>>& limits) {
+void Workspace<T>::SetActiveGaps(const Model<T>& model, const std::vector<LimitPrimitive<T>>& limits,
+                                 const std::vector<ContactPrimitive>& contacts, const std::vector<int>& key) {
   constraints.limits = limits;
+  constraints.contacts = contacts;
   infos = DescribeRows(model, constraints);
-  std::vector<int> key;  // the active sides
-  for (const LimitPrimitive<T>& limit : limits) key.push_back(2 * limit.scene_index + (limit.side > 0));
   auto shape = std::find_if(shapes.begin(), shapes.end(), [&key](const auto& s) { return s.first == key; });
   if (shape == shapes.end()) {
     shapes.emplace_back(key, std::make_unique<SchurShape>(infos, layout, model.simulation.solver, factor_jet_matrices));

@@ -8,7 +8,7 @@
 //   seconds_per_simulated_second   seconds / the scene's duration
 //   alpha, beta                    the Baumgarte gains the run used (0 without Baumgarte; the default rule's when
 //                                  the scene names none; the tuner's for "tuned")
-//   events                         the joint limits' events of the run (impacts and releases, limit_events.h)
+//   events                         the joint limits' events of the run (impacts and releases, unilateral_events.h)
 // A row whose run diverges, or whose gains cannot be tuned (the simulation diverges at every starting gain),
 // gets NaN metrics and its message in `status`. Rows that differ only in integrator or
 // stabilization share one reference motion.

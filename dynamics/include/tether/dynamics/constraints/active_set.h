@@ -7,7 +7,7 @@
 // motion keeps its integrator's order and its derivatives are the implicit function theorem's. Unlike Lemke's
 // method it never lets a left-out row back in: exact for one row, and for rows that do not share a body; where
 // coupled rows leave one out whose gap then closes, that gap is the next event the stepper locates. Joint limits use it
-// for an impact's impulses and for the rows held at rest (limit_events.h).
+// for an impact's impulses and for the rows held at rest (unilateral_events.h).
 #pragma once
 
 #include <cstddef>

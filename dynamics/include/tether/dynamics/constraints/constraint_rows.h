@@ -13,10 +13,12 @@
 //              J v = (w_A - w_B) . (u x w),
 //              Jdot v = (w_A - w_B) . ((w_A x u) x w + u x (w_B x w))
 //   user       any residual of two bodies' coordinates, derived automatically (user_constraint.h)
-//   limit      an active joint limit (limit_events.h), one-sided: the gap g = s (x - bound) >= 0 of a joint
+//   limit      an active joint limit (unilateral_events.h), one-sided: the gap g = s (x - bound) >= 0 of a joint
 //              coordinate x (s = +1 at the low bound, -1 at the high one), J = s dx'/dv, Jdot v = s bias
 //              (joint_coordinates.h); its value is min(g, 0), the violation, so that the stabilization pushes
 //              the bodies apart where they overlap and never pulls them together
+//   contact    an active contact feature (contact_geometry.h): a line row (a vertex against a plane) or a
+//              distance row (closest points) whose value is the gap g, one-sided and clamped like a limit's
 //
 // The joints' parts (joint_kinds.h, which lists each joint's) as primitives; "at the start" is the state the set
 // is built at:
@@ -36,6 +38,7 @@
 
 #include <vector>
 
+#include "tether/dynamics/constraints/contact_features.h"
 #include "tether/dynamics/constraints/joint_coordinates.h"
 #include "tether/dynamics/model/kinematics.h"
 
@@ -109,8 +112,15 @@ struct LimitPrimitive {
   T bound = T(0.0);                   // rad or m
 };
 
+// An active contact feature: the gap g >= 0 between two shapes (contact_geometry.h).
+struct ContactPrimitive {
+  int scene_index = 0;  // model.NumConstraints() + the pair's index: past the constraints (DescribeConstraint)
+  int body_a = kWorld, body_b = kWorld;
+  ContactFeature feature;
+};
+
 // A run's constraint primitives, stored by kind; rows are laid out in this order, then the user constraints,
-// then the active limits (set by the run as they engage and release: limit_events.h).
+// then the active limits and contacts (set by the run as they engage and release: unilateral_events.h).
 template <typename T>
 struct ConstraintSet {
   std::vector<DistancePrimitive<T>> distances;
@@ -118,6 +128,7 @@ struct ConstraintSet {
   std::vector<LinePrimitive<T>> lines;
   std::vector<AnglePrimitive<T>> angles;
   std::vector<LimitPrimitive<T>> limits;
+  std::vector<ContactPrimitive> contacts;
 };
 
 // The primitives of the model's constraints, with the quantities fixed at the start taken at configuration q.

@@ -6,6 +6,7 @@
 
 #include "tether/dynamics/adjoint/recorded.h"
 #include "tether/dynamics/constraints/constraint_rows.h"
+#include "tether/dynamics/constraints/contact_geometry.h"
 #include "tether/dynamics/constraints/user_constraint.h"
 
 namespace tether {
@@ -79,6 +80,33 @@ template <typename T>
 const BodyFrame<T>* FrameOf(const Model<T>& model, const BodyFrames<T>& frames, int body);
 template <typename T>
 BodyVector<T> Turning(const Model<T>& model, const BodyFrames<T>& frames, int body, const Vec3<T>& g_W);
+
+// A line primitive's rows: C_k = n_k . (p_b - p_a) - c_k with n_k = R_WA n_k^A turning with A,
+// J v = n . d' + w_A . (n x d), Jdot v = n . (c_B - c_A) + 2 (w_A x n) . d' + (w_A x (w_A x n)) . d.
+// Returns the row after them.
+template <typename T>
+TETHER_HOT_INLINE ConstraintRow<T>* EvaluateLineRows(const Model<T>& model, const BodyFrames<T>& frames,
+                                                     const LinePrimitive<T>& c, const VecX<T>& q, const VecX<T>& v,
+                                                     bool velocity_terms, ConstraintRow<T>* row) {
+  const bool vt = velocity_terms;
+  const PointMotion<T> pa = MovePoint(model, frames, c.a, q, v, vt), pb = MovePoint(model, frames, c.b, q, v, vt);
+  const BodyFrame<T>* frame_a = FrameOf(model, frames, c.a.body);
+  const Vec3<T> w_A = frame_a && velocity_terms ? frame_a->w_W : Zero3<T>();
+  const Vec3<T> d = pb.position - pa.position;
+  for (int k = 0; k < c.rows; ++k, ++row) {
+    const Vec3<T> n = frame_a ? Vec3<T>(frame_a->R_WB * c.normals[k]) : c.normals[k];
+    row->value = n.dot(d) - c.offsets[k];
+    row->a = PointGradient(model, frames, c.a.body, Vec3<T>(-n), pa);
+    if (frame_a) row->a.rotation += RotationalPart(model, frames, c.a.body, Vec3<T>(n.cross(d)));  // n turns with A
+    row->b = PointGradient(model, frames, c.b.body, n, pb);
+    if (velocity_terms) {
+      const Vec3<T> dv = pb.velocity - pa.velocity;
+      const Vec3<T> turn = w_A.cross(n);
+      row->bias = n.dot(pb.centripetal - pa.centripetal) + T(2.0) * turn.dot(dv) + w_A.cross(turn).dot(d);
+    }
+  }
+  return row;
+}
 
 // An angle primitive's rows: C_k = u_k . w_k - c_k with u_k = R_WA u_k^A, w_k = R_WB w_k^B,
 // J = (u x w, -(u x w)) on the rotations, Jdot v = (w_A - w_B) . ((w_A x u) x w + u x (w_B x w)).
@@ -289,6 +317,7 @@ std::vector<RowInfo> DescribeRows(const Model<T>& model, const ConstraintSet<T>&
   for (const auto& c : set.angles) add(c.scene_index, c.body_a, c.body_b, c.rows);
   for (const auto& c : model.user_constraints) add(c.scene_index, c.body_a, c.body_b, c.residual->NumRows());
   for (const auto& c : set.limits) add(c.scene_index, c.body_a, c.body_b, 1, RowLaw::kGap);
+  for (const auto& c : set.contacts) add(c.scene_index, c.body_a, c.body_b, 1, RowLaw::kGap);
   return infos;
 }
 
@@ -309,24 +338,7 @@ TETHER_FLATTEN void EvaluateConstraintRows(const Model<T>& model, const Constrai
   } else {
     for (const PointPrimitive<T>& c : set.points) row = internal::EvaluatePointRows(model, frames, c, q, v, vt, row);
   }
-  for (const LinePrimitive<T>& c : set.lines) {
-    const PointMotion<T> pa = MovePoint(model, frames, c.a, q, v, vt), pb = MovePoint(model, frames, c.b, q, v, vt);
-    const BodyFrame<T>* frame_a = internal::FrameOf(model, frames, c.a.body);
-    const Vec3<T> w_A = frame_a && velocity_terms ? frame_a->w_W : Zero3<T>();
-    const Vec3<T> d = pb.position - pa.position;
-    for (int k = 0; k < c.rows; ++k, ++row) {
-      const Vec3<T> n = frame_a ? Vec3<T>(frame_a->R_WB * c.normals[k]) : c.normals[k];
-      row->value = n.dot(d) - c.offsets[k];
-      row->a = PointGradient(model, frames, c.a.body, Vec3<T>(-n), pa);
-      if (frame_a) row->a.rotation += RotationalPart(model, frames, c.a.body, Vec3<T>(n.cross(d)));  // n turns with A
-      row->b = PointGradient(model, frames, c.b.body, n, pb);
-      if (velocity_terms) {
-        const Vec3<T> dv = pb.velocity - pa.velocity;
-        const Vec3<T> turn = w_A.cross(n);
-        row->bias = n.dot(pb.centripetal - pa.centripetal) + T(2.0) * turn.dot(dv) + w_A.cross(turn).dot(d);
-      }
-    }
-  }
+  for (const LinePrimitive<T>& c : set.lines) row = internal::EvaluateLineRows(model, frames, c, q, v, vt, row);
   if (ConstraintRow<T>* next = RecordedAngleRows(model, set.angles, frames, vt, row)) {
     row = next;
   } else {
@@ -359,6 +371,7 @@ TETHER_FLATTEN void EvaluateConstraintRows(const Model<T>& model, const Constrai
     if (velocity_terms) row->bias = side * CoordinateBias(model, c.coordinate, frames, q, v);
     ++row;
   }
+  for (const ContactPrimitive& c : set.contacts) row = EvaluateContactRow(model, c.feature, frames, q, v, vt, row);
 }
 
 template <typename T>

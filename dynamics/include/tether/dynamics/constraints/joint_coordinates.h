@@ -8,7 +8,7 @@
 //                last value), theta' = (w_B - w_A) . a
 //   pin (2D)     theta = theta_0 + (theta_B - theta_A) - (theta_B - theta_A)_start,   theta' = w_B - w_A
 //   displacement s = u . (p_B - p_A), u = R_WA a / |a|:  s' = u . (p_B' - p_A') + w_A . (u x (p_B - p_A))
-// and, for a joint limit's row (limit_events.h), the velocity product of the second derivative,
+// and, for a joint limit's row (unilateral_events.h), the velocity product of the second derivative,
 // coordinate'' = (dq'/dv) v' + bias:
 //   hinge        bias = (w_B - w_A) . (w_A x a_W)          pin (2D)  bias = 0
 //   displacement bias = u . (c_B - c_A) + 2 (w_A x u) . d' + (w_A x (w_A x u)) . d   (d = p_B - p_A, c the

@@ -1,7 +1,7 @@
 // One descriptor per joint type: what tether knows of a joint, in one place. Its scene name and keys (read by
 // the scene reader), the primitive parts its rows are made of (constraint_rows.h: BuildConstraintSet composes
 // them, as Jolt's HingeConstraint composes a point part and a rotation part), its coordinates
-// (joint_coordinates.h: CSV columns, motors, springs) and whether its coordinate takes a limit (limit_events.h:
+// (joint_coordinates.h: CSV columns, motors, springs) and whether its coordinate takes a limit (unilateral_events.h:
 // the limit's row is built from that coordinate's row). A joint type made of existing parts is one row of
 // kJointKinds and its JointType; a joint with a new kind of row adds that part here and its rows in
 // constraint_rows_impl.h.

@@ -53,7 +53,7 @@ struct RunOptions {
   bool energy = true;
 };
 
-// An event of a unilateral constraint (limit_events.h): the rows of `tether simulate --events`.
+// An event of a unilateral constraint (unilateral_events.h): the rows of `tether simulate --events`.
 struct RunEvent {
   double t = 0.0;
   std::string kind;                              // "impact" or "release"

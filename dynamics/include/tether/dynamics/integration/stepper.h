@@ -6,7 +6,7 @@
 // The plan of a run: the grid t_k = start_time + k h (the last step shortened to land on the duration), each
 // step split at a requested stop time that falls inside it. Step() takes one step of the plan (to the next grid
 // time or to a stop), stabilizes, checks for divergence, and emits the samples due there. A scene with joint
-// limits also splits a step at each event inside it (limit_events.h): the step is taken whole, and when a gap
+// limits also splits a step at each event inside it (unilateral_events.h): the step is taken whole, and when a gap
 // closed or an active limit's multiplier turned negative in it, the first such event is located by root finding
 // on the step's size (Illinois' regula falsi on the event function, to kEventTimeTolerance of the step), the
 // step is taken again up to the event, the event resolved, and the rest of the step taken the same way.
@@ -17,8 +17,8 @@
 #include <vector>
 
 #include "tether/dynamics/integration/integrators.h"
-#include "tether/dynamics/integration/limit_events.h"
 #include "tether/dynamics/integration/simulator.h"
+#include "tether/dynamics/integration/unilateral_events.h"
 #include "tether/dynamics/model/errors.h"
 
 namespace tether {
@@ -33,10 +33,10 @@ struct StepperMemory {
   IntegratorMemory integrator;
   SolverMemory solver;
   std::vector<double> coordinate_branches;
-  std::vector<char> active_limits;  // per side of a joint range (limit_events.h)
+  std::vector<char> active_sides;  // per side of a joint range (unilateral_events.h)
   // bytes held besides the struct itself
   std::int64_t HeapBytes() const {
-    return static_cast<std::int64_t>(coordinate_branches.size() * sizeof(double) + active_limits.size());
+    return static_cast<std::int64_t>(coordinate_branches.size() * sizeof(double) + active_sides.size());
   }
 };
 
@@ -69,7 +69,8 @@ class Stepper {
   void SaveInto(Carry* carry) const;
   const RunReport& report() const { return report_; }
   const State<T>& state() const { return state_; }          // (q, v) now
-  const LimitEvents<T>& limits() const { return limits_; }  // the joint limits' sides and which are active
+  // the joint limits' sides and the contact features, and which are active
+  const UnilateralEvents<T>& gaps() const { return gaps_; }
   const JointCoordinates<T>& coordinates() const { return ws_.coordinates; }  // their values now (`last`)
   // The KKT log of the steps to come (kkt_log.h), or nullptr: a double stepper keeps its solves in it, a Rev
   // stepper replaying the same step takes them back.
@@ -79,6 +80,7 @@ class Stepper {
   void Emit(double t, bool output, int stop);
   void Advance(double t, double dt);
   void AdvanceSmooth(double t, double dt);
+  bool CollectDue(double t);
   double FirstEvent(double t, double dt);
   double Locate(int side, double t, double dt);
   SimulationDiverged Diverged(double t, const std::string& what) const;
@@ -102,7 +104,7 @@ class Stepper {
   VecX<T> coordinates_, rates_, q_projected_, v_projected_;
   VecX<T> q_values_, v_values_;  // the state's values alone, for tracking the joint angles' branches
   SettleState<T> settle_;
-  LimitEvents<T> limits_;
+  UnilateralEvents<T> gaps_;
   std::vector<int> due_;             // the sides whose event lies within the step being taken
   std::vector<double> multipliers_;  // the active sides' at its end
   int capture_ = -1;                 // the side the located event captures, or -1

@@ -10,7 +10,9 @@
 //   condition   largest / smallest of the r singular values kept (the conditioning of the Schur complement
 //               S = J M^-1 J^T is its square).
 // Joint limits: each limited joint's coordinate at the assembled start, its range, and which side is active
-// there (resting on its bound and pressed into it: the run starts with that side's row).
+// there (resting on its bound and pressed into it: the run starts with that side's row). Contact: every pair of
+// shapes the pair rules let touch (contact_geometry.h), its smallest gap at the assembled start and whether it
+// touches there (a feature within kTouching of zero, or held: the run starts with its row).
 // The initial violation is the largest constraint violation at the initial state, before assembly; the assembly
 // error is what Simulate would refuse the scene with (AssembledInitialState, simulator.h), empty when it
 // assembles.
@@ -43,6 +45,13 @@ struct LimitCheck {
   bool low_active = false, high_active = false;
 };
 
+struct ContactCheck {
+  std::string pair;              // "A|B", the shapes' labels
+  int shape_a = 0, shape_b = 0;  // scene indices
+  double gap = 0.0;              // the smallest of its features' gaps at the assembled start, m
+  bool touching = false;
+};
+
 struct SceneCheck {
   int coordinates = 0;  // velocity coordinates (v's size)
   int constraint_rows = 0;
@@ -56,13 +65,15 @@ struct SceneCheck {
   std::string solver;                      // the KKT path `auto` picks: dense or sparse
   std::string assembly_error;              // empty when the initial state can be assembled
   std::vector<LimitCheck> limits;          // in scene order (when the scene assembles)
+  std::vector<ContactCheck> contacts;      // the pairs, in scene order (when the scene assembles)
 };
 
 SceneCheck CheckScene(const Model<double>& model);
 
 // `tether check --json` (and the Python module's check): the fields above by name, `worst_constraint` only where
 // there is one, `assembles`, `assembly_error` where it is not empty, and `limits` (each with `constraint`, `name`,
-// `coordinate`, `start`, `range` with null for an open side, and `active`: "low", "high" or null).
+// `coordinate`, `start`, `range` with null for an open side, and `active`: "low", "high" or null), and `contacts`
+// (each with `pair`, `shapes` [a, b], `gap` and `touching`).
 nlohmann::json SceneCheckJson(const SceneCheck& check);
 
 }  // namespace tether

@@ -33,6 +33,7 @@
 #include "tether/dynamics/effects/spring.h"
 #include "tether/dynamics/effects/torque.h"
 #include "tether/dynamics/model/bodies.h"
+#include "tether/dynamics/model/shapes.h"
 
 namespace tether {
 
@@ -45,7 +46,8 @@ enum class Stabilization { kNone, kBaumgarte, kProjection };
 enum class KktSolver { kAuto, kDense, kSparse };
 
 // A joint's limits on its coordinate (hinge, prismatic, 2D hinge pin): the gaps coordinate - low >= 0 and
-// high - coordinate >= 0, each side present or open; Newton's restitution e at an impact on either (limit_events.h).
+// high - coordinate >= 0, each side present or open; Newton's restitution e at an impact on either
+// (unilateral_events.h).
 template <typename T>
 struct JointRange {
   bool has_low = false, has_high = false;
@@ -89,6 +91,7 @@ struct SimulationSettings {
   double duration = 1.0;    // s
   double tolerance = 1e-8;  // rk45's local error tolerance (absolute and relative)
   KktSolver solver = KktSolver::kAuto;
+  ContactMode contact = ContactMode::kEvents;  // how contacts are resolved (docs/contact.md)
 };
 
 // A run's number of steps, ceil(duration / step) and at least one, saturating above kMaxSteps: the most a run
@@ -119,6 +122,8 @@ struct Model {
   std::vector<Joint<T>> joints;
   std::vector<UserConstraintInstance> user_constraints;
   std::vector<Marker<T>> markers;
+  std::vector<Shape<T>> shapes;  // in scene order
+  ContactSettings<T> contact;
 
   // the effects, a list per kind (ForEachEffectList below visits them all)
   std::vector<GravityEffect<T>> gravity;
@@ -165,7 +170,7 @@ bool ConservesEnergy(const Model<T>& model) {
   return conserves;
 }
 
-// Whether any joint has a range (joint limits, limit_events.h).
+// Whether any joint has a range (joint limits, unilateral_events.h).
 template <typename T>
 bool HasJointLimits(const Model<T>& model) {
   for (const Joint<T>& joint : model.joints) {

@@ -3,7 +3,7 @@
 // start), the row layout, the Schur pattern and its factorization (analyzed once), M^-1, the joint coordinates,
 // the bodies' frames at the last evaluation, the gains in use, and the KKT system's vectors. (The integrator keeps
 // its own stages: TimeIntegrator, integrators.h.)
-// With joint limits the rows change at events (limit_events.h): each set of active limits the run meets gets its
+// With joint limits the rows change at events (unilateral_events.h): each set of active limits the run meets gets its
 // pattern and solver once (SchurShape), kept for the run, so that a set met again costs no analysis and a Rev
 // record of a KKT solve keeps the solver it was made with. (One pattern of every possible row with the inactive
 // ones masked was the other way; it would make every step of a limited scene eliminate rows it does not have,
@@ -58,7 +58,7 @@ struct SchurShape {
   SchurSolver solver;
 };
 
-// Every row layout's pattern and solver met in a run, by its active limits' (scene index, side) pairs.
+// Every row layout's pattern and solver met in a run, by its active sides (unilateral_events.h).
 using SchurShapes = std::vector<std::pair<std::vector<int>, std::unique_ptr<SchurShape>>>;
 
 template <typename T>
@@ -69,15 +69,16 @@ struct Workspace {
   Workspace(const Workspace&) = delete;  // pattern and solver point into shapes
   Workspace& operator=(const Workspace&) = delete;
 
-  // Replaces the active joint limits (the last rows, limit_events.h) and what the rows shape: the row layout,
-  // the Schur pattern and its solver (from `shapes`, analyzed the first time the set is met), the rows and the
-  // KKT system. Taken at events only (it allocates).
-  void SetActiveLimits(const Model<T>& model, const std::vector<LimitPrimitive<T>>& limits);
+  // Replaces the active joint limits and contacts (the last rows, unilateral_events.h) and what the rows shape:
+  // the row layout, the Schur pattern and its solver (from `shapes`, analyzed the first time the set is met, which
+  // `key` names), the rows and the KKT system. Taken at events only (it allocates).
+  void SetActiveGaps(const Model<T>& model, const std::vector<LimitPrimitive<T>>& limits,
+                     const std::vector<ContactPrimitive>& contacts, const std::vector<int>& key);
 
   ConstraintSet<T> constraints;      // the run's constraint primitives
   std::vector<RowInfo> infos;        // one per constraint row
   std::vector<BodyLayout> layout;    // the bodies' kinds and velocity offsets, compact
-  bool factor_jet_matrices = false;  // RunOptions::factor_jet_matrices, for the solvers SetActiveLimits makes
+  bool factor_jet_matrices = false;  // RunOptions::factor_jet_matrices, for the solvers SetActiveGaps makes
   SchurShapes shapes;                // the first without active limits
   SchurPattern* pattern;             // of S = J M^-1 J^T for the current rows (in shapes)
   SchurSolver* solver;               // its factorization

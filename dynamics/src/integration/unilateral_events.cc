@@ -1,4 +1,4 @@
-#include "tether/dynamics/integration/limit_events.h"
+#include "tether/dynamics/integration/unilateral_events.h"
 
 #include <algorithm>
 #include <cmath>
@@ -13,7 +13,8 @@
 namespace tether {
 
 template <typename T>
-LimitEvents<T>::LimitEvents(const Model<T>& model) : model_(model) {
+UnilateralEvents<T>::UnilateralEvents(const Model<T>& model)
+    : model_(model), stepping_(model.simulation.contact == ContactMode::kStepping) {
   for (size_t j = 0; j < model.joints.size(); ++j) {
     const Joint<T>& joint = model.joints[j];
     if (!joint.range.declared()) continue;
@@ -24,50 +25,80 @@ LimitEvents<T>::LimitEvents(const Model<T>& model) : model_(model) {
                        " has a range but no coordinate to limit (hinge, prismatic, or a 2D pin between planar bodies)");
     }
     const std::string label = joint.name.empty() ? "/constraints/" + std::to_string(joint.scene_index) : joint.name;
-    if (joint.range.has_low) sides_.push_back({static_cast<int>(j), k, 1, label});
-    if (joint.range.has_high) sides_.push_back({static_cast<int>(j), k, -1, label});
+    if (joint.range.has_low) sides_.push_back({static_cast<int>(j), k, 1, -1, label});
+    if (joint.range.has_high) sides_.push_back({static_cast<int>(j), k, -1, -1, label});
+  }
+  if (!model.shapes.empty()) contacts_ = BuildContactGeometry(model);
+  for (size_t f = 0; f < contacts_.features.size(); ++f) {
+    sides_.push_back({-1, 0, 1, static_cast<int>(f), contacts_.pairs[contacts_.features[f].pair].label});
   }
   active_.assign(sides_.size(), 0);
   acceleration_.setZero(model.NumVelocities());
 }
 
 template <typename T>
-T LimitEvents<T>::Bound(const Side& side) const {
+T UnilateralEvents<T>::Bound(const Side& side) const {
   const JointRange<T>& range = model_.joints[side.joint].range;
   return side.side > 0 ? range.low : range.high;
 }
 
 template <typename T>
-void LimitEvents<T>::Apply(Workspace<T>* ws) {
+T UnilateralEvents<T>::Restitution(const Side& side) const {
+  if (side.feature < 0) return model_.joints[side.joint].range.restitution;
+  return PairRestitution(model_, contacts_.pairs[contacts_.features[side.feature].pair]);
+}
+
+// The active sides' rows: the limits' first, then the contacts' (constraint_rows.h), each in side order.
+template <typename T>
+void UnilateralEvents<T>::Apply(Workspace<T>* ws) {
   std::vector<LimitPrimitive<T>> limits;
+  std::vector<ContactPrimitive> contacts;
   active_order_.clear();
   for (size_t i = 0; i < sides_.size(); ++i) {
     if (!active_[i]) continue;
     const Side& side = sides_[i];
+    active_order_.push_back(static_cast<int>(i));
+    if (side.feature >= 0) {
+      const ContactFeature& feature = contacts_.features[side.feature];
+      const auto [a, b] = FeatureBodies(model_, feature);
+      contacts.push_back({model_.NumConstraints() + feature.pair, a, b, feature});
+      continue;
+    }
     const Joint<T>& joint = model_.joints[side.joint];
     limits.push_back({joint.scene_index, joint.a.body, joint.b.body, ws->coordinates.references[side.coordinate],
                       side.side, Bound(side)});
-    active_order_.push_back(static_cast<int>(i));
   }
-  ws->SetActiveLimits(model_, limits);
+  ws->SetActiveGaps(model_, limits, contacts, active_order_);
 }
 
 template <typename T>
-void LimitEvents<T>::SetActiveSet(const std::vector<char>& active, Workspace<T>* ws) {
+void UnilateralEvents<T>::SetActiveSet(const std::vector<char>& active, Workspace<T>* ws) {
   if (active == active_) return;
   active_ = active;
   Apply(ws);
 }
 
 template <typename T>
-double LimitEvents<T>::GapFromTracked(int i, const JointCoordinates<T>& coordinates) const {
-  const Side& side = sides_[i];
-  return side.side * (coordinates.last[side.coordinate] - Value(Bound(side)));
+void UnilateralEvents<T>::Overlapping(const VecX<T>& q, Workspace<T>* ws, std::vector<int>* due) const {
+  bool frames = false;  // updated at q for the first contact
+  for (int i = 0; i < size(); ++i) {
+    if (active_[i]) continue;
+    const Side& side = sides_[i];
+    double gap = 0.0;
+    if (side.feature < 0) {
+      gap = side.side * (ws->coordinates.last[side.coordinate] - Value(Bound(side)));
+    } else {
+      if (!frames) UpdateFrames(model_, q, q, false, &ws->frames);
+      frames = true;
+      gap = Value(FeatureGapValue(model_, contacts_.features[side.feature], ws->frames, q));
+    }
+    if (gap < 0.0) due->push_back(i);
+  }
 }
 
 template <typename T>
-std::vector<typename LimitEvents<T>::GapState> LimitEvents<T>::Measure(const VecX<T>& q, const VecX<T>& v,
-                                                                       Workspace<T>* ws) const {
+std::vector<typename UnilateralEvents<T>::GapState> UnilateralEvents<T>::Measure(const VecX<T>& q, const VecX<T>& v,
+                                                                                 Workspace<T>* ws) const {
   UpdateFrames(model_, q, v, true, &ws->frames);
   std::vector<GapState> gaps(sides_.size());
   for (int i = 0; i < size(); ++i) {
@@ -78,8 +109,8 @@ std::vector<typename LimitEvents<T>::GapState> LimitEvents<T>::Measure(const Vec
 }
 
 template <typename T>
-bool LimitEvents<T>::Multipliers(double t, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws,
-                                 std::vector<double>* mu) {
+bool UnilateralEvents<T>::Multipliers(double t, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws,
+                                      std::vector<double>* mu) {
   mu->clear();
   if (!ComputeAcceleration(model_, t, q, v, ws, &acceleration_)) return false;
   const size_t first = ws->rows.size() - active_order_.size();
@@ -88,8 +119,13 @@ bool LimitEvents<T>::Multipliers(double t, const VecX<T>& q, const VecX<T>& v, W
 }
 
 template <typename T>
-double LimitEvents<T>::EventValue(int i, double t, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws) {
-  if (!active_[i]) return GapFromTracked(i, ws->coordinates);
+double UnilateralEvents<T>::EventValue(int i, double t, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws) {
+  if (!active_[i]) {
+    const Side& side = sides_[i];
+    if (side.feature < 0) return side.side * (ws->coordinates.last[side.coordinate] - Value(Bound(side)));
+    UpdateFrames(model_, q, v, false, &ws->frames);
+    return Value(FeatureGapValue(model_, contacts_.features[side.feature], ws->frames, q));
+  }
   std::vector<double> mu;
   if (!Multipliers(t, q, v, ws, &mu)) return 0.0;
   const auto position = std::find(active_order_.begin(), active_order_.end(), i) - active_order_.begin();
@@ -97,9 +133,14 @@ double LimitEvents<T>::EventValue(int i, double t, const VecX<T>& q, const VecX<
 }
 
 template <typename T>
-double LimitEvents<T>::GapAcceleration(int i, double t, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws) {
+double UnilateralEvents<T>::GapAcceleration(int i, double t, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws) {
   if (!ComputeAcceleration(model_, t, q, v, ws, &acceleration_)) return 0.0;
   const Side& side = sides_[i];
+  if (side.feature >= 0) {
+    ConstraintRow<T> row;
+    EvaluateContactRow(model_, contacts_.features[side.feature], ws->frames, q, v, true, &row);
+    return Value(Dot(model_, row.a, acceleration_) + Dot(model_, row.b, acceleration_) + row.bias);
+  }
   const CoordinateRow<T> x = EvaluateCoordinate(model_, ws->coordinates, side.coordinate, ws->frames, q, v, true);
   const T rate = Dot(model_, x.a, acceleration_) + Dot(model_, x.b, acceleration_) +
                  CoordinateBias(model_, ws->coordinates.references[side.coordinate], ws->frames, q, v);
@@ -107,22 +148,27 @@ double LimitEvents<T>::GapAcceleration(int i, double t, const VecX<T>& q, const 
 }
 
 template <typename T>
-typename LimitEvents<T>::Gap LimitEvents<T>::GapOf(int i, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws) const {
+typename UnilateralEvents<T>::Gap UnilateralEvents<T>::GapOf(int i, const VecX<T>& q, const VecX<T>& v,
+                                                             Workspace<T>* ws) const {
   UpdateFrames(model_, q, v, true, &ws->frames);
   return GapAt(i, q, v, *ws);
 }
 
 template <typename T>
-typename LimitEvents<T>::Gap LimitEvents<T>::GapAt(int i, const VecX<T>& q, const VecX<T>& v,
-                                                   const Workspace<T>& ws) const {
+typename UnilateralEvents<T>::Gap UnilateralEvents<T>::GapAt(int i, const VecX<T>& q, const VecX<T>& v,
+                                                             const Workspace<T>& ws) const {
   const Side& side = sides_[i];
+  if (side.feature >= 0) {
+    const GapAndRate<T> gap = FeatureGap(model_, contacts_.features[side.feature], ws.frames, q, v);
+    return {gap.g, gap.rate};
+  }
   const CoordinateRow<T> x = EvaluateCoordinate(model_, ws.coordinates, side.coordinate, ws.frames, q, v, true);
   const T s(static_cast<double>(side.side));
   return {s * (x.value - Bound(side)), s * x.rate};
 }
 
 template <typename T>
-void LimitEvents<T>::MoveAlongMotion(double t, const T& dt, VecX<T>* q, VecX<T>* v, Workspace<T>* ws) {
+void UnilateralEvents<T>::MoveAlongMotion(double t, const T& dt, VecX<T>* q, VecX<T>* v, Workspace<T>* ws) {
   if (!ComputeAcceleration(model_, t, *q, *v, ws, &acceleration_)) return;
   const VecX<T> increment = *v * dt;
   VecX<T> moved(q->size());
@@ -132,7 +178,8 @@ void LimitEvents<T>::MoveAlongMotion(double t, const T& dt, VecX<T>* q, VecX<T>*
 }
 
 template <typename T>
-T LimitEvents<T>::EventTimeSensitivity(double t, int i, VecX<T>* q, VecX<T>* v, Workspace<T>* ws, RunReport* report) {
+T UnilateralEvents<T>::EventTimeSensitivity(double t, int i, VecX<T>* q, VecX<T>* v, Workspace<T>* ws,
+                                            RunReport* report) {
   const Gap gap = GapOf(i, *q, *v, ws);
   if (std::abs(Value(gap.rate)) < kGrazingSpeed) {
     if constexpr (std::is_same_v<T, double>) return T(0.0);  // nothing is differentiated
@@ -149,8 +196,8 @@ T LimitEvents<T>::EventTimeSensitivity(double t, int i, VecX<T>* q, VecX<T>* v, 
 }
 
 template <typename T>
-void LimitEvents<T>::Impulse(const std::vector<int>& impacting, const std::vector<T>& target, bool capture,
-                             const VecX<T>& q, VecX<T>* v, Workspace<T>* ws) {
+void UnilateralEvents<T>::Impulse(const std::vector<int>& impacting, const std::vector<T>& target, bool capture,
+                                  const VecX<T>& q, VecX<T>* v, Workspace<T>* ws) {
   const std::vector<char> held = active_;
   std::vector<T> wanted(sides_.size(), T(0.0));  // g'+ of every side in the solve
   std::vector<char> kept(sides_.size(), 0);      // a capture's sides hold whatever their impulse
@@ -187,8 +234,8 @@ void LimitEvents<T>::Impulse(const std::vector<int>& impacting, const std::vecto
 }
 
 template <typename T>
-void LimitEvents<T>::Resolve(double t, double step, int capture, VecX<T>* q, VecX<T>* v, Workspace<T>* ws,
-                             RunReport* report) {
+void UnilateralEvents<T>::Resolve(double t, double step, int capture, VecX<T>* q, VecX<T>* v, Workspace<T>* ws,
+                                  RunReport* report) {
   const std::vector<char> was_active = active_;
   std::vector<GapState> gaps = Measure(*q, *v, ws);
   if (capture >= 0) {  // held where it touches, at rest
@@ -201,6 +248,9 @@ void LimitEvents<T>::Resolve(double t, double step, int capture, VecX<T>* q, Vec
     if (!active_[i] && gaps[i].g <= kTouching && gaps[i].rate < -kRestingSpeed) impacting.push_back(i);
   }
   if (impacting.empty()) {
+    HoldTouching(t, gaps, *q, *v, ws);
+  } else if (stepping_) {  // at the step's end, not at a located time: no time to differentiate
+    gaps = Impacts(t, step, impacting, gaps, *q, v, ws, report);
     HoldTouching(t, gaps, *q, *v, ws);
   } else {
     // derivatives cross the impact through its time: the state is moved along the motion before it by the time's
@@ -220,14 +270,13 @@ void LimitEvents<T>::Resolve(double t, double step, int capture, VecX<T>* q, Vec
 }
 
 template <typename T>
-std::vector<typename LimitEvents<T>::GapState> LimitEvents<T>::Impacts(double t, double step,
-                                                                       const std::vector<int>& impacting,
-                                                                       const std::vector<GapState>& before,
-                                                                       const VecX<T>& q, VecX<T>* v, Workspace<T>* ws,
-                                                                       RunReport* report) {
+std::vector<typename UnilateralEvents<T>::GapState> UnilateralEvents<T>::Impacts(double t, double step,
+                                                                                 const std::vector<int>& impacting,
+                                                                                 const std::vector<GapState>& before,
+                                                                                 const VecX<T>& q, VecX<T>* v,
+                                                                                 Workspace<T>* ws, RunReport* report) {
   std::vector<T> target;  // Newton's law, g'+ = -e g'-
-  for (int i : impacting)
-    target.push_back(-model_.joints[sides_[i].joint].range.restitution * GapOf(i, q, *v, ws).rate);
+  for (int i : impacting) target.push_back(-Restitution(sides_[i]) * GapOf(i, q, *v, ws).rate);
   Impulse(impacting, target, false, q, v, ws);
   std::vector<GapState> after = Measure(q, *v, ws);
   for (int i : impacting) {  // a rebound that would land again within a sliver of the step is captured
@@ -241,12 +290,14 @@ std::vector<typename LimitEvents<T>::GapState> LimitEvents<T>::Impacts(double t,
 }
 
 template <typename T>
-void LimitEvents<T>::HoldTouching(double t, const std::vector<GapState>& gaps, const VecX<T>& q, const VecX<T>& v,
-                                  Workspace<T>* ws) {
+void UnilateralEvents<T>::HoldTouching(double t, const std::vector<GapState>& gaps, const VecX<T>& q, const VecX<T>& v,
+                                       Workspace<T>* ws) {
   std::vector<char> candidate(sides_.size(), 0);  // touching sides at rest, and the held ones that stay
   for (int i = 0; i < size(); ++i) {
     const bool resting = std::abs(gaps[i].rate) <= kRestingSpeed;
-    candidate[i] = active_[i] ? gaps[i].rate <= kRestingSpeed : gaps[i].g <= kTouching && resting;
+    // time stepping also holds a side while it overlaps: its stabilization is what moves it out
+    const bool held = gaps[i].rate <= kRestingSpeed || (stepping_ && gaps[i].g < 0.0);
+    candidate[i] = active_[i] ? held : gaps[i].g <= kTouching && resting;
   }
   const std::vector<char> none(sides_.size(), 0);  // less those whose multiplier would pull, or is zero
   SolveActiveSet(&candidate, none, true,
@@ -257,7 +308,7 @@ void LimitEvents<T>::HoldTouching(double t, const std::vector<GapState>& gaps, c
                  });
 }
 
-#define TETHER_INSTANTIATE_LIMIT_EVENTS(T) template class LimitEvents<T>;
+#define TETHER_INSTANTIATE_LIMIT_EVENTS(T) template class UnilateralEvents<T>;
 TETHER_FOR_EACH_SCALAR(TETHER_INSTANTIATE_LIMIT_EVENTS)
 
 }  // namespace tether

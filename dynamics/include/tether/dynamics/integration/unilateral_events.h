@@ -1,8 +1,11 @@
-// Joint limits as unilateral constraints, resolved at events (docs/contract.md, "Joint limits, contact and impacts").
+// Joint limits and contacts as unilateral constraints, resolved at events (docs/contract.md, "Joint limits,
+// contact and impacts"; docs/contact.md).
 //
-// Each declared side of a joint's range is a gap g = s (x - bound) >= 0 on the joint's coordinate x (s = +1 at
-// the low bound, -1 at the high one), with g' = s x'. A side is inactive (no row, no cost) or active (one more
-// KKT row of law kGap, constraint_rows.h, with pushing multiplier mu = -lambda >= 0). Between events the active
+// Each gap g >= 0 is a side: a declared side of a joint's range, g = s (x - bound) on the joint's coordinate x
+// (s = +1 at the low bound, -1 at the high one), with g' = s x'; or a feature of a pair of shapes that may touch
+// (contact_geometry.h: a vertex against a plane, the closest points of two cores). A side is inactive (no row, no
+// cost) or active (one more KKT row of law kGap, constraint_rows.h, with pushing multiplier mu = -lambda >= 0).
+// Between events the active
 // set is fixed and the motion is smooth; the stepper (stepper.h) finds the first event inside a step by root
 // finding on the integrator's own step map tau -> x(t + tau) (its continuous extension, so the event time is
 // as accurate as the steps: order kept across events), on g for an inactive side and on mu for an active one,
@@ -35,6 +38,7 @@
 #include <string>
 #include <vector>
 
+#include "tether/dynamics/constraints/contact_geometry.h"
 #include "tether/dynamics/integration/simulator.h"
 #include "tether/dynamics/solvers/workspace.h"
 
@@ -50,19 +54,22 @@ inline constexpr double kCaptureFlight = 1e-4;
 inline constexpr double kGrazingSpeed = 1e-6;
 
 template <typename T>
-class LimitEvents {
+class UnilateralEvents {
  public:
   struct Side {
-    int joint = 0;       // index into model.joints
-    int coordinate = 0;  // index into JointCoordinates::references
-    int side = 1;        // +1 low, -1 high
-    std::string label;   // the joint's name, or its pointer
+    int joint = -1;      // a joint limit: index into model.joints
+    int coordinate = 0;  //   index into JointCoordinates::references
+    int side = 1;        //   +1 low, -1 high
+    int feature = -1;    // a contact: index into contacts().features
+    std::string label;   // the joint's name, or its pointer; a contact's pair "A|B"
   };
 
-  // Every side of every joint range of the model, all inactive.
-  explicit LimitEvents(const Model<T>& model);
+  // Every side of every joint range and every contact feature of the model, all inactive.
+  explicit UnilateralEvents(const Model<T>& model);
 
   bool empty() const { return sides_.empty(); }
+  // The scene's "contact": "stepping": events are resolved where the step they fall in ends, not located.
+  bool stepping() const { return stepping_; }
   int size() const { return static_cast<int>(sides_.size()); }
   bool active(int i) const { return active_[i] != 0; }
   const Side& side(int i) const { return sides_[i]; }
@@ -71,8 +78,11 @@ class LimitEvents {
   // Restores an active set (a saved carry): the workspace's rows follow.
   void SetActiveSet(const std::vector<char>& active, Workspace<T>* ws);
 
-  // The gap g of side i from the tracked coordinate values (JointCoordinates::last).
-  double GapFromTracked(int i, const JointCoordinates<T>& coordinates) const;
+  const ContactGeometry& contacts() const { return contacts_; }
+
+  // Appends to *due every inactive side whose gap is negative at q (a limit's from the tracked coordinate values,
+  // JointCoordinates::last).
+  void Overlapping(const VecX<T>& q, Workspace<T>* ws, std::vector<int>* due) const;
   // The pushing multipliers mu of the active sides at (t, q, v), in side order (one KKT solve); false when the
   // system could not be solved.
   bool Multipliers(double t, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws, std::vector<double>* mu);
@@ -93,6 +103,7 @@ class LimitEvents {
   };
 
   T Bound(const Side& side) const;
+  T Restitution(const Side& side) const;
   std::vector<GapState> Measure(const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws) const;
   void Apply(Workspace<T>* ws);
   // Impulses on the equality rows, the active sides and the sides in `impacting` so that each impacting side
@@ -119,6 +130,8 @@ class LimitEvents {
   double GapAcceleration(int i, double t, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws);
 
   const Model<T>& model_;
+  bool stepping_;
+  ContactGeometry contacts_;
   std::vector<Side> sides_;
   std::vector<char> active_;  // per side
   std::vector<int> active_order_;

@@ -1,0 +1,412 @@
+// Contact between shapes (contact_geometry.h, unilateral_events.h): the scene's shapes and pair rules as the
+// contract states them, every gap against its closed form with its rate against central differences of the gap
+// along the motion, and frictionless contact dynamics against exact motions: a ball's bounces (times, speeds,
+// heights), Newton's law between two balls, a box dropped flat that comes to rest on its face, no energy gained at
+// any impact, and Jet and adjoint gradients across an impact against the closed form and central differences.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "test_files.h"
+#include "tether/autodiff/adjoint.h"
+#include "tether/autodiff/residuals.h"
+#include "tether/dynamics/constraints/contact_geometry.h"
+#include "tether/dynamics/effects/effects.h"
+#include "tether/dynamics/integration/stepper.h"
+#include "tether/dynamics/io/scene_reader.h"
+#include "tether/dynamics/model/configuration_space.h"
+
+namespace tether {
+namespace {
+
+using nlohmann::json;
+
+constexpr double kG = 9.81;
+
+Model<double> Parse(const json& document) { return ParseScene(document, "contact.json").model; }
+
+json Particle(const std::string& name, const std::vector<double>& position, const std::vector<double>& velocity = {}) {
+  json body = {{"name", name}, {"type", "particle"}, {"mass", 1.0}, {"position", position}};
+  if (!velocity.empty()) body["velocity"] = velocity;
+  return body;
+}
+
+json Rigid3d(const std::string& name, const std::vector<double>& position, const std::vector<double>& orientation,
+             const std::vector<double>& angular_velocity = {0.0, 0.0, 0.0}) {
+  return {{"name", name},
+          {"type", "rigid"},
+          {"mass", 2.0},
+          {"inertia", {0.02, 0.03, 0.04}},
+          {"position", position},
+          {"orientation", orientation},
+          {"velocity", {0.3, -0.2, 0.5}},
+          {"angular_velocity", angular_velocity}};
+}
+
+// A ball of radius 0.1 (a particle with a sphere, restitution e) dropped from h0 above a floor.
+json Ball(double e, double h0, double duration, double step = 1e-3) {
+  return {{"dimension", 3},
+          {"bodies", {Particle("ball", {0.0, 0.0, 0.1 + h0})}},
+          {"shapes",
+           {{{"name", "ball_surface"}, {"body", "ball"}, {"type", "sphere"}, {"radius", 0.1}, {"restitution", e}},
+            {{"name", "floor"}, {"body", "world"}, {"type", "plane"}}}},
+          {"effects", {{{"type", "gravity"}, {"acceleration", {0.0, 0.0, -kG}}}}},
+          {"simulation", {{"integrator", "rk4"}, {"step", step}, {"duration", duration}}}};
+}
+
+std::vector<RunEvent> Impacts(const RunReport& report) {
+  std::vector<RunEvent> out;
+  for (const RunEvent& e : report.events) {
+    if (e.kind == "impact") out.push_back(e);
+  }
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// the scene file
+
+TEST(ContactScenes, ShapesAreReadWithTheirDefaultsLabelsAndParameters) {
+  json scene = Ball(0.5, 1.0, 0.1);
+  scene["contact"] = {{"friction", 0.4}, {"restitution", 0.2}};
+  scene["shapes"].push_back({{"body", "ball"}, {"type", "capsule"}, {"radius", 0.05}, {"length", 0.3}});
+  const Scene parsed = ParseScene(scene, "contact.json");
+  const Model<double>& model = parsed.model;
+  ASSERT_EQ(model.shapes.size(), 3u);
+  EXPECT_EQ(model.shapes[2].label, "ball#1");  // its body's second shape
+  const ContactGeometry geometry = BuildContactGeometry(model);
+  ASSERT_EQ(geometry.pairs.size(), 2u);  // two shapes of one body never touch each other
+  EXPECT_EQ(geometry.pairs[0].label, "ball_surface|floor");
+  EXPECT_EQ(geometry.pairs[1].label, "floor|ball#1");
+  EXPECT_EQ(PairRestitution(model, geometry.pairs[0]), 0.5);  // the larger: the ball's own
+  EXPECT_EQ(PairFriction(model, geometry.pairs[0]), 0.4);     // neither gives one: the default
+  EXPECT_EQ(PairRestitution(model, geometry.pairs[1]), 0.2);
+  for (const char* pointer :
+       {"/shapes/0/radius", "/shapes/0/restitution", "/shapes/2/length", "/contact/friction", "/contact/restitution"}) {
+    EXPECT_NE(parsed.numbers.Find(pointer), nullptr) << pointer;
+  }
+  EXPECT_EQ(geometry.features.size(), 3u);  // the sphere's centre and the capsule's two cap centres
+}
+
+TEST(ContactScenes, ThePairRulesLeaveOutJoinedExcludedAndUntouchableShapes) {
+  json scene = {{"dimension", 3},
+                {"bodies", {Particle("a", {0.0, 0.0, 1.0}), Particle("b", {0.0, 0.0, 2.0}), Particle("c", {1, 0, 1})}},
+                {"constraints", {{{"type", "distance"}, {"bodies", {"a", "b"}}}}},
+                {"shapes",
+                 {{{"body", "a"}, {"type", "sphere"}, {"radius", 0.1}},
+                  {{"body", "b"}, {"type", "sphere"}, {"radius", 0.1}},
+                  {{"body", "c"}, {"type", "sphere"}, {"radius", 0.1}},
+                  {{"body", "world"}, {"type", "plane"}},
+                  {{"body", "world"}, {"type", "sphere"}, {"radius", 0.1}},
+                  {{"body", "c"}, {"type", "box"}, {"size", {0.1, 0.1, 0.1}}, {"contact", false}}}},
+                {"contact", {{"exclude", json::array({json::array({"c", "world"})})}}}};
+  std::vector<std::string> labels;
+  for (const ContactPair& pair : BuildContactGeometry(Parse(scene)).pairs) labels.push_back(pair.label);
+  // a-b joined, c-world excluded, two world shapes never, the drawn box never
+  EXPECT_EQ(labels, (std::vector<std::string>{"a#0|c#0", "a#0|world#0", "a#0|world#1", "b#0|c#0", "b#0|world#0",
+                                              "b#0|world#1"}));
+}
+
+TEST(ContactScenes, BadShapesAreRefusedNamingThePointer) {
+  struct Case {
+    const char* pointer;
+    std::function<void(json*)> change;
+  };
+  const std::vector<Case> cases = {
+      {"/shapes/0/radius", [](json* s) { (*s)["shapes"][0]["radius"] = -0.1; }},
+      {"/shapes/0: missing required key 'radius'", [](json* s) { (*s)["shapes"][0].erase("radius"); }},
+      {"/shapes/0/restitution", [](json* s) { (*s)["shapes"][0]["restitution"] = 1.5; }},
+      {"/shapes/1/friction", [](json* s) { (*s)["shapes"][1]["friction"] = -0.2; }},
+      {"/shapes/0/body", [](json* s) { (*s)["shapes"][0]["body"] = "nobody"; }},
+      {"/shapes/0/type", [](json* s) { (*s)["shapes"][0]["type"] = "torus"; }},
+      {"/shapes/0/size",
+       [](json* s) {
+         (*s)["shapes"][0] = {{"body", "ball"}, {"type", "box"}, {"size", {0.1, 0.2}}};
+       }},
+      {"/shapes/0/size/1",
+       [](json* s) {
+         (*s)["shapes"][0] = {{"body", "ball"}, {"type", "box"}, {"size", {1, 0, 1}}};
+       }},
+      {"/shapes/0/length", [](json* s) { (*s)["shapes"][0]["length"] = 0.2; }},  // a sphere has none
+      {"/shapes/1/radius", [](json* s) { (*s)["shapes"][1]["radius"] = 0.2; }},  // nor has a plane
+      {"/shapes/0/angle", [](json* s) { (*s)["shapes"][0]["angle"] = 0.2; }},    // 3D: an orientation
+      {"/shapes/0/orientation",
+       [](json* s) {
+         (*s)["shapes"][0]["orientation"] = {2.0, 0.0, 0.0, 0.0};
+       }},
+      {"/shapes/0/contact", [](json* s) { (*s)["shapes"][0]["contact"] = 1; }},
+      {"/shapes/0/name", [](json* s) { (*s)["shapes"][0]["name"] = "ball"; }},  // a body's name
+      {"/contact/exclude/0", [](json* s) { (*s)["contact"]["exclude"] = json::array({json::array({"ball"})}); }},
+      {"/contact/exclude/0/1",
+       [](json* s) {
+         (*s)["contact"]["exclude"] = json::array({json::array({"ball", "nobody"})});
+       }},
+      {"/contact/restitution",
+       [](json* s) {
+         (*s)["contact"] = {{"restitution", 2.0}};
+       }},
+      {"/simulation/contact", [](json* s) { (*s)["simulation"]["contact"] = "soft"; }},
+  };
+  for (const Case& c : cases) {
+    json scene = Ball(0.5, 1.0, 0.1);
+    c.change(&scene);
+    try {
+      Parse(scene);
+      ADD_FAILURE() << c.pointer << " was accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(std::string("contact.json: ") + c.pointer), std::string::npos) << e.what();
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// gaps
+
+// Every feature's gap at the scene's initial state, and its rate against central differences of the gap along the
+// motion (q moved by +-h v).
+std::vector<double> GapsAndCheckRates(const Model<double>& model) {
+  const ContactGeometry geometry = BuildContactGeometry(model);
+  const State<double> start = InitialState(model);
+  BodyFrames<double> frames;
+  UpdateFrames(model, start.q, start.v, true, &frames);
+  auto gap_at = [&](const ContactFeature& f, double h) {
+    VecX<double> q(start.q.size());
+    Integrate(model, start.q, start.v, h, &q);
+    BodyFrames<double> moved;
+    UpdateFrames(model, q, start.v, false, &moved);
+    return FeatureGapValue(model, f, moved, q);
+  };
+  std::vector<double> gaps;
+  for (const ContactFeature& f : geometry.features) {
+    const GapAndRate<double> gap = FeatureGap(model, f, frames, start.q, start.v);
+    const double h = 1e-6, central = (gap_at(f, h) - gap_at(f, -h)) / (2 * h);
+    EXPECT_NEAR(gap.rate, central, 1e-7) << geometry.pairs[f.pair].label << " feature " << f.vertex;
+    gaps.push_back(gap.g);
+  }
+  return gaps;
+}
+
+json TwoShapes(const json& a, const json& b, const json& body_a, const json& body_b) {
+  return {{"dimension", 3}, {"bodies", {body_a, body_b}}, {"shapes", {a, b}}};
+}
+
+TEST(ContactGaps, EachFormMatchesItsClosedForm) {
+  const double s = std::sqrt(0.5);
+  const json tilted = {std::cos(0.3), 0.0, std::sin(0.3), 0.0};  // 0.6 rad about y
+  // a sphere and a capsule above a tilted plane of the world; a box's eight corners above the floor
+  {
+    const json scene = {
+        {"dimension", 3},
+        {"bodies", {Rigid3d("ball", {0.1, 0.2, 1.0}, {1, 0, 0, 0}, {1, 2, 3})}},
+        {"shapes",
+         {{{"body", "ball"}, {"type", "sphere"}, {"radius", 0.25}},
+          {{"body", "world"}, {"type", "plane"}, {"position", {0.0, 0.0, 0.1}}, {"orientation", tilted}}}}};
+    const std::vector<double> gaps = GapsAndCheckRates(Parse(scene));
+    const Vec3<double> n(std::sin(0.6), 0.0, std::cos(0.6));  // the plane's z axis turned 0.6 rad about y
+    ASSERT_EQ(gaps.size(), 1u);
+    EXPECT_NEAR(gaps[0], n.dot(Vec3<double>(0.1, 0.2, 0.9)) - 0.25, 1e-14);
+  }
+  {
+    const json scene = {{"dimension", 3},
+                        {"bodies", {Rigid3d("rod", {0.0, 0.0, 1.0}, {s, 0.0, s, 0.0}, {1, -2, 0.5})}},  // x -> -z
+                        {"shapes",
+                         {{{"body", "rod"}, {"type", "capsule"}, {"radius", 0.1}, {"length", 0.6}},
+                          {{"body", "world"}, {"type", "plane"}}}}};
+    const std::vector<double> gaps = GapsAndCheckRates(Parse(scene));
+    ASSERT_EQ(gaps.size(), 2u);
+    EXPECT_NEAR(gaps[0], 1.3 - 0.1, 1e-14);  // the -x cap centre is up at 1.3
+    EXPECT_NEAR(gaps[1], 0.7 - 0.1, 1e-14);
+  }
+  {
+    const json scene = {{"dimension", 3},
+                        {"bodies", {Rigid3d("box", {0.0, 0.0, 1.0}, {1, 0, 0, 0}, {0.5, 1, -1})}},
+                        {"shapes",
+                         {{{"body", "box"}, {"type", "box"}, {"size", {0.2, 0.4, 0.6}}, {"position", {0, 0, 0.05}}},
+                          {{"body", "world"}, {"type", "plane"}}}}};
+    const std::vector<double> gaps = GapsAndCheckRates(Parse(scene));
+    ASSERT_EQ(gaps.size(), 8u);
+    for (int k = 0; k < 8; ++k) EXPECT_NEAR(gaps[k], 1.05 + ((k >> 2) & 1 ? 0.3 : -0.3), 1e-14) << k;
+  }
+  // closest points: sphere-sphere, sphere-capsule (beside its segment and beyond its end), crossed capsules,
+  // a sphere beside a box's face, off its edge, and with its centre inside
+  const json ball = {{"body", "a"}, {"type", "sphere"}, {"radius", 0.1}};
+  const json capsule = {{"body", "b"}, {"type", "capsule"}, {"radius", 0.05}, {"length", 1.0}};
+  const json box = {{"body", "b"}, {"type", "box"}, {"size", {0.4, 0.6, 0.8}}};
+  struct Case {
+    json a, b, body_a;
+    double gap;
+  };
+  const json other = Rigid3d("b", {0.0, 0.0, 0.0}, {1, 0, 0, 0}, {0.2, 0.4, -0.3});
+  const std::vector<Case> cases = {
+      {ball,
+       {{"body", "b"}, {"type", "sphere"}, {"radius", 0.2}},
+       Rigid3d("a", {0.3, 0.4, 1.2}, {1, 0, 0, 0}),
+       1.3 - 0.3},
+      {ball, capsule, Rigid3d("a", {0.2, 0.0, 0.5}, {1, 0, 0, 0}), 0.5 - 0.15},
+      {ball, capsule, Rigid3d("a", {0.8, 0.0, 0.4}, {1, 0, 0, 0}), 0.5 - 0.15},
+      {{{"body", "a"}, {"type", "capsule"}, {"radius", 0.1}, {"length", 1.0}},
+       capsule,
+       Rigid3d("a", {0.1, 0.0, 0.7}, {s, 0.0, 0.0, s}),
+       0.7 - 0.15},  // along y, 0.7 above
+      {ball, box, Rigid3d("a", {0.1, 0.1, 0.9}, {1, 0, 0, 0}), 0.5 - 0.1},
+      {ball, box, Rigid3d("a", {0.5, 0.6, 0.1}, {1, 0, 0, 0}), std::hypot(0.3, 0.3) - 0.1},
+      {ball, box, Rigid3d("a", {0.15, 0.0, 0.1}, {1, 0, 0, 0}), -0.05 - 0.1},  // inside, nearest the +x face
+  };
+  for (const Case& c : cases) {
+    const std::vector<double> gaps = GapsAndCheckRates(Parse(TwoShapes(c.a, c.b, c.body_a, other)));
+    ASSERT_EQ(gaps.size(), 1u);
+    EXPECT_NEAR(gaps[0], c.gap, 1e-14) << c.a.dump() << " " << c.b.dump();
+  }
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// frictionless contact dynamics
+
+TEST(ContactDynamics, ABallBouncesAtTheExactTimesAndSpeeds) {
+  const double e = 0.8, h0 = 1.0;
+  double z_end = NAN;
+  const RunReport report =
+      Simulate<double>(Parse(Ball(e, h0, 2.0)), RunOptions{}, [&](const Sample<double>& s) { z_end = s.q[2]; });
+  const std::vector<RunEvent> impacts = Impacts(report);
+  ASSERT_EQ(impacts.size(), 3u);
+  const double t1 = std::sqrt(2 * h0 / kG), v0 = kG * t1;
+  double t = t1, v = v0;
+  for (const RunEvent& impact : impacts) {
+    EXPECT_EQ(impact.constraint, "ball_surface|floor");
+    EXPECT_NEAR(impact.t, t, 1e-12);
+    EXPECT_NEAR(impact.speed_before, -v, 1e-11);
+    EXPECT_NEAR(impact.speed_after, e * v, 1e-11);
+    v *= e;
+    t += 2 * v / kG;
+  }
+  const double tau = 2.0 - (t - 2 * v / kG);  // in the fourth flight
+  EXPECT_NEAR(z_end, 0.1 + v * tau - kG * tau * tau / 2, 1e-12);
+}
+
+TEST(ContactDynamics, TwoBallsMeetByNewtonsLawKeepingMomentum) {
+  // head-on, 2 m/s and -1 m/s along x, no gravity: v_a' = (m_a v_a + m_b v_b - m_b e (v_a - v_b)) / (m_a + m_b)
+  json scene = {
+      {"dimension", 3},
+      {"bodies", {Particle("a", {0.0, 0.0, 0.0}, {2.0, 0.0, 0.0}), Particle("b", {1.0, 0.0, 0.0}, {-1, 0, 0})}},
+      {"shapes",
+       {{{"body", "a"}, {"type", "sphere"}, {"radius", 0.2}, {"restitution", 0.5}},
+        {{"body", "b"}, {"type", "sphere"}, {"radius", 0.1}}}},
+      {"simulation", {{"step", 1e-3}, {"duration", 0.5}}}};
+  scene["bodies"][1]["mass"] = 3.0;
+  Vec3<double> va, vb;
+  const RunReport report = Simulate<double>(Parse(scene), RunOptions{}, [&](const Sample<double>& s) {
+    va = s.v.segment<3>(0);
+    vb = s.v.segment<3>(3);
+  });
+  ASSERT_EQ(Impacts(report).size(), 1u);
+  EXPECT_NEAR(Impacts(report)[0].t, 0.7 / 3.0, 1e-12);
+  EXPECT_NEAR(va.x(), (2.0 - 3.0 - 3.0 * 0.5 * 3.0) / 4.0, 1e-12);
+  EXPECT_NEAR(vb.x(), (2.0 - 3.0 + 0.5 * 3.0) / 4.0, 1e-12);
+}
+
+// the total energy of a conservative scene (gravity only) at each sample
+std::vector<double> Energies(const Model<double>& model, RunReport* report) {
+  std::vector<double> energy;
+  *report = Simulate<double>(model, RunOptions{}, [&](const Sample<double>& s) { energy.push_back(s.energy); });
+  return energy;
+}
+
+TEST(ContactDynamics, ABoxDroppedFlatComesToRestOnItsFace) {
+  json scene = {
+      {"dimension", 3},
+      {"bodies",
+       {{{"name", "box"},
+         {"type", "rigid"},
+         {"mass", 1.0},
+         {"inertia", {0.00667, 0.00667, 0.00667}},
+         {"position", {0.0, 0.0, 0.25}}}}},
+      {"shapes",
+       {{{"body", "box"}, {"type", "box"}, {"size", {0.2, 0.2, 0.2}}}, {{"body", "world"}, {"type", "plane"}}}},
+      {"effects", {{{"type", "gravity"}, {"acceleration", {0.0, 0.0, -kG}}}}},
+      {"simulation", {{"step", 1e-3}, {"duration", 0.5}}}};
+  double z = NAN;
+  Vec4<double> orientation;
+  const RunReport report = Simulate<double>(Parse(scene), RunOptions{}, [&](const Sample<double>& s) {
+    z = s.q[2];
+    orientation = s.q.segment<4>(3);
+  });
+  ASSERT_EQ(Impacts(report).size(), 4u);  // the four lower corners at once
+  EXPECT_NEAR(Impacts(report)[0].t, std::sqrt(2 * 0.15 / kG), 1e-12);
+  EXPECT_NEAR(z, 0.1, 1e-12);
+  EXPECT_NEAR(std::abs(orientation[0]), 1.0, 1e-12);
+}
+
+TEST(ContactDynamics, NoImpactGainsEnergy) {
+  // a tumbling capsule and a box dropped on the floor with e = 1 and e = 0.5: the energy never rises
+  for (const double e : {1.0, 0.5}) {
+    json scene = {{"dimension", 3},
+                  {"bodies",
+                   {Rigid3d("rod", {0.0, 0.0, 0.6}, {0.9, 0.3, 0.3, 0.1}, {3, -2, 1}),
+                    Rigid3d("box", {2.0, 0.0, 0.7}, {0.8, -0.1, 0.5, 0.3162277660168379}, {-1, 2, 2})}},
+                  {"shapes",
+                   {{{"body", "rod"}, {"type", "capsule"}, {"radius", 0.05}, {"length", 0.5}},
+                    {{"body", "box"}, {"type", "box"}, {"size", {0.2, 0.3, 0.4}}},
+                    {{"body", "world"}, {"type", "plane"}, {"restitution", e}}}},
+                  {"contact", {{"exclude", json::array({json::array({"rod", "box"})})}}},
+                  {"effects", {{{"type", "gravity"}, {"acceleration", {0.0, 0.0, -kG}}}}},
+                  {"simulation", {{"step", 1e-3}, {"duration", 1.5}}}};
+    RunReport report;
+    const std::vector<double> energy = Energies(Parse(scene), &report);
+    EXPECT_GE(Impacts(report).size(), 2u);
+    double highest = energy[0];
+    for (double x : energy) highest = std::max(highest, x);
+    EXPECT_LT(highest - energy[0], 1e-6 * std::abs(energy[0])) << "e = " << e;
+    if (e == 1.0) EXPECT_NEAR(energy.back(), energy[0], 1e-6 * std::abs(energy[0]));
+  }
+}
+
+TEST(ContactDynamics, TimeSteppingResolvesAnImpactWhereItsStepEndsAndTheGainsRemoveTheOverlap) {
+  // e = 0, h = 5 ms: the gap closes inside the step ending at 0.32 s; the ball is stopped there, overlapping the
+  // floor by what it fell past it, and held: without gains at that depth, with gains lifted back onto the floor
+  json scene = Ball(0.0, 0.5, 1.0, 5e-3);
+  scene["simulation"]["contact"] = "stepping";
+  const double t1 = std::sqrt(2 * 0.5 / kG), t_step = 5e-3 * std::ceil(t1 / 5e-3);
+  const double overlap = 0.5 - kG * t_step * t_step / 2;  // the height (negative) the free fall reaches at t_step
+  for (const auto& [alpha, beta] : {std::pair{0.0, 0.0}, std::pair{100.0, 2500.0}}) {
+    scene["stabilization"] = {{"alpha", alpha}, {"beta", beta}};
+    double z = NAN;
+    const RunReport report = Simulate<double>(Parse(scene), RunOptions{}, [&](const Sample<double>& s) { z = s.q[2]; });
+    ASSERT_EQ(Impacts(report).size(), 1u);
+    EXPECT_DOUBLE_EQ(Impacts(report)[0].t, t_step);
+    EXPECT_NEAR(Impacts(report)[0].speed_before, -kG * t_step, 1e-12);
+    if (beta == 0.0) EXPECT_NEAR(z, 0.1 + overlap, 1e-12);
+    if (beta > 0.0) EXPECT_NEAR(z, 0.1, 1e-9);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// gradients across an impact
+
+TEST(ContactGradients, JetsAndTheAdjointAcrossABounceMatchTheClosedFormAndCentralDifferences) {
+  // z(T) = R + e v0 tau - g tau^2 / 2, tau = T - t1 (contact.py's gradient-bounce)
+  const testing::TempFolder folder;
+  const double e = 0.8, h0 = 1.0, T = 0.7;
+  const double t1 = std::sqrt(2 * h0 / kG), v0 = kG * t1, tau = T - t1;
+  const Scene scene = ParseScene(Ball(e, h0, 1.0), "ball.json");
+  const ParameterSet parameters(scene, {"/bodies/0/position/2", "/shapes/0/restitution", "/shapes/0/radius"});
+  const std::string csv = folder.Write("ball.csv", "t,ball.z\n0.7,0.0\n");
+  const Observations observations = ReadObservations(csv, scene.model);
+  const LossGradient jet = JetLossGradient(scene.model, parameters, observations);
+  const double z = 0.1 + e * v0 * tau - kG * tau * tau / 2;
+  EXPECT_NEAR(jet.gradient[0], z * ((1 + e) * tau - e * t1) / t1, 1e-9);
+  EXPECT_NEAR(jet.gradient[1], z * v0 * tau, 1e-9);
+  const LossGradient central = CentralDifferenceLossGradient(scene.model, parameters, observations);
+  for (size_t i = 0; i < jet.gradient.size(); ++i) {
+    EXPECT_NEAR(jet.gradient[i], central.gradient[i], 1e-6 * std::abs(central.gradient[i])) << i;
+  }
+  const LossGradient adjoint = AdjointLossGradient(scene.model, parameters, observations);
+  for (size_t i = 0; i < jet.gradient.size(); ++i) {
+    EXPECT_NEAR(adjoint.gradient[i], jet.gradient[i], 1e-9 * std::abs(jet.gradient[i])) << i;
+  }
+}
+
+}  // namespace
+}  // namespace tether
