@@ -81,9 +81,9 @@ TEST(ContactScenes, ShapesAreReadWithTheirDefaultsLabelsAndParameters) {
   ASSERT_EQ(geometry.pairs.size(), 2u);  // two shapes of one body never touch each other
   EXPECT_EQ(geometry.pairs[0].label, "ball_surface|floor");
   EXPECT_EQ(geometry.pairs[1].label, "floor|ball#1");
-  EXPECT_EQ(PairRestitution(model, geometry.pairs[0]), 0.5);  // the larger: the ball's own
-  EXPECT_EQ(PairFriction(model, geometry.pairs[0]), 0.4);     // neither gives one: the default
-  EXPECT_EQ(PairRestitution(model, geometry.pairs[1]), 0.2);
+  EXPECT_EQ(PairRestitution(model, geometry.pairs[0].a, geometry.pairs[0].b), 0.5);  // the larger: the ball's own
+  EXPECT_EQ(PairFriction(model, geometry.pairs[0].a, geometry.pairs[0].b), 0.4);     // neither gives one: the default
+  EXPECT_EQ(PairRestitution(model, geometry.pairs[1].a, geometry.pairs[1].b), 0.2);
   for (const char* pointer :
        {"/shapes/0/radius", "/shapes/0/restitution", "/shapes/2/length", "/contact/friction", "/contact/restitution"}) {
     EXPECT_NE(parsed.numbers.Find(pointer), nullptr) << pointer;
@@ -383,6 +383,188 @@ TEST(ContactDynamics, TimeSteppingResolvesAnImpactWhereItsStepEndsAndTheGainsRem
 }
 
 // ---------------------------------------------------------------------------------------------------------------
+// Coulomb friction
+
+// A cube (0.2 m, 1 kg) resting on a slope of `degrees` in 3D (or a square on a line in 2D), both with friction mu.
+json Incline(int dimension, double mu, double degrees, double duration = 1.0) {
+  const double th = degrees * M_PI / 180.0;
+  json body = {{"name", "box"}, {"type", "rigid"}, {"mass", 1.0}};
+  json slope = {{"name", "ramp"}, {"body", "world"}, {"type", "plane"}, {"friction", mu}};
+  if (dimension == 3) {
+    const std::vector<double> q = {std::cos(th / 2), 0.0, -std::sin(th / 2), 0.0};  // -th about y
+    body["inertia"] = {0.08 / 12, 0.08 / 12, 0.08 / 12};
+    body["position"] = {-0.1 * std::sin(th), 0.0, 0.1 * std::cos(th)};
+    body["orientation"] = q;
+    slope["orientation"] = q;
+  } else {
+    body["inertia"] = 0.08 / 12;
+    body["position"] = {-0.1 * std::sin(th), 0.1 * std::cos(th)};
+    body["angle"] = th;
+    slope["angle"] = th;
+  }
+  const std::vector<double> size(dimension, 0.2);
+  return {{"dimension", dimension},
+          {"bodies", {body}},
+          {"shapes", {{{"name", "block"}, {"body", "box"}, {"type", "box"}, {"size", size}, {"friction", mu}}, slope}},
+          {"effects", {{{"type", "gravity"}, {"acceleration", dimension == 3 ? json{0.0, 0.0, -kG} : json{0.0, -kG}}}}},
+          {"simulation", {{"integrator", "rk4"}, {"step", 1e-3}, {"duration", duration}}}};
+}
+
+TEST(ContactFriction, ABoxOnASlopeSlidesAtCoulombsAccelerationOrSticksWithoutCreep) {
+  const double th = 30.0 * M_PI / 180.0;
+  for (const int dimension : {2, 3}) {
+    for (const double mu : {0.3, 0.6}) {  // tan 30 degrees = 0.577
+      const double a = mu < std::tan(th) ? kG * (std::sin(th) - mu * std::cos(th)) : 0.0;
+      const Model<double> model = Parse(Incline(dimension, mu, 30.0));
+      const int d = dimension;
+      const Vec3<double> down(-std::cos(th), d == 3 ? 0.0 : -std::sin(th), d == 3 ? -std::sin(th) : 0.0);
+      const Vec3<double> normal(-std::sin(th), d == 3 ? 0.0 : std::cos(th), d == 3 ? std::cos(th) : 0.0);
+      Vec3<double> start = Vec3<double>::Zero();
+      double worst_along = 0.0, worst_off = 0.0;
+      Simulate<double>(model, RunOptions{}, [&](const Sample<double>& s) {
+        Vec3<double> x = Vec3<double>::Zero();
+        x.head(d) = s.q.head(d);
+        if (s.t == 0.0) start = x;
+        worst_along = std::max(worst_along, std::abs((x - start).dot(down) - a * s.t * s.t / 2));
+        worst_off = std::max(worst_off, std::abs((x - start).dot(normal)));
+      });
+      EXPECT_LT(worst_along, a > 0 ? 1e-9 : 1e-12) << "dimension " << d << ", mu " << mu;
+      EXPECT_LT(worst_off, 1e-12) << "dimension " << d << ", mu " << mu;
+    }
+  }
+}
+
+TEST(ContactFriction, AStuckBoxSlipsTheInstantThePushReachesTheCone) {
+  // a ramp force F = 10 t at the centre of a cube on the floor (mu = 0.3): it sticks until 10 t = mu m g, then
+  // x = 5/3 (t - t_s)^3 (a = 10 t - mu g from t_s = mu g / 10)
+  json scene = Incline(3, 0.3, 0.0, 0.6);
+  scene["effects"].push_back({{"type", "force"},
+                              {"body", "box"},
+                              {"schedule", {{"times", {0.0, 1.0}}, {"values", {{0.0, 0.0, 0.0}, {10.0, 0.0, 0.0}}}}}});
+  double x = NAN, before = 0.0;
+  const double ts = 0.3 * kG / 10.0;
+  const RunReport report = Simulate<double>(Parse(scene), RunOptions{}, [&](const Sample<double>& s) {
+    x = s.q[0];
+    if (s.t < ts) before = std::max(before, std::abs(x));
+  });
+  std::vector<RunEvent> slips;
+  for (const RunEvent& e : report.events) {
+    if (e.kind == "slip") slips.push_back(e);
+  }
+  ASSERT_EQ(slips.size(), 1u);
+  EXPECT_EQ(slips[0].constraint, "block|ramp");
+  EXPECT_NEAR(slips[0].t, ts, 1e-10);
+  EXPECT_LT(before, 1e-12);
+  EXPECT_NEAR(x, 5.0 / 3.0 * std::pow(0.6 - ts, 3), 1e-10);
+}
+
+// A ball (sphere in 3D, disc in 2D) launched sliding at v0 on a floor with friction mu.
+json Launched(int dimension, double mu, double v0, double inertia) {
+  json ball = {{"name", "ball"}, {"type", "rigid"}, {"mass", 1.0}};
+  if (dimension == 3) {
+    ball["inertia"] = {inertia, inertia, inertia};
+    ball["position"] = {0.0, 0.0, 0.1};
+    ball["velocity"] = {v0, 0.0, 0.0};
+  } else {
+    ball["inertia"] = inertia;
+    ball["position"] = {0.0, 0.1};
+    ball["velocity"] = {v0, 0.0};
+  }
+  return {{"dimension", dimension},
+          {"bodies", {ball}},
+          {"shapes",
+           {{{"name", "surface"}, {"body", "ball"}, {"type", "sphere"}, {"radius", 0.1}, {"friction", mu}},
+            {{"name", "floor"}, {"body", "world"}, {"type", "plane"}}}},
+          {"effects", {{{"type", "gravity"}, {"acceleration", dimension == 3 ? json{0.0, 0.0, -kG} : json{0.0, -kG}}}}},
+          {"simulation", {{"integrator", "rk4"}, {"step", 1e-3}, {"duration", 1.0}}}};
+}
+
+TEST(ContactFriction, ASlidingBallRollsFromTheClosedFormTime) {
+  // v' = -mu g, w' = mu g m R / I: the slip v - w R stops at t_s = v0 / (mu g (1 + m R^2 / I)), then it rolls
+  const double mu = 0.3, v0 = 2.0, R = 0.1;
+  for (const int dimension : {2, 3}) {
+    const double inertia = dimension == 3 ? 0.4 * R * R : 0.5 * R * R;  // a solid sphere, a disc
+    const double ts = v0 / (mu * kG * (1 + R * R / inertia)), vs = v0 - mu * kG * ts;
+    double x = NAN, vx = NAN, height = 0.0;
+    const RunReport report =
+        Simulate<double>(Parse(Launched(dimension, mu, v0, inertia)), RunOptions{}, [&](const Sample<double>& s) {
+          x = s.q[0];
+          vx = s.v[0];
+          height = std::max(height, std::abs(s.q[dimension - 1] - R));
+        });
+    ASSERT_EQ(report.events.size(), 1u) << dimension;
+    EXPECT_EQ(report.events[0].kind, "stick");
+    EXPECT_NEAR(report.events[0].t, ts, 1e-10) << dimension;
+    EXPECT_NEAR(vx, vs, 1e-10) << dimension;
+    EXPECT_NEAR(x, v0 * ts - mu * kG * ts * ts / 2 + vs * (1.0 - ts), 1e-10) << dimension;
+    EXPECT_LT(height, 1e-12) << dimension;
+  }
+}
+
+TEST(ContactFriction, JetsThroughTheStopOfASlipMatchTheClosedFormAndCentralDifferences) {
+  // x(1) = v0 t_s - mu g t_s^2 / 2 + (5/7) v0 (1 - t_s), t_s = 2 v0 / (7 mu g): d/dmu and d/dv0
+  const testing::TempFolder folder;
+  const double mu = 0.3, v0 = 2.0;
+  const Scene scene = ParseScene(Launched(3, mu, v0, 0.004), "ball.json");
+  const ParameterSet parameters(scene, {"/shapes/0/friction", "/bodies/0/velocity/0"});
+  const Observations observations = ReadObservations(folder.Write("ball.csv", "t,ball.x\n1.0,0.0\n"), scene.model);
+  const LossGradient jet = JetLossGradient(scene.model, parameters, observations);
+  const auto x_at_1 = [](double m, double v) {
+    const double ts = 2 * v / (7 * m * kG);
+    return v * ts - m * kG * ts * ts / 2 + 5.0 / 7.0 * v * (1 - ts);
+  };
+  const double x = x_at_1(mu, v0), h = 1e-6;
+  EXPECT_NEAR(jet.gradient[0], x * (x_at_1(mu + h, v0) - x_at_1(mu - h, v0)) / (2 * h), 1e-7);
+  EXPECT_NEAR(jet.gradient[1], x * (x_at_1(mu, v0 + h) - x_at_1(mu, v0 - h)) / (2 * h), 1e-7);
+  const LossGradient central = CentralDifferenceLossGradient(scene.model, parameters, observations);
+  for (size_t i = 0; i < jet.gradient.size(); ++i) {
+    EXPECT_NEAR(jet.gradient[i], central.gradient[i], 1e-6 * std::abs(central.gradient[i])) << i;
+  }
+  try {
+    AdjointLossGradient(scene.model, parameters, observations);
+    ADD_FAILURE() << "the adjoint differentiated a sliding contact it has no recorded form for";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--method jet"), std::string::npos) << e.what();
+  }
+}
+
+TEST(ContactFriction, PainlevesParadoxIsReportedNamingTheContactAndTheTime) {
+  // a uniform rod (1 m, 1 kg) at 30 degrees, its lower end on the floor and leading as it slides at 1 m/s: with
+  // I = m l^2 / 3 (l half its length) the normal acceleration's coefficient of N is 1 + 3 cos(th) (cos(th) - mu
+  // sin(th)) over m, negative for mu > 2.5 (Painleve's paradox); mu = 1 slides on
+  const double th = M_PI / 6, r = 0.01;
+  for (const double mu : {3.0, 1.0}) {
+    const json scene = {
+        {"dimension", 2},
+        {"bodies",
+         {{{"name", "rod"},
+           {"type", "rigid"},
+           {"mass", 1.0},
+           {"inertia", 1.0 / 12},
+           {"position", {0.0, 0.5 * std::sin(th) + r}},
+           {"angle", th},
+           {"velocity", {-1.0, 0.0}}}}},
+        {"shapes",
+         {{{"name", "stick"}, {"body", "rod"}, {"type", "capsule"}, {"radius", r}, {"length", 1.0}, {"friction", mu}},
+          {{"name", "floor"}, {"body", "world"}, {"type", "plane"}}}},
+        {"effects", {{{"type", "gravity"}, {"acceleration", {0.0, -kG}}}}},
+        {"simulation", {{"step", 1e-3}, {"duration", 0.05}}}};
+    if (mu < 2.5) {
+      EXPECT_NO_THROW(Simulate<double>(Parse(scene), RunOptions{}, [](const Sample<double>&) {}));
+      continue;
+    }
+    try {
+      Simulate<double>(Parse(scene), RunOptions{}, [](const Sample<double>&) {});
+      ADD_FAILURE() << "Painleve's paradox passed silently";
+    } catch (const SimulationDiverged& e) {
+      EXPECT_NE(std::string(e.what()).find("Painleve's paradox at the contact stick|floor"), std::string::npos)
+          << e.what();
+      EXPECT_NE(std::string(e.what()).find("t = 0 s"), std::string::npos) << e.what();
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------------------------------
 // gradients across an impact
 
 TEST(ContactGradients, JetsAndTheAdjointAcrossABounceMatchTheClosedFormAndCentralDifferences) {
@@ -405,6 +587,29 @@ TEST(ContactGradients, JetsAndTheAdjointAcrossABounceMatchTheClosedFormAndCentra
   const LossGradient adjoint = AdjointLossGradient(scene.model, parameters, observations);
   for (size_t i = 0; i < jet.gradient.size(); ++i) {
     EXPECT_NEAR(adjoint.gradient[i], jet.gradient[i], 1e-9 * std::abs(jet.gradient[i])) << i;
+  }
+}
+
+// The README's examples (docs/examples/contact/make_recordings.py): a ball's restitution (0.8 in the truth) and a
+// cube's friction (0.35) identified from their recordings, each within three standard deviations.
+TEST(ContactIdentification, TheReadmesRestitutionAndFrictionAreIdentifiedFromTheirRecordings) {
+  const testing::TempFolder folder;
+  const std::string example = std::string(TETHER_SOURCE_DIR) + "/docs/examples/contact/";
+  struct Case {
+    const char* guess;
+    const char* data;
+    const char* pointer;
+    double truth;
+  };
+  for (const Case& c : {Case{"ball_guess.json", "bounces.csv", "/shapes/0/restitution", 0.8},
+                        Case{"block_guess.json", "slide.csv", "/shapes/0/friction", 0.35}}) {
+    const testing::Outcome identified = testing::RunTether(
+        "identify " + example + c.guess + " --data " + example + c.data + " --param " + c.pointer, folder);
+    ASSERT_EQ(identified.status, 0) << identified.err;
+    const json result = json::parse(identified.out);
+    const double estimate = result["parameters"][c.pointer], deviation = result["standard_deviation"][c.pointer];
+    EXPECT_LT(std::abs(estimate - c.truth), 3 * deviation) << c.pointer << " " << estimate << " +- " << deviation;
+    EXPECT_LT(deviation, 1e-4) << c.pointer;
   }
 }
 

@@ -197,16 +197,16 @@ ContactGeometry BuildContactGeometry(const Model<T>& model) {
 }
 
 template <typename T>
-T PairFriction(const Model<T>& model, const ContactPair& pair) {
-  const Shape<T>&a = model.shapes[pair.a], &b = model.shapes[pair.b];
+T PairFriction(const Model<T>& model, int shape_a, int shape_b) {
+  const Shape<T>&a = model.shapes[shape_a], &b = model.shapes[shape_b];
   const T fa = a.gives_friction ? a.friction : model.contact.friction;
   const T fb = b.gives_friction ? b.friction : model.contact.friction;
   return Value(fa) >= Value(fb) ? fa : fb;
 }
 
 template <typename T>
-T PairRestitution(const Model<T>& model, const ContactPair& pair) {
-  const Shape<T>&a = model.shapes[pair.a], &b = model.shapes[pair.b];
+T PairRestitution(const Model<T>& model, int shape_a, int shape_b) {
+  const Shape<T>&a = model.shapes[shape_a], &b = model.shapes[shape_b];
   const T ea = a.gives_restitution ? a.restitution : model.contact.restitution;
   const T eb = b.gives_restitution ? b.restitution : model.contact.restitution;
   return Value(ea) >= Value(eb) ? ea : eb;
@@ -314,8 +314,8 @@ T FeatureGapValue(const Model<T>& model, const ContactFeature& feature, const Bo
 
 #define TETHER_INSTANTIATE_CONTACT_GEOMETRY(T)                                                                       \
   template ContactGeometry BuildContactGeometry<T>(const Model<T>&);                                                 \
-  template T PairFriction<T>(const Model<T>&, const ContactPair&);                                                   \
-  template T PairRestitution<T>(const Model<T>&, const ContactPair&);                                                \
+  template T PairFriction<T>(const Model<T>&, int, int);                                                             \
+  template T PairRestitution<T>(const Model<T>&, int, int);                                                          \
   template GapPrimitive<T> MeasureFeature<T>(const Model<T>&, const ContactFeature&, const BodyFrames<T>&,           \
                                              const VecX<T>&);                                                        \
   template ConstraintRow<T>* EvaluateContactRow<T>(const Model<T>&, const ContactFeature&, const BodyFrames<T>&,     \

@@ -172,7 +172,7 @@ Stepper<T>::Stepper(const Model<T>& model, const RunOptions& options, Observer o
   v_projected_ = state_.v;
   settle_ = [this](double t, VecX<T>* q, VecX<T>* v) { return Settle(t, q, v); };
   // a limit the run starts on, at rest or moving into it
-  if (!gaps_.empty()) gaps_.Resolve(t0, h_, -1, &state_.q, &state_.v, &ws_, &report_);
+  if (!gaps_.empty()) gaps_.Resolve(t0, h_, -1, -1, &state_.q, &state_.v, &ws_, &report_);
 }
 
 template <typename T>
@@ -267,18 +267,20 @@ template <typename T>
 void Stepper<T>::Advance(double t, double dt) {
   if (gaps_.empty()) return AdvanceSmooth(t, dt);
   if (gaps_.stepping()) {  // events taken where the step ends (docs/contact.md, "Time stepping")
+    gaps_.FollowSlips(t, dt, state_.q, state_.v, &ws_);
     AdvanceSmooth(t, dt);
-    if (CollectDue(t + dt)) gaps_.Resolve(t + dt, h_, -1, &state_.q, &state_.v, &ws_, &report_);
+    if (CollectDue(t + dt)) gaps_.Resolve(t + dt, h_, -1, -1, &state_.q, &state_.v, &ws_, &report_);
     return;
   }
   const double t_end = t + dt;
+  gaps_.FollowSlips(t, dt, state_.q, state_.v, &ws_);
   for (int events = 0; events < kMostEventsPerStep; ++events) {
     SaveInto(&before_);
     AdvanceSmooth(t, t_end - t);
     const double tau = FirstEvent(t, t_end - t);  // leaves the state at the event
     if (tau < 0.0) return;
     t += tau;
-    gaps_.Resolve(t, h_, capture_, &state_.q, &state_.v, &ws_, &report_);
+    gaps_.Resolve(t, h_, capture_, event_, &state_.q, &state_.v, &ws_, &report_);
     if (t_end - t <= kEventTimeTolerance * h_) {  // the event closes the step
       if (t < t_end) AdvanceSmooth(t, t_end - t);
       return;
@@ -298,6 +300,7 @@ bool Stepper<T>::CollectDue(double t) {
     for (size_t j = 0; j < multipliers_.size(); ++j) {
       if (multipliers_[j] < 0.0) due_.push_back(gaps_.active_order()[j]);
     }
+    gaps_.FrictionDue(t, state_.q, state_.v, &ws_, &due_);
   }
   return !due_.empty();
 }
@@ -310,11 +313,14 @@ double Stepper<T>::FirstEvent(double t, double dt) {
   if (!CollectDue(t + dt)) return -1.0;
   double first = dt;
   capture_ = -1;
+  event_ = -1;
   for (int i : due_) {
     const double tau = Locate(i, t, first);
     if (tau < first) {
       first = tau;
-      capture_ = tau == 0.0 && !gaps_.active(i) ? i : -1;  // a held side at 0 just releases
+      // a gap closing again at once is captured; a held side at 0 just releases, a friction event just changes
+      capture_ = tau == 0.0 && !gaps_.IsFrictionEvent(i) && !gaps_.active(i) ? i : -1;
+      event_ = i;
     }
   }
   Restore(before_);
@@ -337,7 +343,7 @@ double Stepper<T>::Locate(int side, double t, double dt) {
   if (!(f_hi < 0.0)) return dt;
   double lo = 0.0, f_lo = value_after(0.0);
   // a gap at zero at the start (it has just opened): bracket from the first probe where it is open
-  const bool gap = !gaps_.active(side);
+  const bool gap = !gaps_.IsFrictionEvent(side) && !gaps_.active(side);
   for (double probe = kCaptureFlight * dt; gap && !(f_lo > 0.0) && probe < dt; probe *= 2.0) {
     const double f = value_after(probe);
     if (f > 0.0) {
@@ -376,6 +382,11 @@ void Stepper<T>::AdvanceSmooth(double t, double dt) {
   ws_.solver->ForgetConditioning();
   const StepStatus status = integrator_.Advance(t, dt, &ws_, &q, &v, settle_);
   const double t_next = t + dt;
+  if (status == StepStatus::kSolveFailed && ws_.painleve >= 0) {
+    throw Diverged(t_next, "Painleve's paradox at " + DescribeConstraint(model_, ws_.infos[ws_.painleve].scene_index) +
+                               ": its sliding friction admits no consistent accelerations (the normal force would "
+                               "have to pull); a smaller friction coefficient, or the time-stepping mode, avoids it");
+  }
   if (status == StepStatus::kSolveFailed) throw Diverged(t_next, "the constraint system became singular or non-finite");
   if (status == StepStatus::kStepSizeUnderflow) throw Diverged(t_next, "rk45's step size collapsed");
   if (!AllFinite(q) || !AllFinite(v)) throw Diverged(t_next, "the state became non-finite (NaN or infinity)");
@@ -451,6 +462,7 @@ void Stepper<T>::SaveInto(Carry* carry) const {
   memory.solver = ws_.solver->memory();
   memory.coordinate_branches = ws_.coordinates.last;
   memory.active_sides = gaps_.active_set();
+  memory.held_slips = gaps_.held_slips();
 }
 
 template <typename T>
@@ -462,7 +474,8 @@ void Stepper<T>::Restore(const Carry& carry) {
   time_ = memory.time;
   next_stop_ = memory.next_stop;
   integrator_.Restore(memory.integrator);
-  gaps_.SetActiveSet(memory.active_sides, &ws_);  // before the solver's memory: the set picks the solver
+  gaps_.SetActiveSet(memory.active_sides, memory.held_slips,
+                     &ws_);  // before the solver's memory: the set picks the solver
   ws_.solver->Restore(memory.solver);
   ws_.coordinates.last = memory.coordinate_branches;
 }

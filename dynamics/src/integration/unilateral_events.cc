@@ -33,6 +33,7 @@ UnilateralEvents<T>::UnilateralEvents(const Model<T>& model)
     sides_.push_back({-1, 0, 1, static_cast<int>(f), contacts_.pairs[contacts_.features[f].pair].label});
   }
   active_.assign(sides_.size(), 0);
+  held_slips_.assign(3 * sides_.size(), 0.0);
   acceleration_.setZero(model.NumVelocities());
 }
 
@@ -45,7 +46,8 @@ T UnilateralEvents<T>::Bound(const Side& side) const {
 template <typename T>
 T UnilateralEvents<T>::Restitution(const Side& side) const {
   if (side.feature < 0) return model_.joints[side.joint].range.restitution;
-  return PairRestitution(model_, contacts_.pairs[contacts_.features[side.feature].pair]);
+  const ContactFeature& feature = contacts_.features[side.feature];
+  return PairRestitution(model_, feature.first, feature.second);
 }
 
 // The active sides' rows: the limits' first, then the contacts' (constraint_rows.h), each in side order.
@@ -61,21 +63,37 @@ void UnilateralEvents<T>::Apply(Workspace<T>* ws) {
     if (side.feature >= 0) {
       const ContactFeature& feature = contacts_.features[side.feature];
       const auto [a, b] = FeatureBodies(model_, feature);
-      contacts.push_back({model_.NumConstraints() + feature.pair, a, b, feature});
+      contacts.push_back({model_.NumConstraints() + feature.pair, a, b, feature, friction(static_cast<int>(i)),
+                          Vec3<double>(held_slips_[3 * i], held_slips_[3 * i + 1], held_slips_[3 * i + 2])});
       continue;
     }
     const Joint<T>& joint = model_.joints[side.joint];
     limits.push_back({joint.scene_index, joint.a.body, joint.b.body, ws->coordinates.references[side.coordinate],
                       side.side, Bound(side)});
   }
-  ws->SetActiveGaps(model_, limits, contacts, active_order_);
+  std::vector<int> key;  // the active sides and their friction: what the rows' layout depends on
+  for (int i : active_order_) key.push_back(4 * i + active_[i]);
+  ws->SetActiveGaps(model_, limits, contacts, key);
 }
 
 template <typename T>
-void UnilateralEvents<T>::SetActiveSet(const std::vector<char>& active, Workspace<T>* ws) {
-  if (active == active_) return;
+void UnilateralEvents<T>::SetActiveSet(const std::vector<char>& active, const std::vector<double>& held_slips,
+                                       Workspace<T>* ws) {
+  if (active == active_ && held_slips == held_slips_) return;
+  held_slips_ = held_slips;
+  if (active == active_) return SyncHeldSlips(ws);
   active_ = active;
   Apply(ws);
+}
+
+template <typename T>
+void UnilateralEvents<T>::SyncHeldSlips(Workspace<T>* ws) const {
+  auto contact = ws->constraints.contacts.begin();
+  for (int i : active_order_) {
+    if (sides_[i].feature < 0) continue;
+    contact->held_slip = Vec3<double>(held_slips_[3 * i], held_slips_[3 * i + 1], held_slips_[3 * i + 2]);
+    ++contact;
+  }
 }
 
 template <typename T>
@@ -113,13 +131,14 @@ bool UnilateralEvents<T>::Multipliers(double t, const VecX<T>& q, const VecX<T>&
                                       std::vector<double>* mu) {
   mu->clear();
   if (!ComputeAcceleration(model_, t, q, v, ws, &acceleration_)) return false;
-  const size_t first = ws->rows.size() - active_order_.size();
+  const size_t first = FirstGapRow(*ws);
   for (size_t j = 0; j < active_order_.size(); ++j) mu->push_back(-Value(ws->kkt.lambda[first + j]));
   return true;
 }
 
 template <typename T>
 double UnilateralEvents<T>::EventValue(int i, double t, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws) {
+  if (IsFrictionEvent(i)) return FrictionEventValue(i - size(), t, q, v, ws);
   if (!active_[i]) {
     const Side& side = sides_[i];
     if (side.feature < 0) return side.side * (ws->coordinates.last[side.coordinate] - Value(Bound(side)));
@@ -214,9 +233,9 @@ void UnilateralEvents<T>::Impulse(const std::vector<int>& impacting, const std::
         Apply(ws);
         EvaluateRows(model_, q, *v, false, ws);
         MultiplyJacobian(model_, *v, ws);
-        const size_t first = ws->rows.size() - active_order_.size();
-        for (size_t r = 0; r < ws->rows.size(); ++r) {  // equality rows keep J v; sides leave at their target rate
-          ws->kkt.rhs[r] = r < first ? T(0.0) : wanted[active_order_[r - first]] - ws->kkt.rhs[r];
+        const size_t first = FirstGapRow(*ws), end = first + active_order_.size();
+        for (size_t r = 0; r < ws->rows.size(); ++r) {  // other rows keep J v; sides leave at their target rate
+          ws->kkt.rhs[r] = r < first || r >= end ? T(0.0) : wanted[active_order_[r - first]] - ws->kkt.rhs[r];
         }
         AssembleSchur(ws);
         if (!ws->solver->Solve(ws->kkt.schur, ws->kkt.rhs, &ws->kkt.lambda)) return false;
@@ -234,9 +253,16 @@ void UnilateralEvents<T>::Impulse(const std::vector<int>& impacting, const std::
 }
 
 template <typename T>
-void UnilateralEvents<T>::Resolve(double t, double step, int capture, VecX<T>* q, VecX<T>* v, Workspace<T>* ws,
-                                  RunReport* report) {
+void UnilateralEvents<T>::Resolve(double t, double step, int capture, int event, VecX<T>* q, VecX<T>* v,
+                                  Workspace<T>* ws, RunReport* report) {
   const std::vector<char> was_active = active_;
+  const int located = IsFrictionEvent(event) ? contacts_.features[sides_[event - size()].feature].pair : -1;
+  if (located >= 0 && friction(event - size()) == Friction::kSlide) {  // a slip stops: no impact, no release
+    const T stop = SlipStopSensitivity(t, located, q, v, ws);
+    ChooseFriction(t, located, *q, *v, ws, report);
+    MoveAlongMotion(t, -stop, q, v, ws);
+    return;
+  }
   std::vector<GapState> gaps = Measure(*q, *v, ws);
   if (capture >= 0) {  // held where it touches, at rest
     Impulse({capture}, {T(0.0)}, true, *q, v, ws);
@@ -249,9 +275,11 @@ void UnilateralEvents<T>::Resolve(double t, double step, int capture, VecX<T>* q
   }
   if (impacting.empty()) {
     HoldTouching(t, gaps, *q, *v, ws);
+    ChooseFriction(t, located, *q, *v, ws, report);
   } else if (stepping_) {  // at the step's end, not at a located time: no time to differentiate
     gaps = Impacts(t, step, impacting, gaps, *q, v, ws, report);
     HoldTouching(t, gaps, *q, *v, ws);
+    ChooseFriction(t, located, *q, *v, ws, report);
   } else {
     // derivatives cross the impact through its time: the state is moved along the motion before it by the time's
     // sensitivity dt* (a zero value), resolved, and moved back along the motion after it (the saltation matrix);
@@ -260,6 +288,7 @@ void UnilateralEvents<T>::Resolve(double t, double step, int capture, VecX<T>* q
     const T event_time = EventTimeSensitivity(t, impacting.front(), q, v, ws, report);
     gaps = Impacts(t, step, impacting, gaps, *q, v, ws, report);
     HoldTouching(t, gaps, *q, *v, ws);
+    ChooseFriction(t, located, *q, *v, ws, report);
     MoveAlongMotion(t, -event_time, q, v, ws);
   }
   for (int i = 0; i < size(); ++i) {
@@ -297,12 +326,12 @@ void UnilateralEvents<T>::HoldTouching(double t, const std::vector<GapState>& ga
     const bool resting = std::abs(gaps[i].rate) <= kRestingSpeed;
     // time stepping also holds a side while it overlaps: its stabilization is what moves it out
     const bool held = gaps[i].rate <= kRestingSpeed || (stepping_ && gaps[i].g < 0.0);
-    candidate[i] = active_[i] ? held : gaps[i].g <= kTouching && resting;
+    candidate[i] = active_[i] ? (held ? active_[i] : 0) : gaps[i].g <= kTouching && resting;
   }
   const std::vector<char> none(sides_.size(), 0);  // less those whose multiplier would pull, or is zero
   SolveActiveSet(&candidate, none, true,
                  [&](const std::vector<char>& set, std::vector<int>* sides, std::vector<double>* mu) {
-                   SetActiveSet(set, ws);
+                   SetActiveSet(set, held_slips_, ws);
                    *sides = active_order_;
                    return active_order_.empty() ? (mu->clear(), true) : Multipliers(t, q, v, ws, mu);
                  });

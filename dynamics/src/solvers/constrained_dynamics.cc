@@ -1,5 +1,6 @@
 #include "tether/dynamics/solvers/constrained_dynamics.h"
 
+#include <Eigen/LU>
 #include <limits>
 #include <type_traits>
 
@@ -19,6 +20,9 @@ bool ComputeAcceleration(const Model<T>& model, double t, const VecX<T>& q, cons
     return true;
   }
   EvaluateConstraintRows(model, ws->constraints, ws->frames, q, v, true, &ws->rows);
+  if (!ws->constraints.contacts.empty()) {
+    EvaluateSliding(model, ws->constraints, ws->frames, q, v, static_cast<int>(ws->rows.size()), &ws->sliding);
+  }
   return SolveKkt(model, v, ws, a);
 }
 
@@ -49,11 +53,54 @@ bool KktAcceleration(const Model<S>& model, const std::vector<BodyLayout>& layou
   return true;
 }
 
+template <typename S, typename T>
+int SlidingKktAcceleration(const Model<S>& model, SchurSolver* solver, const std::vector<ConstraintRow<T>>& rows,
+                           const std::vector<SlidingRow<T>>& sliding, const InverseMass<T>& inverse_mass,
+                           VecX<T>* force, KktSystem<T>* kkt, VecX<T>* a) {
+  const int m = static_cast<int>(rows.size()), k = static_cast<int>(sliding.size());
+  Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> z(m, k), coupling(k, k);
+  VecX<T> column(force->size()), w(m), solved(m);
+  for (int j = 0; j < k; ++j) {  // Z = S^-1 W, W's column j = J M^-1 (mu J_s)_j^T
+    column.setZero();
+    AddScaled(model, sliding[j].a, T(1.0), &column);
+    AddScaled(model, sliding[j].b, T(1.0), &column);
+    ApplyInverseMass(model, inverse_mass, column, &column);
+    for (int i = 0; i < m; ++i) w[i] = Dot(model, rows[i].a, column) + Dot(model, rows[i].b, column);
+    if (!solver->Solve(kkt->schur, w, &solved)) return sliding[j].row;
+    z.col(j) = solved;
+  }
+  VecX<T> lambda_k(k);
+  for (int i = 0; i < k; ++i) {
+    lambda_k[i] = kkt->lambda[sliding[i].row];
+    for (int j = 0; j < k; ++j) coupling(i, j) = T(i == j ? 1.0 : 0.0) - z(sliding[i].row, j);
+  }
+  const auto lu = coupling.partialPivLu();
+  if (!(Value(lu.determinant()) > 0.0)) return sliding[0].row;
+  lambda_k = lu.solve(lambda_k);
+  const VecX<T> change = z * lambda_k;
+  kkt->lambda += change;
+  for (int i = 0; i < m; ++i) {  // f - (J - F)^T lambda, from f - J^T lambda0
+    AddScaled(model, rows[i].a, T(-change[i]), force);
+    AddScaled(model, rows[i].b, T(-change[i]), force);
+  }
+  for (int j = 0; j < k; ++j) {
+    AddScaled(model, sliding[j].a, kkt->lambda[sliding[j].row], force);
+    AddScaled(model, sliding[j].b, kkt->lambda[sliding[j].row], force);
+  }
+  ApplyInverseMass(model, inverse_mass, *force, a);
+  return -1;
+}
+
 template <typename T>
 bool SolveKkt(const Model<T>& model, const VecX<T>& v, Workspace<T>* ws, VecX<T>* a) {
   if (const std::optional<bool> recorded = RecordedKktAcceleration(model, v, ws, a)) return *recorded;
-  const bool solved = KktAcceleration(model, ws->layout, *ws->pattern, ws->solver, ws->rows, ws->inverse_mass, v,
-                                      ws->alpha, ws->beta, &ws->force, &ws->kkt, a);
+  bool solved = KktAcceleration(model, ws->layout, *ws->pattern, ws->solver, ws->rows, ws->inverse_mass, v, ws->alpha,
+                                ws->beta, &ws->force, &ws->kkt, a);
+  if (solved && !ws->constraints.contacts.empty() && !ws->sliding.empty()) {
+    ws->painleve =
+        SlidingKktAcceleration(model, ws->solver, ws->rows, ws->sliding, ws->inverse_mass, &ws->force, &ws->kkt, a);
+    solved = ws->painleve < 0;
+  }
   if constexpr (std::is_same_v<T, double>) {
     if (solved && ws->kkt_log) ws->kkt_log->Keep(ws->kkt.lambda, *ws->solver);
   }

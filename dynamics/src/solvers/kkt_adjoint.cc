@@ -32,6 +32,7 @@
 
 #include "tether/dynamics/adjoint/recorded.h"
 #include "tether/dynamics/adjoint/recorded_blocks.h"
+#include "tether/dynamics/model/errors.h"
 #include "tether/dynamics/solvers/constrained_dynamics.h"
 
 namespace tether {
@@ -235,6 +236,11 @@ void KktRecord::Backward(const double* a_bar_data, Tape* tape) {
 
 std::optional<bool> RecordedKktAcceleration(const Model<Rev>& model, const VecX<Rev>& v, Workspace<Rev>* ws,
                                             VecX<Rev>* a) {
+  if (!ws->sliding.empty()) {
+    throw InputError(
+        "the adjoint does not differentiate a sliding contact's friction yet (constrained_dynamics.h's sliding "
+        "solve has no recorded form): use the Jet gradient (--method jet), which does");
+  }
   Tape* tape = ActiveTape();
   const std::shared_ptr<KktRecord> record = tape ? tape->Reusable<KktRecord>() : std::make_shared<KktRecord>();
   KktRecord& r = *record;

@@ -18,7 +18,8 @@
 //              (joint_coordinates.h); its value is min(g, 0), the violation, so that the stabilization pushes
 //              the bodies apart where they overlap and never pulls them together
 //   contact    an active contact feature (contact_geometry.h): a line row (a vertex against a plane) or a
-//              distance row (closest points) whose value is the gap g, one-sided and clamped like a limit's
+//              distance row (closest points) whose value is the gap g, one-sided and clamped like a limit's;
+//              a sticking contact adds d - 1 slip rows (contact_friction.h)
 //
 // The joints' parts (joint_kinds.h, which lists each joint's) as primitives; "at the start" is the state the set
 // is built at:
@@ -112,15 +113,22 @@ struct LimitPrimitive {
   T bound = T(0.0);                   // rad or m
 };
 
-// An active contact feature: the gap g >= 0 between two shapes (contact_geometry.h).
+// How an active contact's friction acts (contact_friction.h): not at all (mu = 0), holding it (d - 1 more rows), or
+// against its slip (the normal row's force turned by mu).
+enum class Friction : char { kNone, kStick, kSlide };
+
+// An active contact feature: the gap g >= 0 between two shapes (contact_geometry.h), and its friction.
 struct ContactPrimitive {
   int scene_index = 0;  // model.NumConstraints() + the pair's index: past the constraints (DescribeConstraint)
   int body_a = kWorld, body_b = kWorld;
   ContactFeature feature;
+  Friction friction = Friction::kNone;
+  Vec3<double> held_slip = Vec3<double>::Zero();  // kSlide: the direction held where the slip is too slow to give one
 };
 
 // A run's constraint primitives, stored by kind; rows are laid out in this order, then the user constraints,
-// then the active limits and contacts (set by the run as they engage and release: unilateral_events.h).
+// then the active limits and contacts (set by the run as they engage and release: unilateral_events.h), then the
+// slip rows of the sticking contacts.
 template <typename T>
 struct ConstraintSet {
   std::vector<DistancePrimitive<T>> distances;

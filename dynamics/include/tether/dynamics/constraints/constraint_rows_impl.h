@@ -6,6 +6,7 @@
 
 #include "tether/dynamics/adjoint/recorded.h"
 #include "tether/dynamics/constraints/constraint_rows.h"
+#include "tether/dynamics/constraints/contact_friction.h"
 #include "tether/dynamics/constraints/contact_geometry.h"
 #include "tether/dynamics/constraints/user_constraint.h"
 
@@ -318,6 +319,9 @@ std::vector<RowInfo> DescribeRows(const Model<T>& model, const ConstraintSet<T>&
   for (const auto& c : model.user_constraints) add(c.scene_index, c.body_a, c.body_b, c.residual->NumRows());
   for (const auto& c : set.limits) add(c.scene_index, c.body_a, c.body_b, 1, RowLaw::kGap);
   for (const auto& c : set.contacts) add(c.scene_index, c.body_a, c.body_b, 1, RowLaw::kGap);
+  for (const auto& c : set.contacts) {
+    if (c.friction == Friction::kStick) add(c.scene_index, c.body_a, c.body_b, model.dimension - 1);
+  }
   return infos;
 }
 
@@ -372,6 +376,14 @@ TETHER_FLATTEN void EvaluateConstraintRows(const Model<T>& model, const Constrai
     ++row;
   }
   for (const ContactPrimitive& c : set.contacts) row = EvaluateContactRow(model, c.feature, frames, q, v, vt, row);
+  for (const ContactPrimitive& c : set.contacts) {
+    if (c.friction != Friction::kStick) continue;
+    const ContactPoint<T> contact = ContactPointOf(model, c.feature, frames, q, v, vt);
+    Vec3<T> tangents[2];
+    for (int k = 0; k < Tangents(model.dimension, contact.normal, tangents); ++k) {
+      SlipRow(model, frames, contact, tangents[k], vt, row++);
+    }
+  }
 }
 
 template <typename T>

@@ -42,12 +42,12 @@ struct ContactGeometry {
 template <typename T>
 ContactGeometry BuildContactGeometry(const Model<T>& model);
 
-// The pair's friction and restitution: the larger of the two shapes' (each the shape's own, else the scene's
-// default).
+// The friction and restitution of the pair of shapes a and b: the larger of the two shapes' (each the shape's own,
+// else the scene's default).
 template <typename T>
-T PairFriction(const Model<T>& model, const ContactPair& pair);
+T PairFriction(const Model<T>& model, int a, int b);
 template <typename T>
-T PairRestitution(const Model<T>& model, const ContactPair& pair);
+T PairRestitution(const Model<T>& model, int a, int b);
 
 // The primitive that measures a feature's gap at configuration q (frames updated there): a line row
 // (vertex against plane: `line` true) or a distance row, whose value is the gap.

@@ -33,10 +33,12 @@ struct StepperMemory {
   IntegratorMemory integrator;
   SolverMemory solver;
   std::vector<double> coordinate_branches;
-  std::vector<char> active_sides;  // per side of a joint range (unilateral_events.h)
+  std::vector<char> active_sides;  // per side of a joint range or contact feature, with its friction
+  std::vector<double> held_slips;  // and the sliding directions held (unilateral_events.h)
   // bytes held besides the struct itself
   std::int64_t HeapBytes() const {
-    return static_cast<std::int64_t>(coordinate_branches.size() * sizeof(double) + active_sides.size());
+    return static_cast<std::int64_t>((coordinate_branches.size() + held_slips.size()) * sizeof(double) +
+                                     active_sides.size());
   }
 };
 
@@ -108,6 +110,7 @@ class Stepper {
   std::vector<int> due_;             // the sides whose event lies within the step being taken
   std::vector<double> multipliers_;  // the active sides' at its end
   int capture_ = -1;                 // the side the located event captures, or -1
+  int event_ = -1;                   // the located event (UnilateralEvents' numbering)
   Carry before_;                     // the state at the start of the step being taken (events are located from it)
   bool drift_warned_ = false;
 };

@@ -72,11 +72,15 @@ class UnilateralEvents {
   bool stepping() const { return stepping_; }
   int size() const { return static_cast<int>(sides_.size()); }
   bool active(int i) const { return active_[i] != 0; }
+  // An active contact's friction (kNone for a limit or an inactive side).
+  Friction friction(int i) const { return active_[i] ? static_cast<Friction>(active_[i] - 1) : Friction::kNone; }
   const Side& side(int i) const { return sides_[i]; }
+  // Per side: 0 inactive, else 1 + its Friction; and the sliding directions held (3 numbers a side).
   const std::vector<char>& active_set() const { return active_; }
+  const std::vector<double>& held_slips() const { return held_slips_; }
   const std::vector<int>& active_order() const { return active_order_; }  // the active sides in row order
-  // Restores an active set (a saved carry): the workspace's rows follow.
-  void SetActiveSet(const std::vector<char>& active, Workspace<T>* ws);
+  // Restores an active set and its held directions (a saved carry): the workspace's rows follow.
+  void SetActiveSet(const std::vector<char>& active, const std::vector<double>& held_slips, Workspace<T>* ws);
 
   const ContactGeometry& contacts() const { return contacts_; }
 
@@ -87,12 +91,26 @@ class UnilateralEvents {
   // system could not be solved.
   bool Multipliers(double t, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws, std::vector<double>* mu);
   // The event function of side i at (t, q, v) after a step: g when inactive, mu when active (an event where it
-  // turns negative).
+  // turns negative); a friction event's (below).
   double EventValue(int i, double t, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws);
 
-  // Impacts, then the active set, at time t (above); side `capture` (or -1) is captured at once: its gap closes
-  // again within kCaptureFlight of the step. Events are appended to report->events.
-  void Resolve(double t, double step, int capture, VecX<T>* q, VecX<T>* v, Workspace<T>* ws, RunReport* report);
+  // Impacts, then the active set and its friction, at time t (above); side `capture` (or -1) is captured at once:
+  // its gap closes again within kCaptureFlight of the step; `event` is the event located there (or -1: at the
+  // start, or at a time step's end), which a friction event's pair follows whatever the sign of its function's
+  // round-off there. Events are appended to report->events.
+  void Resolve(double t, double step, int capture, int event, VecX<T>* q, VecX<T>* v, Workspace<T>* ws,
+               RunReport* report);
+
+  // Friction events (unilateral_friction.cc) are numbered size() + i, i the first active side of their pair: a
+  // sticking pair's when its tangential force leaves the cone (mu N - |F_t| turns negative), a sliding pair's
+  // when its slip stops (the slip along the direction held turns negative).
+  bool IsFrictionEvent(int event) const { return event >= size(); }
+  // Appends the friction events due at (t, q, v).
+  void FrictionDue(double t, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws, std::vector<int>* due);
+  // A sliding pair's held direction follows its mean slip where its friction changes the slip by less than the
+  // slip itself over a step of `step` (at the start of every step, t; contact_friction.h): the slip across the
+  // direction then decays without overshoot.
+  void FollowSlips(double t, double step, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws);
 
  private:
   struct GapState {
@@ -102,10 +120,16 @@ class UnilateralEvents {
     T g, rate;
   };
 
+  // The first row of the active sides (the sticking contacts' slip rows follow them).
+  size_t FirstGapRow(const Workspace<T>& ws) const {
+    return ws.rows.size() - active_order_.size() - SlipRowCount(model_, ws.constraints);
+  }
   T Bound(const Side& side) const;
   T Restitution(const Side& side) const;
   std::vector<GapState> Measure(const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws) const;
   void Apply(Workspace<T>* ws);
+  // The held directions into the workspace's contact rows (the set unchanged).
+  void SyncHeldSlips(Workspace<T>* ws) const;
   // Impulses on the equality rows, the active sides and the sides in `impacting` so that each impacting side
   // leaves at its target rate; a side whose impulse would pull is left out, unless `capture` (the sides in
   // `impacting` are then held at their target, a capture's last, tiny pull).
@@ -129,11 +153,33 @@ class UnilateralEvents {
   // The gap's acceleration g'' of side i with the current active set (one KKT solve).
   double GapAcceleration(int i, double t, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws);
 
+  // friction (unilateral_friction.cc)
+  // The active sides of each pair (empty for pairs not touching).
+  std::vector<std::vector<int>> ActiveByPair() const;
+  // Each touching pair's friction at (t, q, v): none (mu = 0), sticking where it slips no faster than
+  // kRestingSpeed (or its slip turned back) and the force it needs lies in the cone, else sliding; changes of
+  // touching pairs reported as stick or slip events. Throws SimulationDiverged at Painleve's paradox.
+  // `located` is the pair of the friction event located there, or -1: a sticking one slides, a sliding one sticks
+  // unless its force leaves the cone.
+  void ChooseFriction(double t, int located, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws, RunReport* report);
+  // dt* of the stop of sliding pair `pair`'s slip (a zero value; the sum h of its slips along the held directions
+  // and its rate: dt* = -h / h'), the state moved by it along the sliding motion: the vector field changes there
+  // (the sliding force gives way to the sticking one), so the derivatives cross it as they cross an impact.
+  T SlipStopSensitivity(double t, int pair, VecX<T>* q, VecX<T>* v, Workspace<T>* ws);
+  // A sticking pair's cone margin mu N - |F_t| from the last solve (its normal and slip rows' multipliers).
+  double ConeMargin(const std::vector<int>& sides, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws) const;
+  // The force F_t that a sticking pair's slip rows exert on its second bodies, world, from the last solve.
+  Vec3<double> StickingForce(const std::vector<int>& sides, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws) const;
+  // A sliding pair's slip along its held directions, summed over its sides.
+  double SlipAlongHeld(const std::vector<int>& sides, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws) const;
+  double FrictionEventValue(int side, double t, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws);
+
   const Model<T>& model_;
   bool stepping_;
   ContactGeometry contacts_;
   std::vector<Side> sides_;
-  std::vector<char> active_;  // per side
+  std::vector<char> active_;        // per side
+  std::vector<double> held_slips_;  // per side, 3 numbers: a sliding contact's direction held (contact_friction.h)
   std::vector<int> active_order_;
   VecX<T> acceleration_;
 };

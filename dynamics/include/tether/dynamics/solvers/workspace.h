@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "tether/dynamics/constraints/constraint_rows.h"
+#include "tether/dynamics/constraints/contact_friction.h"
 #include "tether/dynamics/constraints/joint_coordinates.h"
 #include "tether/dynamics/solvers/kkt_log.h"
 #include "tether/dynamics/solvers/schur_solver.h"
@@ -88,6 +89,8 @@ struct Workspace {
 
   BodyFrames<T> frames;                // at the last evaluation
   std::vector<ConstraintRow<T>> rows;  // rows at the last evaluation
+  std::vector<SlidingRow<T>> sliding;  // the sliding contacts' friction at the last evaluation (contact_friction.h)
+  int painleve = -1;                   // the sliding contact's row where a solve met Painleve's paradox, or -1
   KktSystem<T> kkt;                    // S, its right-hand side and the multipliers at the last solve
   VecX<T> force;                       // generalized force f (size nv)
   VecX<T> reaction;                    // M^-1 J^T lambda (size nv)
