@@ -1,6 +1,7 @@
 #include "tether/dynamics/solvers/constrained_dynamics.h"
 
 #include <Eigen/LU>
+#include <algorithm>
 #include <limits>
 #include <type_traits>
 
@@ -53,31 +54,82 @@ bool KktAcceleration(const Model<S>& model, const std::vector<BodyLayout>& layou
   return true;
 }
 
+namespace {
+
+// M^-1 g^T for a row's blocks g.
+template <typename S, typename T>
+void InverseMassTimes(const Model<S>& model, const InverseMass<T>& inverse_mass, const BodyVector<T>& a,
+                      const BodyVector<T>& b, VecX<T>* out) {
+  out->setZero();
+  AddScaled(model, a, T(1.0), out);
+  AddScaled(model, b, T(1.0), out);
+  ApplyInverseMass(model, inverse_mass, *out, out);
+}
+
+// S' = J M^-1 (J - F)^T as a dense matrix, regularized as the solver regularizes S (schur_system.h): where rows are
+// redundant (coplanar contacts) S^-1 multiplies by 1 / eps in their null space, and Woodbury's formula would add and
+// cancel such terms.
+template <typename S, typename T>
+Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> RegularizedSlidingSchur(const Model<S>& model,
+                                                                         const std::vector<ConstraintRow<T>>& rows,
+                                                                         const std::vector<SlidingRow<T>>& sliding,
+                                                                         const InverseMass<T>& inverse_mass,
+                                                                         const std::vector<VecX<T>>& friction_columns) {
+  const int m = static_cast<int>(rows.size());
+  Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> matrix(m, m);
+  VecX<T> column(friction_columns.empty() ? 0 : friction_columns[0].size());
+  double largest = 0.0;
+  for (int c = 0; c < m; ++c) {
+    InverseMassTimes(model, inverse_mass, rows[c].a, rows[c].b, &column);
+    for (int i = 0; i < m; ++i) matrix(i, c) = Dot(model, rows[i].a, column) + Dot(model, rows[i].b, column);
+    largest = std::max(largest, Value(matrix(c, c)));
+  }
+  for (int c = 0; c < m; ++c) {
+    matrix(c, c) += T(kSchurRegularization) * (matrix(c, c) + T(kSchurDiagonalFloor * largest));
+  }
+  for (size_t j = 0; j < sliding.size(); ++j) {
+    for (int i = 0; i < m; ++i) {
+      matrix(i, sliding[j].row) -=
+          Dot(model, rows[i].a, friction_columns[j]) + Dot(model, rows[i].b, friction_columns[j]);
+    }
+  }
+  return matrix;
+}
+
+}  // namespace
+
 template <typename S, typename T>
 int SlidingKktAcceleration(const Model<S>& model, SchurSolver* solver, const std::vector<ConstraintRow<T>>& rows,
                            const std::vector<SlidingRow<T>>& sliding, const InverseMass<T>& inverse_mass,
                            VecX<T>* force, KktSystem<T>* kkt, VecX<T>* a) {
   const int m = static_cast<int>(rows.size()), k = static_cast<int>(sliding.size());
-  Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> z(m, k), coupling(k, k);
-  VecX<T> column(force->size()), w(m), solved(m);
-  for (int j = 0; j < k; ++j) {  // Z = S^-1 W, W's column j = J M^-1 (mu J_s)_j^T
-    column.setZero();
-    AddScaled(model, sliding[j].a, T(1.0), &column);
-    AddScaled(model, sliding[j].b, T(1.0), &column);
-    ApplyInverseMass(model, inverse_mass, column, &column);
-    for (int i = 0; i < m; ++i) w[i] = Dot(model, rows[i].a, column) + Dot(model, rows[i].b, column);
-    if (!solver->Solve(kkt->schur, w, &solved)) return sliding[j].row;
-    z.col(j) = solved;
+  const bool redundant = solver->starts_regularized();               // the factorization of S just made was regularized
+  std::vector<VecX<T>> friction_columns(k, VecX<T>(force->size()));  // M^-1 (mu J_s)_j^T
+  for (int j = 0; j < k; ++j) InverseMassTimes(model, inverse_mass, sliding[j].a, sliding[j].b, &friction_columns[j]);
+  VecX<T> change;
+  if (redundant) {
+    change =
+        RegularizedSlidingSchur(model, rows, sliding, inverse_mass, friction_columns).partialPivLu().solve(kkt->rhs) -
+        kkt->lambda;
+  } else {
+    Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> z(m, k), coupling(k, k);
+    VecX<T> w(m), solved(m);
+    for (int j = 0; j < k; ++j) {  // Z = S^-1 W, W's column j = J M^-1 (mu J_s)_j^T
+      for (int i = 0; i < m; ++i) {
+        w[i] = Dot(model, rows[i].a, friction_columns[j]) + Dot(model, rows[i].b, friction_columns[j]);
+      }
+      if (!solver->Solve(kkt->schur, w, &solved)) return sliding[j].row;
+      z.col(j) = solved;
+    }
+    VecX<T> lambda_k(k);
+    for (int i = 0; i < k; ++i) {
+      lambda_k[i] = kkt->lambda[sliding[i].row];
+      for (int j = 0; j < k; ++j) coupling(i, j) = T(i == j ? 1.0 : 0.0) - z(sliding[i].row, j);
+    }
+    const auto lu = coupling.partialPivLu();
+    if (!(Value(lu.determinant()) > 0.0)) return sliding[0].row;
+    change = z * lu.solve(lambda_k);
   }
-  VecX<T> lambda_k(k);
-  for (int i = 0; i < k; ++i) {
-    lambda_k[i] = kkt->lambda[sliding[i].row];
-    for (int j = 0; j < k; ++j) coupling(i, j) = T(i == j ? 1.0 : 0.0) - z(sliding[i].row, j);
-  }
-  const auto lu = coupling.partialPivLu();
-  if (!(Value(lu.determinant()) > 0.0)) return sliding[0].row;
-  lambda_k = lu.solve(lambda_k);
-  const VecX<T> change = z * lambda_k;
   kkt->lambda += change;
   for (int i = 0; i < m; ++i) {  // f - (J - F)^T lambda, from f - J^T lambda0
     AddScaled(model, rows[i].a, T(-change[i]), force);

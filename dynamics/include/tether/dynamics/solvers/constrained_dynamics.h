@@ -8,7 +8,10 @@
 // (Sherman-Morrison-Woodbury): with W = J M^-1 F^T's columns K, S Z = W, lambda0 = S^-1 rhs,
 //   (1 - Z_K) lambda_K = lambda0_K,   lambda = lambda0 + Z lambda_K,   v' = M^-1 (f - (J - F)^T lambda).
 // det(1 - Z_K) = det S' / det S <= 0 is Painleve's paradox (no consistent accelerations: a normal force that
-// pushes the bodies together): the solve fails and names the contact (Workspace::painleve).
+// pushes the bodies together): the solve fails and names the contact (Workspace::painleve). Where the rows are
+// redundant (S was regularized: coplanar contacts), S^-1 multiplies by 1 / eps in their null space and the
+// formula's terms would cancel: S' itself is factored instead, dense and regularized as S is, and Painleve's
+// paradox is not detected there.
 //
 // In Rev arithmetic (reverse.h) the KKT part, from the rows and forces to v', is recorded as one operation whose
 // adjoint is written out (adjoint/recorded.h; kkt_adjoint.cc): a node per velocity instead of a few dozen per row.
