@@ -16,7 +16,7 @@ namespace {
 using nlohmann::json;
 
 // A 3D scene with a tensor inertia, a universal joint's two axes, a limit with its restitution, a marker, every
-// 3D effect (a scheduled force) and gains.
+// 3D effect (a scheduled force), every shape type with its placement and law, the contact defaults, and gains.
 const char* kSpatial = R"({"dimension": 3,
   "bodies": [{"name": "a", "type": "rigid", "mass": 2.0, "inertia": [[0.03, 0.001, 0.002], [0.001, 0.04, 0.003],
               [0.002, 0.003, 0.05]], "position": [0.0, 0.0, -1.0], "orientation": [0.6, 0.8, 0.0, 0.0],
@@ -38,17 +38,27 @@ const char* kSpatial = R"({"dimension": 3,
               {"type": "joint_torque", "joint": "shoulder", "schedule": {"times": [0.0, 1.0], "values": [0.3, -0.3]}},
               {"type": "joint_spring", "joint": "shoulder", "stiffness": 5.0, "rest": 0.3, "damping": 0.1}],
   "markers": [{"name": "tip", "body": "b", "point": [0.0, 0.0, -0.1]}],
+  "shapes": [{"name": "ball", "body": "p", "type": "sphere", "radius": 0.05, "restitution": 0.4},
+             {"body": "b", "type": "capsule", "radius": 0.02, "length": 0.3, "position": [0.0, 0.0, 0.05],
+              "orientation": [0.6, 0.0, 0.8, 0.0], "friction": 0.3},
+             {"body": "a", "type": "box", "size": [0.1, 0.2, 0.3], "contact": false},
+             {"name": "floor", "body": "world", "type": "plane", "position": [0.0, 0.0, -3.0],
+              "orientation": [1.0, 0.0, 0.0, 0.0]}],
+  "contact": {"friction": 0.5, "restitution": 0.1, "exclude": [["b", "world"]]},
   "simulation": {"integrator": "rk4", "step": 0.001, "duration": 0.01, "tolerance": 1e-8},
   "stabilization": {"method": "baumgarte", "alpha": 20.0, "beta": 100.0}})";
 
-// A planar scene: a rigid body's inertia, angle and spin, a pin with its angle limit, a planar torque scheduled.
+// A planar scene: a rigid body's inertia, angle and spin, a pin with its angle limit, a planar torque scheduled,
+// a box and a line with their angles.
 const char* kPlanar = R"({"dimension": 2,
   "bodies": [{"name": "rod", "type": "rigid", "mass": 1.0, "inertia": 0.08, "position": [0.5, 0.0], "angle": 0.2,
               "velocity": [0.0, 0.1], "angular_velocity": 0.3}],
   "constraints": [{"type": "pin", "bodies": ["world", "rod"], "points": [[0.0, 0.0], [-0.5, 0.0]], "angle": 0.0,
                    "range": [-0.5, 0.5]}],
   "effects": [{"type": "torque", "body": "rod", "schedule": {"times": [0.0, 1.0], "values": [1.0, 2.0]}},
-              {"type": "torque", "body": "rod", "value": 0.5}]})";
+              {"type": "torque", "body": "rod", "value": 0.5}],
+  "shapes": [{"body": "rod", "type": "box", "size": [1.0, 0.1], "angle": 0.1, "position": [0.0, 0.01]},
+             {"body": "world", "type": "plane", "angle": -0.2, "position": [0.0, -2.0]}]})";
 
 std::vector<Scene> ScenesToRead() {
   std::vector<Scene> scenes = {ParseScene(json::parse(kSpatial), "spatial.json"),
@@ -134,6 +144,14 @@ TEST(SceneNumbers, EachNumberHasTheDomainTheFormatGivesIt) {
   EXPECT_EQ(domain("/effects/6/rest"), NumberDomain::kAny);
   EXPECT_EQ(domain("/stabilization/beta"), NumberDomain::kNonNegative);
   EXPECT_EQ(domain("/bodies/0/position/2"), NumberDomain::kAny);
+  EXPECT_EQ(domain("/shapes/0/radius"), NumberDomain::kPositive);
+  EXPECT_EQ(domain("/shapes/0/restitution"), NumberDomain::kUnitInterval);
+  EXPECT_EQ(domain("/shapes/1/length"), NumberDomain::kNonNegative);
+  EXPECT_EQ(domain("/shapes/1/friction"), NumberDomain::kNonNegative);
+  EXPECT_EQ(domain("/shapes/1/orientation/2"), NumberDomain::kAny);
+  EXPECT_EQ(domain("/shapes/2/size/1"), NumberDomain::kPositive);
+  EXPECT_EQ(domain("/contact/friction"), NumberDomain::kNonNegative);
+  EXPECT_EQ(domain("/contact/restitution"), NumberDomain::kUnitInterval);
 }
 
 }  // namespace

@@ -196,20 +196,28 @@ ContactGeometry BuildContactGeometry(const Model<T>& model) {
   return geometry;
 }
 
+namespace {
+
+// The larger of two shapes' values of one law (each the shape's own where it gives one, else the scene's default).
+template <typename T>
+T Larger(const Model<T>& model, int shape_a, int shape_b, T Shape<T>::*value, bool Shape<T>::*given,
+         T ContactSettings<T>::*fallback) {
+  const Shape<T>&a = model.shapes[shape_a], &b = model.shapes[shape_b];
+  const T x = a.*given ? a.*value : model.contact.*fallback, y = b.*given ? b.*value : model.contact.*fallback;
+  return Value(x) >= Value(y) ? x : y;
+}
+
+}  // namespace
+
 template <typename T>
 T PairFriction(const Model<T>& model, int shape_a, int shape_b) {
-  const Shape<T>&a = model.shapes[shape_a], &b = model.shapes[shape_b];
-  const T fa = a.gives_friction ? a.friction : model.contact.friction;
-  const T fb = b.gives_friction ? b.friction : model.contact.friction;
-  return Value(fa) >= Value(fb) ? fa : fb;
+  return Larger(model, shape_a, shape_b, &Shape<T>::friction, &Shape<T>::gives_friction, &ContactSettings<T>::friction);
 }
 
 template <typename T>
 T PairRestitution(const Model<T>& model, int shape_a, int shape_b) {
-  const Shape<T>&a = model.shapes[shape_a], &b = model.shapes[shape_b];
-  const T ea = a.gives_restitution ? a.restitution : model.contact.restitution;
-  const T eb = b.gives_restitution ? b.restitution : model.contact.restitution;
-  return Value(ea) >= Value(eb) ? ea : eb;
+  return Larger(model, shape_a, shape_b, &Shape<T>::restitution, &Shape<T>::gives_restitution,
+                &ContactSettings<T>::restitution);
 }
 
 template <typename T>

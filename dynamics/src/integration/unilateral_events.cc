@@ -6,6 +6,7 @@
 #include <type_traits>
 
 #include "tether/dynamics/constraints/active_set.h"
+#include "tether/dynamics/effects/effects.h"
 #include "tether/dynamics/model/configuration_space.h"
 #include "tether/dynamics/model/errors.h"
 #include "tether/dynamics/solvers/constrained_dynamics.h"
@@ -226,6 +227,8 @@ void UnilateralEvents<T>::Impulse(const std::vector<int>& impacting, const std::
     kept[impacting[k]] = capture;
   }
   std::vector<char> set = active_;
+  std::vector<double> drift;  // J v of the rows kept
+  double work = 0.0;
   const bool solved = SolveActiveSet(
       &set, kept, false,
       [&](const std::vector<char>& candidate, std::vector<int>* sides, std::vector<double>* impulses) {
@@ -234,16 +237,21 @@ void UnilateralEvents<T>::Impulse(const std::vector<int>& impacting, const std::
         EvaluateRows(model_, q, *v, false, ws);
         MultiplyJacobian(model_, *v, ws);
         const size_t first = FirstGapRow(*ws), end = first + active_order_.size();
+        drift.assign(ws->rows.size(), 0.0);
         for (size_t r = 0; r < ws->rows.size(); ++r) {  // other rows keep J v; sides leave at their target rate
+          if (r < first || r >= end) drift[r] = Value(ws->kkt.rhs[r]);
           ws->kkt.rhs[r] = r < first || r >= end ? T(0.0) : wanted[active_order_[r - first]] - ws->kkt.rhs[r];
         }
         AssembleSchur(ws);
         if (!ws->solver->Solve(ws->kkt.schur, ws->kkt.rhs, &ws->kkt.lambda)) return false;
+        work = 0.0;  // what the kept rows' impulses do on their drift J v: energy they may add
+        for (size_t r = 0; r < drift.size(); ++r) work += std::abs(Value(ws->kkt.lambda[r]) * drift[r]);
         *sides = active_order_;
         impulses->clear();
         for (size_t j = 0; j < active_order_.size(); ++j) impulses->push_back(Value(ws->kkt.lambda[first + j]));
         return true;
       });
+  drift_work_ += work;
   if (solved) {  // the last solve is the active set's: v+ = v + M^-1 J^T P
     ApplyReaction(model_, ws, &ws->reaction);
     *v += ws->reaction;
@@ -306,6 +314,8 @@ std::vector<typename UnilateralEvents<T>::GapState> UnilateralEvents<T>::Impacts
                                                                                  Workspace<T>* ws, RunReport* report) {
   std::vector<T> target;  // Newton's law, g'+ = -e g'-
   for (int i : impacting) target.push_back(-Restitution(sides_[i]) * GapOf(i, q, *v, ws).rate);
+  const double energy = Value(KineticEnergy(model_, *v));
+  drift_work_ = 0.0;
   Impulse(impacting, target, false, q, v, ws);
   std::vector<GapState> after = Measure(q, *v, ws);
   for (int i : impacting) {  // a rebound that would land again within a sliver of the step is captured
@@ -314,6 +324,14 @@ std::vector<typename UnilateralEvents<T>::GapState> UnilateralEvents<T>::Impacts
     if (fall < 0.0 && 2.0 * after[i].rate / -fall < kCaptureFlight * step) Impulse({i}, {T(0.0)}, true, q, v, ws);
   }
   after = Measure(q, *v, ws);
+  // no impact gains energy (e <= 1, pushing impulses): a gain beyond round-off is a defect, reported as such
+  const double gained = Value(KineticEnergy(model_, *v)) - energy;
+  if (gained > drift_work_ + kImpactEnergyRoundoff * (1.0 + energy)) {
+    std::ostringstream out;
+    out << "the impact on " << sides_[impacting.front()].label << " at t = " << t << " s gained " << gained
+        << " J of kinetic energy (a defect of the impact's solve: please report the scene)";
+    throw SimulationDiverged(out.str(), t, -1);
+  }
   for (int i : impacting) report->events.push_back({t, "impact", sides_[i].label, before[i].rate, after[i].rate});
   return after;
 }

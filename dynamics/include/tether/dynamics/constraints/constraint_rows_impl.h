@@ -19,17 +19,7 @@ Mat3<T> RotationAt(const Model<T>& model, int body, const VecX<T>& q) {
   if (body == kWorld) return Mat3<T>::Identity();
   const Body<T>& b = model.bodies[body];
   if (b.kind == BodyKind::kRigid3d) return RotationMatrix(Orientation(b, q));
-  if (b.kind == BodyKind::kPlanar) {
-    using std::cos;
-    using std::sin;
-    const T c = cos(q[b.q_offset + 2]), s = sin(q[b.q_offset + 2]);
-    Mat3<T> R = Mat3<T>::Identity();
-    R(0, 0) = c;
-    R(0, 1) = -s;
-    R(1, 0) = s;
-    R(1, 1) = c;
-    return R;
-  }
+  if (b.kind == BodyKind::kPlanar) return PlanarRotation(q[b.q_offset + 2]);
   return Mat3<T>::Identity();
 }
 

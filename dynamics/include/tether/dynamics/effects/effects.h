@@ -29,6 +29,10 @@ template <typename T>
 void AccumulateForces(const Model<T>& model, const JointCoordinates<T>& coordinates, const BodyFrames<T>& frames,
                       double t, const VecX<T>& q, const VecX<T>& v, VecX<T>* f);
 
+// 1/2 v^T M v, J.
+template <typename T>
+T KineticEnergy(const Model<T>& model, const VecX<T>& v);
+
 // Kinetic + the effects' potential energy, J; frames updated at q.
 template <typename T>
 T Energy(const Model<T>& model, const JointCoordinates<T>& coordinates, const BodyFrames<T>& frames, const VecX<T>& q,

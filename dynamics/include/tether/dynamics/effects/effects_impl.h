@@ -39,8 +39,7 @@ TETHER_FLATTEN void AccumulateForces(const Model<T>& model, const JointCoordinat
 }
 
 template <typename T>
-T Energy(const Model<T>& model, const JointCoordinates<T>& coordinates, const BodyFrames<T>& frames, const VecX<T>& q,
-         const VecX<T>& v) {
+T KineticEnergy(const Model<T>& model, const VecX<T>& v) {
   T energy(0.0);
   for (const Body<T>& body : model.bodies) {
     const Vec3<T> velocity = Translation(model.dimension, v.data() + body.v_offset);
@@ -51,6 +50,13 @@ T Energy(const Model<T>& model, const JointCoordinates<T>& coordinates, const Bo
       energy += T(0.5) * w_P.dot(PrincipalInertia(body) * w_P);
     }
   }
+  return energy;
+}
+
+template <typename T>
+T Energy(const Model<T>& model, const JointCoordinates<T>& coordinates, const BodyFrames<T>& frames, const VecX<T>& q,
+         const VecX<T>& v) {
+  T energy = KineticEnergy(model, v);
   const EffectContext<T> context{model, coordinates, frames, 0.0, q, v};  // no potential depends on time
   ForEachEffectList(
       [&context, &energy](const auto& list) {

@@ -52,6 +52,9 @@ inline constexpr double kRestingSpeed = 1e-8;
 inline constexpr double kCaptureFlight = 1e-4;
 // an impact slower than this (rad/s or m/s) grazes: its time's sensitivity is left out
 inline constexpr double kGrazingSpeed = 1e-6;
+// the kinetic energy an impact may gain by round-off, relative to 1 J + the energy before it, beyond the work of the
+// impulses of the rows it keeps on their drift (their J v, which the stabilization is removing)
+inline constexpr double kImpactEnergyRoundoff = 1e-9;
 
 template <typename T>
 class UnilateralEvents {
@@ -182,6 +185,7 @@ class UnilateralEvents {
   std::vector<double> held_slips_;  // per side, 3 numbers: a sliding contact's direction held (contact_friction.h)
   std::vector<int> active_order_;
   VecX<T> acceleration_;
+  double drift_work_ = 0.0;  // of the last impulse (Impulse)
 };
 
 }  // namespace tether

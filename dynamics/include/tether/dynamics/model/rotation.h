@@ -48,6 +48,20 @@ Vec3<T> Rotate(const Vec4<T>& q, const Vec3<T>& r) {
   return r + q[0] * t + v.cross(t);
 }
 
+// The rotation by `angle` about z (a planar body's or shape's).
+template <typename T>
+Mat3<T> PlanarRotation(const T& angle) {
+  using std::cos;
+  using std::sin;
+  const T c = cos(angle), s = sin(angle);
+  Mat3<T> R = Mat3<T>::Identity();
+  R(0, 0) = c;
+  R(0, 1) = -s;
+  R(1, 0) = s;
+  R(1, 1) = c;
+  return R;
+}
+
 template <typename T>
 Mat3<T> RotationMatrix(const Vec4<T>& q) {
   const T w = q[0], x = q[1], y = q[2], z = q[3];

@@ -81,15 +81,7 @@ Mat3<T> ShapeRotation(const Shape<T>& shape, int dimension) {
     using std::sqrt;
     return RotationMatrix(Vec4<T>(shape.orientation / sqrt(shape.orientation.squaredNorm())));
   }
-  using std::cos;
-  using std::sin;
-  const T c = cos(shape.angle), s = sin(shape.angle);
-  Mat3<T> R = Mat3<T>::Identity();
-  R(0, 0) = c;
-  R(0, 1) = -s;
-  R(1, 0) = s;
-  R(1, 1) = c;
-  return R;
+  return PlanarRotation(shape.angle);
 }
 
 }  // namespace tether
