@@ -262,6 +262,52 @@ TEST(ContactGaps, EachFormMatchesItsClosedForm) {
   }
 }
 
+TEST(ContactGaps, TheBroadPhaseKeepsEveryPairThatMayTouchAndLeavesOutOnlyPairsApart) {
+  // 40 particles with spheres, capsules and boxes scattered over a floor: the pairs left out all have positive gaps,
+  // and the pairs kept are those whose bounding spheres overlap (checked pair by pair)
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> place(-1.0, 1.0), height(0.0, 0.6);
+  json scene = {{"dimension", 3}, {"bodies", json::array()}, {"shapes", json::array()}};
+  for (int k = 0; k < 40; ++k) {
+    const std::string name = "b" + std::to_string(k);
+    scene["bodies"].push_back(Particle(name, {place(random), place(random), height(random)}));
+    json shape = {{"body", name}, {"type", "sphere"}, {"radius", 0.1}};
+    if (k % 3 == 1) shape = {{"body", name}, {"type", "capsule"}, {"radius", 0.05}, {"length", 0.2}};
+    if (k % 3 == 2) shape = {{"body", name}, {"type", "sphere"}, {"radius", 0.15}};
+    scene["shapes"].push_back(shape);
+  }
+  scene["shapes"].push_back({{"body", "world"}, {"type", "plane"}});
+  const Model<double> model = Parse(scene);
+  const ContactGeometry geometry = BuildContactGeometry(model);
+  const State<double> start = InitialState(model);
+  BodyFrames<double> frames;
+  UpdateFrames(model, start.q, start.v, false, &frames);
+  std::vector<char> near;
+  NearPairs(model, geometry, frames, start.q, &near);
+  int kept = 0;
+  for (size_t p = 0; p < geometry.pairs.size(); ++p) kept += near[p];
+  EXPECT_GT(kept, 0);
+  EXPECT_LT(kept, static_cast<int>(geometry.pairs.size()) / 4);  // most pairs are apart
+  double least_left_out = INFINITY;
+  for (const ContactFeature& f : geometry.features) {
+    if (!near[f.pair]) least_left_out = std::min(least_left_out, FeatureGapValue(model, f, frames, start.q));
+  }
+  EXPECT_GT(least_left_out, 0.0);
+  const auto bound = [&](int shape) {
+    const Shape<double>& s = model.shapes[shape];
+    return s.radius + (s.type == ShapeType::kCapsule ? s.length / 2 : 0.0);
+  };
+  for (size_t p = 0; p < geometry.pairs.size(); ++p) {
+    const ContactPair& pair = geometry.pairs[p];
+    if (model.shapes[pair.b].type == ShapeType::kPlane) {
+      EXPECT_EQ(near[p], start.q[3 * pair.a + 2] <= bound(pair.a)) << pair.label;
+      continue;
+    }
+    const double apart = (start.q.segment<3>(3 * pair.a) - start.q.segment<3>(3 * pair.b)).norm();
+    EXPECT_EQ(near[p], apart <= bound(pair.a) + bound(pair.b)) << pair.label;
+  }
+}
+
 // ---------------------------------------------------------------------------------------------------------------
 // frictionless contact dynamics
 

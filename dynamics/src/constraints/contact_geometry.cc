@@ -168,6 +168,7 @@ ContactGeometry BuildContactGeometry(const Model<T>& model) {
   for (const UserConstraintInstance& c : model.user_constraints) never(c.body_a, c.body_b);
   for (const auto& [a, b] : model.contact.exclude) never(a, b);
   const std::vector<Shape<T>>& shapes = model.shapes;
+  geometry.pair_of.assign(shapes.size() * shapes.size(), -1);
   for (size_t i = 0; i < shapes.size(); ++i) {
     for (size_t j = i + 1; j < shapes.size(); ++j) {
       const Shape<T>&si = shapes[i], &sj = shapes[j];
@@ -190,10 +191,59 @@ ContactGeometry BuildContactGeometry(const Model<T>& model) {
                          ") may touch, and contact between a capsule or a box and a box is not simulated yet: "
                          "exclude the pair (\"contact\": {\"exclude\": [[A, B]]}) or set \"contact\": false on one");
       }
+      geometry.pair_of[i * shapes.size() + j] = pair;
       geometry.pairs.push_back({static_cast<int>(i), static_cast<int>(j), si.label + "|" + sj.label});
     }
   }
   return geometry;
+}
+
+template <typename T>
+void NearPairs(const Model<T>& model, const ContactGeometry& geometry, const BodyFrames<T>& frames, const VecX<T>& q,
+               std::vector<char>* near) {
+  near->assign(geometry.pairs.size(), 0);
+  const std::vector<Shape<T>>& shapes = model.shapes;
+  const size_t n = shapes.size();
+  struct Bound {
+    Vec3<double> centre;
+    double radius;
+    int shape;
+  };
+  std::vector<Bound> spheres;
+  std::vector<std::pair<int, WorldPose>> planes;
+  for (size_t k = 0; k < n; ++k) {
+    const Shape<T>& shape = shapes[k];
+    if (!shape.contact) continue;
+    const WorldPose pose = PoseOf(model, shape, frames, q);
+    if (shape.type == ShapeType::kPlane) {
+      planes.emplace_back(static_cast<int>(k), pose);
+      continue;
+    }
+    double radius = Value(Radius(shape));
+    if (shape.type == ShapeType::kCapsule) radius += 0.5 * Value(shape.length);
+    if (shape.type == ShapeType::kBox) radius = 0.5 * shape.size.unaryExpr([](const T& x) { return Value(x); }).norm();
+    spheres.push_back({pose.origin, radius, static_cast<int>(k)});
+  }
+  const auto mark = [&](int a, int b) {
+    const int pair = geometry.pair_of[std::min(a, b) * n + std::max(a, b)];
+    if (pair >= 0) (*near)[pair] = 1;
+  };
+  const int d = model.dimension;
+  for (const auto& [plane, pose] : planes) {
+    const Vec3<double> normal = pose.rotation.col(d == 3 ? 2 : 1);
+    for (const Bound& sphere : spheres) {
+      if (normal.dot(sphere.centre - pose.origin) <= sphere.radius) mark(plane, sphere.shape);
+    }
+  }
+  std::sort(spheres.begin(), spheres.end(),
+            [](const Bound& a, const Bound& b) { return a.centre.x() - a.radius < b.centre.x() - b.radius; });
+  for (size_t i = 0; i < spheres.size(); ++i) {
+    for (size_t j = i + 1; j < spheres.size(); ++j) {
+      const Bound &a = spheres[i], &b = spheres[j];
+      if (b.centre.x() - b.radius > a.centre.x() + a.radius) break;  // and every sphere after b
+      if ((a.centre - b.centre).norm() <= a.radius + b.radius) mark(a.shape, b.shape);
+    }
+  }
 }
 
 namespace {
@@ -322,6 +372,8 @@ T FeatureGapValue(const Model<T>& model, const ContactFeature& feature, const Bo
 
 #define TETHER_INSTANTIATE_CONTACT_GEOMETRY(T)                                                                       \
   template ContactGeometry BuildContactGeometry<T>(const Model<T>&);                                                 \
+  template void NearPairs<T>(const Model<T>&, const ContactGeometry&, const BodyFrames<T>&, const VecX<T>&,          \
+                             std::vector<char>*);                                                                    \
   template T PairFriction<T>(const Model<T>&, int, int);                                                             \
   template T PairRestitution<T>(const Model<T>&, int, int);                                                          \
   template GapPrimitive<T> MeasureFeature<T>(const Model<T>&, const ContactFeature&, const BodyFrames<T>&,           \

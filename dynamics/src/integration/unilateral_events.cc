@@ -99,7 +99,7 @@ void UnilateralEvents<T>::SyncHeldSlips(Workspace<T>* ws) const {
 
 template <typename T>
 void UnilateralEvents<T>::Overlapping(const VecX<T>& q, Workspace<T>* ws, std::vector<int>* due) const {
-  bool frames = false;  // updated at q for the first contact
+  bool frames = false;  // updated at q, and the near pairs found, for the first contact
   for (int i = 0; i < size(); ++i) {
     if (active_[i]) continue;
     const Side& side = sides_[i];
@@ -107,9 +107,14 @@ void UnilateralEvents<T>::Overlapping(const VecX<T>& q, Workspace<T>* ws, std::v
     if (side.feature < 0) {
       gap = side.side * (ws->coordinates.last[side.coordinate] - Value(Bound(side)));
     } else {
-      if (!frames) UpdateFrames(model_, q, q, false, &ws->frames);
+      if (!frames) {
+        UpdateFrames(model_, q, q, false, &ws->frames);
+        NearPairs(model_, contacts_, ws->frames, q, &near_);
+      }
       frames = true;
-      gap = Value(FeatureGapValue(model_, contacts_.features[side.feature], ws->frames, q));
+      const ContactFeature& feature = contacts_.features[side.feature];
+      if (!near_[feature.pair]) continue;  // its bounding spheres are apart: every gap of the pair is positive
+      gap = Value(FeatureGapValue(model_, feature, ws->frames, q));
     }
     if (gap < 0.0) due->push_back(i);
   }

@@ -33,6 +33,7 @@ namespace tether {
 struct ContactGeometry {
   std::vector<ContactPair> pairs;
   std::vector<ContactFeature> features;
+  std::vector<int> pair_of;  // shapes a < b -> the index of their pair, or -1: pair_of[a * shapes + b]
 };
 
 // The pairs the rules let touch (docs/contract.md: shapes with contact on different bodies, not two world shapes,
@@ -41,6 +42,15 @@ struct ContactGeometry {
 // not written yet (a capsule or a box against a box), naming both shapes.
 template <typename T>
 ContactGeometry BuildContactGeometry(const Model<T>& model);
+
+// The broad phase: near[p] = 1 for every pair p whose shapes' bounding spheres (the sphere about a shape's origin
+// that holds it: radius r, r + length / 2, half the box's diagonal) overlap at configuration q, frames updated
+// there (positions), or, for a plane, whose other shape's sphere reaches below it; 0 otherwise, where every
+// feature's gap is then positive. Spheres are swept along the world x axis (sorted by their lowest x), so N shapes
+// cost N log N and the pairs whose intervals overlap, not N^2.
+template <typename T>
+void NearPairs(const Model<T>& model, const ContactGeometry& geometry, const BodyFrames<T>& frames, const VecX<T>& q,
+               std::vector<char>* near);
 
 // The friction and restitution of the pair of shapes a and b: the larger of the two shapes' (each the shape's own,
 // else the scene's default).

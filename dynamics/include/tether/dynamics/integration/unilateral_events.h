@@ -186,6 +186,7 @@ class UnilateralEvents {
   std::vector<int> active_order_;
   VecX<T> acceleration_;
   double drift_work_ = 0.0;  // of the last impulse (Impulse)
+  mutable std::vector<char> near_;  // the broad phase's pairs (Overlapping)
 };
 
 }  // namespace tether
