@@ -12,6 +12,7 @@ ReferenceMotion ComputeReference(const Model<double>& model) {
   accurate.simulation.integrator = Integrator::kRk45;
   accurate.simulation.tolerance = kReferenceTolerance;
   accurate.stabilization.method = Stabilization::kProjection;
+  accurate.simulation.contact = ContactMode::kEvents;  // a time-stepping scene's true motion has its events located
   return Record(accurate);
 }
 

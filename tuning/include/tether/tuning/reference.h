@@ -1,6 +1,7 @@
 // The reference motion of a model: what tether takes for the true constrained motion when it measures the error
-// of a run (gain tuning, studies). rk45 at tolerance kReferenceTolerance with projection onto the constraints,
-// sampled on the model's own step grid, so that it lines up with the model's run row for row.
+// of a run (gain tuning, studies). rk45 at tolerance kReferenceTolerance with projection onto the constraints and
+// its events located (a time-stepping scene's too: docs/contact.md), sampled on the model's own step grid, so that
+// it lines up with the model's run row for row.
 #pragma once
 
 #include <Eigen/Core>
