@@ -23,6 +23,8 @@ bool ComputeAcceleration(const Model<T>& model, double t, const VecX<T>& q, cons
   EvaluateConstraintRows(model, ws->constraints, ws->frames, q, v, true, &ws->rows);
   if (!ws->constraints.contacts.empty()) {
     EvaluateSliding(model, ws->constraints, ws->frames, q, v, static_cast<int>(ws->rows.size()), &ws->sliding);
+  } else {
+    ws->sliding.clear();  // none slides where none touches
   }
   return SolveKkt(model, v, ws, a);
 }
@@ -148,7 +150,7 @@ bool SolveKkt(const Model<T>& model, const VecX<T>& v, Workspace<T>* ws, VecX<T>
   if (const std::optional<bool> recorded = RecordedKktAcceleration(model, v, ws, a)) return *recorded;
   bool solved = KktAcceleration(model, ws->layout, *ws->pattern, ws->solver, ws->rows, ws->inverse_mass, v, ws->alpha,
                                 ws->beta, &ws->force, &ws->kkt, a);
-  if (solved && !ws->constraints.contacts.empty() && !ws->sliding.empty()) {
+  if (solved && !ws->sliding.empty()) {
     ws->painleve =
         SlidingKktAcceleration(model, ws->solver, ws->rows, ws->sliding, ws->inverse_mass, &ws->force, &ws->kkt, a);
     solved = ws->painleve < 0;
