@@ -5,7 +5,8 @@
 // its total normal force. Several coplanar contacts share their forces in ways the motion does not fix (the
 // solver's least-norm multipliers, schur_solver.h): a test corner by corner would read one of those sharings (a
 // box resting on a slope would slip at its unloaded corners while the pair holds); the pair's totals do not
-// depend on it. A sliding pair's features each take mu times their own normal force against their own slip.
+// depend on it. A sliding pair's features each take mu times their own normal force against the pair's one
+// sliding direction (contact_friction.h).
 #include <algorithm>
 #include <cmath>
 #include <sstream>
