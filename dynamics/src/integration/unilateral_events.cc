@@ -65,7 +65,7 @@ void UnilateralEvents<T>::Apply(Workspace<T>* ws) {
       const ContactFeature& feature = contacts_.features[side.feature];
       const auto [a, b] = FeatureBodies(model_, feature);
       contacts.push_back({model_.NumConstraints() + feature.pair, a, b, feature, friction(static_cast<int>(i)),
-                          Vec3<double>(held_slips_[3 * i], held_slips_[3 * i + 1], held_slips_[3 * i + 2])});
+                          HeldSlip(static_cast<int>(i))});
       continue;
     }
     const Joint<T>& joint = model_.joints[side.joint];
@@ -92,7 +92,7 @@ void UnilateralEvents<T>::SyncHeldSlips(Workspace<T>* ws) const {
   auto contact = ws->constraints.contacts.begin();
   for (int i : active_order_) {
     if (sides_[i].feature < 0) continue;
-    contact->held_slip = Vec3<double>(held_slips_[3 * i], held_slips_[3 * i + 1], held_slips_[3 * i + 2]);
+    contact->held_slip = HeldSlip(static_cast<int>(i));
     ++contact;
   }
 }
@@ -105,7 +105,7 @@ void UnilateralEvents<T>::Overlapping(const VecX<T>& q, Workspace<T>* ws, std::v
     const Side& side = sides_[i];
     double gap = 0.0;
     if (side.feature < 0) {
-      gap = side.side * (ws->coordinates.last[side.coordinate] - Value(Bound(side)));
+      gap = TrackedGap(side, *ws);
     } else {
       if (!frames) {
         UpdateFrames(model_, q, q, false, &ws->frames);
@@ -147,13 +147,13 @@ double UnilateralEvents<T>::EventValue(int i, double t, const VecX<T>& q, const 
   if (IsFrictionEvent(i)) return FrictionEventValue(i - size(), t, q, v, ws);
   if (!active_[i]) {
     const Side& side = sides_[i];
-    if (side.feature < 0) return side.side * (ws->coordinates.last[side.coordinate] - Value(Bound(side)));
+    if (side.feature < 0) return TrackedGap(side, *ws);
     UpdateFrames(model_, q, v, false, &ws->frames);
     return Value(FeatureGapValue(model_, contacts_.features[side.feature], ws->frames, q));
   }
   std::vector<double> mu;
   if (!Multipliers(t, q, v, ws, &mu)) return 0.0;
-  const auto position = std::find(active_order_.begin(), active_order_.end(), i) - active_order_.begin();
+  const auto position = ActivePosition(i);
   return mu[position];
 }
 

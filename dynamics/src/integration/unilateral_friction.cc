@@ -57,7 +57,7 @@ double UnilateralEvents<T>::ConeMargin(const std::vector<int>& sides, const VecX
   const size_t first = FirstGapRow(*ws);
   double normal = 0.0;
   for (int i : sides) {
-    const size_t position = std::find(active_order_.begin(), active_order_.end(), i) - active_order_.begin();
+    const size_t position = ActivePosition(i);
     normal -= Value(ws->kkt.lambda[first + position]);
   }
   return mu * normal - StickingForce(sides, q, v, ws).norm();
@@ -71,8 +71,7 @@ double UnilateralEvents<T>::SlipAlongHeld(const std::vector<int>& sides, const V
   for (int i : sides) {
     const ContactPoint<T> contact =
         ContactPointOf(model_, contacts_.features[sides_[i].feature], ws->frames, q, v, true);
-    along +=
-        TangentialSlip(contact).dot(Vec3<double>(held_slips_[3 * i], held_slips_[3 * i + 1], held_slips_[3 * i + 2]));
+    along += TangentialSlip(contact).dot(HeldSlip(static_cast<int>(i)));
   }
   return along;
 }
@@ -131,7 +130,7 @@ void UnilateralEvents<T>::FollowSlips(double t, double step, const VecX<T>& q, c
     const double mu = Value(PairFriction(model_, feature.first, feature.second));
     VecX<T> force = VecX<T>::Zero(v.size()), response(v.size());
     for (size_t j = 0; j < sides.size(); ++j) {
-      const size_t position = std::find(active_order_.begin(), active_order_.end(), sides[j]) - active_order_.begin();
+      const size_t position = ActivePosition(sides[j]);
       const T normal(-mu * Value(ws->kkt.lambda[FirstGapRow(*ws) + position]));
       AddScaled(model_, rows[j].a, normal, &force);
       AddScaled(model_, rows[j].b, normal, &force);
@@ -139,9 +138,7 @@ void UnilateralEvents<T>::FollowSlips(double t, double step, const VecX<T>& q, c
     ApplyInverseMass(model_, ws->inverse_mass, force, &response);
     const double deceleration = std::abs(Value(Dot(model_, rows[0].a, response) + Dot(model_, rows[0].b, response)));
     if (!(step * deceleration <= mean.norm())) continue;  // too slow a slip to steer by
-    for (int i : sides) {
-      for (int k = 0; k < 3; ++k) held_slips_[3 * i + k] = s[k];
-    }
+    for (int i : sides) Hold(i, s);
   }
   if (solved) SyncHeldSlips(ws);
 }
@@ -155,7 +152,7 @@ T UnilateralEvents<T>::SlipStopSensitivity(double t, int pair, VecX<T>* q, VecX<
     const ContactPoint<T> contact =
         ContactPointOf(model_, contacts_.features[sides_[i].feature], ws->frames, *q, *v, true);
     ConstraintRow<T> row;
-    const Vec3<double> held(held_slips_[3 * i], held_slips_[3 * i + 1], held_slips_[3 * i + 2]);
+    const Vec3<double> held = HeldSlip(i);
     SlipRow(model_, ws->frames, contact, Vec3<T>(held.cast<T>()), true, &row);
     slip += Dot(model_, row.a, *v) + Dot(model_, row.b, *v);
     rate += Dot(model_, row.a, acceleration_) + Dot(model_, row.b, acceleration_) + row.bias;
@@ -175,9 +172,6 @@ void UnilateralEvents<T>::ChooseFriction(double t, int located, const VecX<T>& q
   const auto set = [this](const std::vector<int>& sides, Friction f) {
     for (int i : sides) active_[i] = static_cast<char>(1 + static_cast<int>(f));
   };
-  const auto hold = [this](int i, const Vec3<double>& direction) {
-    for (int k = 0; k < 3; ++k) held_slips_[3 * i + k] = direction[k];
-  };
   UpdateFrames(model_, q, v, true, &ws->frames);
   bool any = false;
   std::vector<size_t> slipping;  // the located pair whose force left the cone
@@ -196,11 +190,11 @@ void UnilateralEvents<T>::ChooseFriction(double t, int located, const VecX<T>& q
       const Vec3<double> slip =
           TangentialSlip(ContactPointOf(model_, contacts_.features[sides_[i].feature], ws->frames, q, v, true));
       fastest = std::max(fastest, slip.norm());
-      along_held += slip.dot(Vec3<double>(held_slips_[3 * i], held_slips_[3 * i + 1], held_slips_[3 * i + 2]));
+      along_held += slip.dot(HeldSlip(static_cast<int>(i)));
       mean += slip / static_cast<double>(sides.size());
     }
     if (mean.norm() > kSlipDirectionSpeed) {
-      for (int i : sides) hold(i, mean / mean.norm());
+      for (int i : sides) Hold(i, mean / mean.norm());
     }
     // a pair slipping no faster than a resting speed may stick; so may one whose slip has turned back (it stopped
     // within the step: time stepping, or a stop located just past it)
@@ -235,7 +229,7 @@ void UnilateralEvents<T>::ChooseFriction(double t, int located, const VecX<T>& q
     const bool left = std::find(slipping.begin(), slipping.end(), pair) != slipping.end();
     if (!left && ConeMargin(sides, q, v, ws) >= 0.0) continue;
     const Vec3<double> force = StickingForce(sides, q, v, ws);
-    for (int i : sides) hold(i, -force / force.norm());
+    for (int i : sides) Hold(i, -force / force.norm());
     set(sides, Friction::kSlide);
     switched = true;
   }

@@ -35,6 +35,7 @@
 // so that a double run and its Rev replay make the same KKT solves (adjoint.h).
 #pragma once
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -128,6 +129,21 @@ class UnilateralEvents {
     return ws.rows.size() - active_order_.size() - SlipRowCount(model_, ws.constraints);
   }
   T Bound(const Side& side) const;
+  // A limit side's gap from the tracked coordinate values (JointCoordinates::last).
+  double TrackedGap(const Side& side, const Workspace<T>& ws) const {
+    return side.side * (ws.coordinates.last[side.coordinate] - Value(Bound(side)));
+  }
+  // Side i's held sliding direction, read and set.
+  Vec3<double> HeldSlip(int i) const {
+    return Vec3<double>(held_slips_[3 * i], held_slips_[3 * i + 1], held_slips_[3 * i + 2]);
+  }
+  void Hold(int i, const Vec3<double>& direction) {
+    for (int k = 0; k < 3; ++k) held_slips_[3 * i + k] = direction[k];
+  }
+  // Where active side i stands among the active sides (its row after FirstGapRow).
+  size_t ActivePosition(int i) const {
+    return std::find(active_order_.begin(), active_order_.end(), i) - active_order_.begin();
+  }
   T Restitution(const Side& side) const;
   std::vector<GapState> Measure(const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws) const;
   void Apply(Workspace<T>* ws);
