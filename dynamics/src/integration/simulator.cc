@@ -296,11 +296,11 @@ bool Stepper<T>::CollectDue(double t) {
   due_.clear();
   gaps_.Overlapping(state_.q, &ws_, &due_);
   if (!gaps_.active_order().empty()) {
-    gaps_.Multipliers(t, state_.q, state_.v, &ws_, &multipliers_);
+    const bool solved = gaps_.Multipliers(t, state_.q, state_.v, &ws_, &multipliers_);
     for (size_t j = 0; j < multipliers_.size(); ++j) {
       if (multipliers_[j] < 0.0) due_.push_back(gaps_.active_order()[j]);
     }
-    gaps_.FrictionDue(t, state_.q, state_.v, &ws_, &due_);
+    gaps_.FrictionDue(t, state_.q, state_.v, &ws_, &due_, solved);
   }
   return !due_.empty();
 }

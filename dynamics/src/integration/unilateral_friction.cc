@@ -89,8 +89,7 @@ double UnilateralEvents<T>::FrictionEventValue(int side, double t, const VecX<T>
 
 template <typename T>
 void UnilateralEvents<T>::FrictionDue(double t, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws,
-                                      std::vector<int>* due) {
-  bool solved = false;
+                                      std::vector<int>* due, bool solved) {
   for (const std::vector<int>& sides : ActiveByPair()) {
     if (sides.empty() || friction(sides.front()) == Friction::kNone) continue;
     double value = 0.0;
@@ -258,7 +257,7 @@ void UnilateralEvents<T>::ChooseFriction(double t, int located, const VecX<T>& q
                                                      Workspace<T>*) const;                                             \
   template double UnilateralEvents<T>::FrictionEventValue(int, double, const VecX<T>&, const VecX<T>&, Workspace<T>*); \
   template void UnilateralEvents<T>::FrictionDue(double, const VecX<T>&, const VecX<T>&, Workspace<T>*,                \
-                                                 std::vector<int>*);                                                   \
+                                                 std::vector<int>*, bool);                                             \
   template void UnilateralEvents<T>::FollowSlips(double, double, const VecX<T>&, const VecX<T>&, Workspace<T>*);       \
   template void UnilateralEvents<T>::ChooseFriction(double, int, const VecX<T>&, const VecX<T>&, Workspace<T>*,        \
                                                     RunReport*);                                                       \

@@ -109,8 +109,9 @@ class UnilateralEvents {
   // sticking pair's when its tangential force leaves the cone (mu N - |F_t| turns negative), a sliding pair's
   // when its slip stops (the slip along the direction held turns negative).
   bool IsFrictionEvent(int event) const { return event >= size(); }
-  // Appends the friction events due at (t, q, v).
-  void FrictionDue(double t, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws, std::vector<int>* due);
+  // Appends the friction events due at (t, q, v); `solved`: the workspace holds the KKT solve there already
+  // (Multipliers), which a sticking pair's cone reads.
+  void FrictionDue(double t, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws, std::vector<int>* due, bool solved);
   // A sliding pair's held direction follows its mean slip where its friction changes the slip by less than the
   // slip itself over a step of `step` (at the start of every step, t; contact_friction.h): the slip across the
   // direction then decays without overshoot.
