@@ -200,7 +200,7 @@ ContactGeometry BuildContactGeometry(const Model<T>& model) {
 
 template <typename T>
 void NearPairs(const Model<T>& model, const ContactGeometry& geometry, const BodyFrames<T>& frames, const VecX<T>& q,
-               std::vector<char>* near) {
+               double margin, std::vector<char>* near) {
   near->assign(geometry.pairs.size(), 0);
   const std::vector<Shape<T>>& shapes = model.shapes;
   const size_t n = shapes.size();
@@ -222,7 +222,7 @@ void NearPairs(const Model<T>& model, const ContactGeometry& geometry, const Bod
     double radius = Value(Radius(shape));
     if (shape.type == ShapeType::kCapsule) radius += 0.5 * Value(shape.length);
     if (shape.type == ShapeType::kBox) radius = 0.5 * shape.size.unaryExpr([](const T& x) { return Value(x); }).norm();
-    spheres.push_back({pose.origin, radius, static_cast<int>(k)});
+    spheres.push_back({pose.origin, radius + margin, static_cast<int>(k)});
   }
   const auto mark = [&](int a, int b) {
     const int pair = geometry.pair_of[std::min(a, b) * n + std::max(a, b)];
@@ -372,7 +372,7 @@ T FeatureGapValue(const Model<T>& model, const ContactFeature& feature, const Bo
 
 #define TETHER_INSTANTIATE_CONTACT_GEOMETRY(T)                                                                       \
   template ContactGeometry BuildContactGeometry<T>(const Model<T>&);                                                 \
-  template void NearPairs<T>(const Model<T>&, const ContactGeometry&, const BodyFrames<T>&, const VecX<T>&,          \
+  template void NearPairs<T>(const Model<T>&, const ContactGeometry&, const BodyFrames<T>&, const VecX<T>&, double,  \
                              std::vector<char>*);                                                                    \
   template T PairFriction<T>(const Model<T>&, int, int);                                                             \
   template T PairRestitution<T>(const Model<T>&, int, int);                                                          \

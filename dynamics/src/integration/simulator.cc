@@ -171,8 +171,8 @@ Stepper<T>::Stepper(const Model<T>& model, const RunOptions& options, Observer o
   q_projected_ = state_.q;
   v_projected_ = state_.v;
   settle_ = [this](double t, VecX<T>* q, VecX<T>* v) { return Settle(t, q, v); };
-  // a limit the run starts on, at rest or moving into it
-  if (!gaps_.empty()) gaps_.Resolve(t0, h_, -1, -1, &state_.q, &state_.v, &ws_, &report_);
+  // a limit the run starts on, at rest or moving into it (time stepping: at the first step's end)
+  if (!gaps_.empty() && !gaps_.stepping()) gaps_.Resolve(t0, h_, -1, -1, &state_.q, &state_.v, &ws_, &report_);
 }
 
 template <typename T>
@@ -266,10 +266,9 @@ bool Stepper<T>::Settle(double t, VecX<T>* q, VecX<T>* v) {
 template <typename T>
 void Stepper<T>::Advance(double t, double dt) {
   if (gaps_.empty()) return AdvanceSmooth(t, dt);
-  if (gaps_.stepping()) {  // events taken where the step ends (docs/contact.md, "Time stepping")
-    gaps_.FollowSlips(t, dt, state_.q, state_.v, &ws_);
+  if (gaps_.stepping()) {  // impulses at the step's end (unilateral_stepping.cc)
     AdvanceSmooth(t, dt);
-    if (CollectDue(t + dt)) gaps_.Resolve(t + dt, h_, -1, -1, &state_.q, &state_.v, &ws_, &report_);
+    gaps_.StepContacts(t + dt, dt, &state_.q, &state_.v, &ws_, &report_);
     return;
   }
   const double t_end = t + dt;
@@ -463,6 +462,8 @@ void Stepper<T>::SaveInto(Carry* carry) const {
   memory.coordinate_branches = ws_.coordinates.last;
   memory.active_sides = gaps_.active_set();
   memory.held_slips = gaps_.held_slips();
+  memory.touching_sides = gaps_.touching();
+  memory.contact_impulses = gaps_.last_impulses();
 }
 
 template <typename T>
@@ -477,6 +478,7 @@ void Stepper<T>::Restore(const Carry& carry) {
   gaps_.SetActiveSet(memory.active_sides, memory.held_slips,
                      &ws_);  // before the solver's memory: the set picks the solver
   ws_.solver->Restore(memory.solver);
+  gaps_.SetTouching(memory.touching_sides, memory.contact_impulses);
   ws_.coordinates.last = memory.coordinate_branches;
 }
 

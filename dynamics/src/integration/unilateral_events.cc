@@ -34,6 +34,8 @@ UnilateralEvents<T>::UnilateralEvents(const Model<T>& model)
     sides_.push_back({-1, 0, 1, static_cast<int>(f), contacts_.pairs[contacts_.features[f].pair].label});
   }
   active_.assign(sides_.size(), 0);
+  touching_.assign(sides_.size(), 0);
+  last_impulses_.assign(kImpulseStride * sides_.size(), 0.0);
   held_slips_.assign(3 * sides_.size(), 0.0);
   acceleration_.setZero(model.NumVelocities());
 }
@@ -109,7 +111,7 @@ void UnilateralEvents<T>::Overlapping(const VecX<T>& q, Workspace<T>* ws, std::v
     } else {
       if (!frames) {
         UpdateFrames(model_, q, q, false, &ws->frames);
-        NearPairs(model_, contacts_, ws->frames, q, &near_);
+        NearPairs(model_, contacts_, ws->frames, q, 0.0, &near_);
       }
       frames = true;
       const ContactFeature& feature = contacts_.features[side.feature];
@@ -289,10 +291,6 @@ void UnilateralEvents<T>::Resolve(double t, double step, int capture, int event,
   if (impacting.empty()) {
     HoldTouching(t, gaps, *q, *v, ws);
     ChooseFriction(t, located, *q, *v, ws, report);
-  } else if (stepping_) {  // at the step's end, not at a located time: no time to differentiate
-    gaps = Impacts(t, step, impacting, gaps, *q, v, ws, report);
-    HoldTouching(t, gaps, *q, *v, ws);
-    ChooseFriction(t, located, *q, *v, ws, report);
   } else {
     // derivatives cross the impact through its time: the state is moved along the motion before it by the time's
     // sensitivity dt* (a zero value), resolved, and moved back along the motion after it (the saltation matrix);
@@ -347,8 +345,7 @@ void UnilateralEvents<T>::HoldTouching(double t, const std::vector<GapState>& ga
   std::vector<char> candidate(sides_.size(), 0);  // touching sides at rest, and the held ones that stay
   for (int i = 0; i < size(); ++i) {
     const bool resting = std::abs(gaps[i].rate) <= kRestingSpeed;
-    // time stepping also holds a side while it overlaps: its stabilization is what moves it out
-    const bool held = gaps[i].rate <= kRestingSpeed || (stepping_ && gaps[i].g < 0.0);
+    const bool held = gaps[i].rate <= kRestingSpeed;
     candidate[i] = active_[i] ? (held ? active_[i] : 0) : gaps[i].g <= kTouching && resting;
   }
   const std::vector<char> none(sides_.size(), 0);  // less those whose multiplier would pull, or is zero

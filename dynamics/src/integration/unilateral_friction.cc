@@ -195,8 +195,8 @@ void UnilateralEvents<T>::ChooseFriction(double t, int located, const VecX<T>& q
     if (mean.norm() > kSlipDirectionSpeed) {
       for (int i : sides) Hold(i, mean / mean.norm());
     }
-    // a pair slipping no faster than a resting speed may stick; so may one whose slip has turned back (it stopped
-    // within the step: time stepping, or a stop located just past it)
+    // a pair slipping no faster than a resting speed may stick; so may one whose slip has turned back (a stop
+    // located just past it)
     const Friction was = friction(sides.front());
     const bool stopped = was == Friction::kSlide && (along_held <= 0.0 || static_cast<int>(pair) == located);
     set(sides, fastest <= kRestingSpeed || stopped ? Friction::kStick : Friction::kSlide);

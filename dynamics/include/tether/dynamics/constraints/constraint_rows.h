@@ -154,6 +154,12 @@ void EvaluateConstraintRows(const Model<T>& model, const ConstraintSet<T>& set, 
                             const VecX<T>& q, const VecX<T>& v, bool velocity_terms,
                             std::vector<ConstraintRow<T>>* rows);
 
+// The row of an active limit at (q, v), frames updated there: s x' on the joint's coordinate x, its value
+// min(g, 0) with g = s (x - bound).
+template <typename T>
+void EvaluateLimitRow(const Model<T>& model, const LimitPrimitive<T>& limit, const BodyFrames<T>& frames,
+                      const VecX<T>& q, const VecX<T>& v, bool velocity_terms, ConstraintRow<T>* row);
+
 // The largest geometric violation over the constraints (per constraint, the largest Euclidean norm over its
 // primitives' rows), and the scene index of the constraint where it occurs (-1 when there are none).
 struct Violation {

@@ -315,6 +315,24 @@ std::vector<RowInfo> DescribeRows(const Model<T>& model, const ConstraintSet<T>&
   return infos;
 }
 
+// the branch of an active limit's angle is the one at its bound
+template <typename T>
+void EvaluateLimitRow(const Model<T>& model, const LimitPrimitive<T>& limit, const BodyFrames<T>& frames,
+                      const VecX<T>& q, const VecX<T>& v, bool velocity_terms, ConstraintRow<T>* row) {
+  const CoordinateRow<T> x =
+      EvaluateCoordinateAt(model, limit.coordinate, Value(limit.bound), frames, q, v, velocity_terms);
+  const T side(static_cast<double>(limit.side));
+  const T gap = side * (x.value - limit.bound);
+  row->value = Value(gap) < 0.0 ? gap : T(0.0);
+  row->a = x.a;
+  row->b = x.b;
+  for (BodyVector<T>* block : {&row->a, &row->b}) {
+    block->translation *= side;
+    block->rotation *= side;
+  }
+  if (velocity_terms) row->bias = side * CoordinateBias(model, limit.coordinate, frames, q, v);
+}
+
 template <typename T>
 TETHER_FLATTEN void EvaluateConstraintRows(const Model<T>& model, const ConstraintSet<T>& set,
                                            const BodyFrames<T>& frames, const VecX<T>& q, const VecX<T>& v,
@@ -351,20 +369,7 @@ TETHER_FLATTEN void EvaluateConstraintRows(const Model<T>& model, const Constrai
       row->b = internal::GradientOf(model, c.body_b, out[i].gradient + sa.v_size);
     }
   }
-  for (const LimitPrimitive<T>& c : set.limits) {  // the branch of an active limit's angle is the one at its bound
-    const CoordinateRow<T> x = EvaluateCoordinateAt(model, c.coordinate, Value(c.bound), frames, q, v, vt);
-    const T side(static_cast<double>(c.side));
-    const T gap = side * (x.value - c.bound);
-    row->value = Value(gap) < 0.0 ? gap : T(0.0);
-    row->a = x.a;
-    row->b = x.b;
-    for (BodyVector<T>* block : {&row->a, &row->b}) {
-      block->translation *= side;
-      block->rotation *= side;
-    }
-    if (velocity_terms) row->bias = side * CoordinateBias(model, c.coordinate, frames, q, v);
-    ++row;
-  }
+  for (const LimitPrimitive<T>& c : set.limits) EvaluateLimitRow(model, c, frames, q, v, vt, row++);
   for (const ContactPrimitive& c : set.contacts) row = EvaluateContactRow(model, c.feature, frames, q, v, vt, row);
   for (const ContactPrimitive& c : set.contacts) {
     if (c.friction != Friction::kStick) continue;

@@ -47,10 +47,11 @@ ContactGeometry BuildContactGeometry(const Model<T>& model);
 // that holds it: radius r, r + length / 2, half the box's diagonal) overlap at configuration q, frames updated
 // there (positions), or, for a plane, whose other shape's sphere reaches below it; 0 otherwise, where every
 // feature's gap is then positive. Spheres are swept along the world x axis (sorted by their lowest x), so N shapes
-// cost N log N and the pairs whose intervals overlap, not N^2.
+// cost N log N and the pairs whose intervals overlap, not N^2. Each sphere is grown by `margin` (time stepping's
+// reach over a step: pairs still apart that may touch within it).
 template <typename T>
 void NearPairs(const Model<T>& model, const ContactGeometry& geometry, const BodyFrames<T>& frames, const VecX<T>& q,
-               std::vector<char>* near);
+               double margin, std::vector<char>* near);
 
 // The friction and restitution of the pair of shapes a and b: the larger of the two shapes' (each the shape's own,
 // else the scene's default).

@@ -15,6 +15,12 @@
 // [[1 - x^2, x (1 - 2 zeta x)], [-x, 1 - 2 zeta x]] with x = h omega (tuning/stability.cc), so it has no
 // coefficients here. The real stability limit r is the largest x with |R(-x)| <= 1: 2 for both Eulers, 2.785 for
 // rk4, 3.307 for rk45.
+//
+// A force F held constant over a step changes the velocity by h M^-1 F and the configuration by w h^2 M^-1 F: w is
+// what the method makes of it (Euler's step moves q by the old velocity: 0; symplectic Euler's by the new one: 1;
+// the Runge-Kutta methods integrate it exactly: 1/2). The time-stepping contact (unilateral_events.h) moves q by
+// w h dv with its impulse's velocity change dv, as the integrator would have moved it under that impulse spread
+// over the step.
 #pragma once
 
 #include "tether/dynamics/model/model.h"
@@ -29,14 +35,15 @@ struct IntegratorDescriptor {
   double real_stability_limit;   // r above
   int stability_terms;           // how many d_k: 0 for a partitioned method
   double stability_divisors[6];  // d_k above
+  double force_position_weight;  // w above
 };
 
 // Every integrator, in the order the scene format lists them (a table: nothing is allocated to read it).
 inline constexpr IntegratorDescriptor kIntegrators[] = {
-    {Integrator::kEuler, "euler", 1, 1.0, 2.0, 1, {1.0}},
-    {Integrator::kSymplecticEuler, "symplectic_euler", 1, 1.0, 2.0, 0, {}},
-    {Integrator::kRk4, "rk4", 4, 4.0, 2.785, 4, {1.0, 2.0, 3.0, 4.0}},
-    {Integrator::kRk45, "rk45", 5, 7.0, 3.307, 6, {1.0, 2.0, 3.0, 4.0, 5.0, 5.0}}};
+    {Integrator::kEuler, "euler", 1, 1.0, 2.0, 1, {1.0}, 0.0},
+    {Integrator::kSymplecticEuler, "symplectic_euler", 1, 1.0, 2.0, 0, {}, 1.0},
+    {Integrator::kRk4, "rk4", 4, 4.0, 2.785, 4, {1.0, 2.0, 3.0, 4.0}, 0.5},
+    {Integrator::kRk45, "rk45", 5, 7.0, 3.307, 6, {1.0, 2.0, 3.0, 4.0, 5.0, 5.0}, 0.5}};
 
 constexpr const IntegratorDescriptor& Describe(Integrator integrator) {
   for (const IntegratorDescriptor& d : kIntegrators) {

@@ -9,7 +9,9 @@
 // limits also splits a step at each event inside it (unilateral_events.h): the step is taken whole, and when a gap
 // closed or an active limit's multiplier turned negative in it, the first such event is located by root finding
 // on the step's size (Illinois' regula falsi on the event function, to kEventTimeTolerance of the step), the
-// step is taken again up to the event, the event resolved, and the rest of the step taken the same way.
+// step is taken again up to the event, the event resolved, and the rest of the step taken the same way. In the
+// time-stepping mode ("contact": "stepping") nothing is located: every step is taken whole and its end resolved by
+// impulses (unilateral_stepping.cc).
 #pragma once
 
 #include <cstdint>
@@ -35,10 +37,13 @@ struct StepperMemory {
   std::vector<double> coordinate_branches;
   std::vector<char> active_sides;  // per side of a joint range or contact feature, with its friction
   std::vector<double> held_slips;  // and the sliding directions held (unilateral_events.h)
+  std::vector<char> touching_sides;      // time stepping: the sides that overlapped at the step's end
+  std::vector<double> contact_impulses;  // and their impulses there
   // bytes held besides the struct itself
   std::int64_t HeapBytes() const {
-    return static_cast<std::int64_t>((coordinate_branches.size() + held_slips.size()) * sizeof(double) +
-                                     active_sides.size());
+    return static_cast<std::int64_t>((coordinate_branches.size() + held_slips.size() + contact_impulses.size()) *
+                                         sizeof(double) +
+                                     active_sides.size() + touching_sides.size());
   }
 };
 

@@ -47,6 +47,8 @@
 #include <Eigen/Cholesky>
 #include <Eigen/SparseCore>
 #include <memory>
+#include <type_traits>
+#include <vector>
 
 #include "tether/dynamics/solvers/schur_system.h"
 #include "tether/dynamics/solvers/sparse_ldlt.h"
@@ -92,6 +94,18 @@ class SchurSolver {
   // factorization fails (a non-finite or indefinite matrix: the run is diverging).
   template <typename T>
   bool Solve(const std::vector<T>& values, const VecX<T>& b, VecX<T>* x);
+  // The same after a Solve with the same values: in double a further right-hand side costs a back substitution,
+  // not a factorization (Jets and Rev, whose solves carry the derivatives of S, solve again).
+  template <typename T>
+  bool SolveAgain(const std::vector<T>& values, const VecX<T>& b, VecX<T>* x) {
+    if constexpr (std::is_same_v<T, double>) {
+      *x = b;
+      SolveInPlace(x);
+      return true;
+    } else {
+      return Solve(values, b, x);
+    }
+  }
 
   // The factorization the last Solve used (of S, or of S + eps D where it regularized), kept to solve with again
   // after later ones: an adjoint sweep's solve with a recorded evaluation's matrix (S is symmetric).

@@ -1,0 +1,453 @@
+// Time stepping: the scene's "contact": "stepping" (docs/contact.md, "Time stepping"), Moreau's velocity-level
+// scheme with Coulomb's exact cone, first order.
+//
+// Every step is taken by the scene's integrator with no side active (the equality rows alone: one row layout for
+// the whole run, nothing located, nothing to analyze again). At its end (q, v) the sides that overlap (g < 0), and
+// those without restitution whose gap would close within the next step at its rate (0 <= g < -h g': speculative
+// contacts, so that a landing body does not sink), get impulses p along their rows J: with A = M^-1 less what the
+// equality rows take away (an impulse's velocity change keeps every equality row's J v) and the Delassus matrix
+// W = J A J^T, the rates after are u+ = u + W p, and
+//   gap row     p_n >= 0,  u_n+ >= b,  p_n (u_n+ - b) = 0,
+//               b = -e min(u_n, 0) - k min(g^, 0) where g < 0,  b = -g / h where g >= 0
+//   slip rows   |p_t| <= mu p_n;  u_t+ = 0 where |p_t| < mu p_n, else u_t+ = -c p_t with c >= 0
+// (Coulomb's law at the impulse level: a contact sticks, or slides with the impulse mu p_n against its slip after).
+// e is the side's restitution where it did not touch at the step before (Newton's law, spent once: a contact that
+// persists is held, so a resting body does not hop), else 0; k = h beta / (1 + h alpha) is the Baumgarte law over
+// one step, implicit in the rate (u+ = -h (alpha u+ + beta g^)), so that the scene's gains close an overlap g^. The
+// state then moves by the impulses' velocity change dv = A J^T p, and the sides that touched at the step before
+// and overlap (held contacts, whose impulse is a force the step did without) move the configuration as the integrator
+// would have under that force spread over the step:
+//   v <- v + dv,  q <- q (+) w h dv_held,  g^ = g - w h f u_n (the overlap left for u_n+ = 0),
+// w the integrator's force position weight (integrator_descriptor.h), so that a body resting or sticking on a slope
+// does not creep. A held side's impulse counts as a force for the fraction that cancels what the step added to its
+// approach, f = (u_n(before) - u_n) / -u_n with u_n(before) its rate after the last step's impulse; the rest of it, and
+// a new contact's impulse, are an impact's: they change the velocity only.
+//
+// The impulses are found by projected Gauss-Seidel over the sides, started from the last step's: the gap row's
+// impulse p_n <- max(0, p_n - r_n / W_nn), then the slip rows' p_t <- P(p_t - r_t / max_k W_tk,tk), P the
+// projection on the disc |p_t| <= mu p_n, with r = u + W p - b the residuals. Its fixed points are exactly the
+// conditions above (the projection's normal cone gives u_t+ = -c p_t): Coulomb's problem, not a convex relaxation
+// of it (Anitescu's cone complementarity would lift a sliding contact off at mu |u_t| per step). Once the sweeps
+// settle, and every kPolishEvery sweeps before, Polish solves the conditions directly on the split the iterate shows
+// (apart, sticking, sliding) and repairs it a few times: a solution it accepts is exact to round-off, and so are its
+// derivatives (Jets, the adjoint's replay). Gauss-Seidel's convergence is not guaranteed for Coulomb's problem and is
+// slow on articulated bodies (W spans a torso and a hand): a run whose sweeps do not settle within kMostSweeps goes
+// on with the last iterate (within the cones) and is warned of once. Several contacts along one plane (a box's four
+// corners) make W singular: the impulses are then not unique, the motion is; Polish leaves the dependent rows' out.
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "tether/dynamics/constraints/contact_friction.h"
+#include "tether/dynamics/effects/effects.h"
+#include "tether/dynamics/integration/integrator_descriptor.h"
+#include "tether/dynamics/integration/simulator.h"
+#include "tether/dynamics/integration/unilateral_events.h"
+#include "tether/dynamics/model/configuration_space.h"
+#include "tether/dynamics/model/errors.h"
+
+namespace tether {
+namespace {
+
+// Gauss-Seidel stops when a sweep changes no row's rate by more than this (m/s or rad/s), relative to the largest
+// rate at the step's end (and at least a resting speed's)
+constexpr double kSweepTolerance = 1e-7;
+constexpr int kMostSweeps = 2000;
+// the direct solve's pivots below this fraction of its first are dependent rows (coplanar contacts make W singular)
+constexpr double kDependentPivot = 1e-10;
+// sweeps between attempts to finish the solve directly (Polish) before they settle
+constexpr int kPolishEvery = 50;
+// repairs of the split (a side apart, sticking or sliding, a sliding direction turned) before it is given back to
+// Gauss-Seidel
+constexpr int kSplitAttempts = 8;
+
+// Solves K x = b in place by Gaussian elimination with diagonal pivoting (the largest remaining diagonal value
+// first), stopping where the largest left is below kDependentPivot of the first: the unknowns left are 0 and
+// their equations are not imposed (dependent rows: several contacts along one plane). False when K has no pivot.
+template <typename T>
+bool SolveBasic(Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>* k, VecX<T>* b, std::vector<Eigen::Index>* order) {
+  const Eigen::Index n = b->size();
+  order->resize(n);
+  for (Eigen::Index i = 0; i < n; ++i) (*order)[i] = i;
+  double first = 0.0;
+  Eigen::Index rank = 0;
+  for (; rank < n; ++rank) {
+    Eigen::Index pivot = rank;
+    for (Eigen::Index i = rank + 1; i < n; ++i) {
+      if (std::abs(Value((*k)(i, i))) > std::abs(Value((*k)(pivot, pivot)))) pivot = i;
+    }
+    const double size = std::abs(Value((*k)(pivot, pivot)));
+    if (rank == 0) first = size;
+    if (!(size > kDependentPivot * first)) break;
+    k->row(rank).swap(k->row(pivot));
+    k->col(rank).swap(k->col(pivot));
+    std::swap((*b)[rank], (*b)[pivot]);
+    std::swap((*order)[rank], (*order)[pivot]);
+    for (Eigen::Index r = rank + 1; r < n; ++r) {
+      const T factor = (*k)(r, rank) / (*k)(rank, rank);
+      if (Value(factor) == 0.0) continue;
+      k->row(r).tail(n - rank) -= factor * k->row(rank).tail(n - rank);
+      (*b)[r] -= factor * (*b)[rank];
+    }
+  }
+  if (rank == 0) return false;
+  for (Eigen::Index c = n - 1; c >= 0; --c) {
+    if (c >= rank) {
+      (*b)[c] = T(0.0);
+      continue;
+    }
+    T sum = (*b)[c];
+    for (Eigen::Index j = c + 1; j < rank; ++j) sum -= (*k)(c, j) * (*b)[j];
+    (*b)[c] = sum / (*k)(c, c);
+  }
+  return true;
+}
+
+template <typename T>
+T RowRate(const Model<T>& model, const ConstraintRow<T>& row, const VecX<T>& v) {
+  return Dot(model, row.a, v) + Dot(model, row.b, v);
+}
+
+}  // namespace
+
+template <typename T>
+void UnilateralEvents<T>::StepSides(double step, const VecX<T>& q, const VecX<T>& v, const Workspace<T>& ws) {
+  step_sides_.clear();
+  step_gaps_.clear();
+  if (!contacts_.features.empty()) {  // grown by how far any point moves over the next step, roughly bounded
+    double fastest = 0.0;
+    for (Eigen::Index k = 0; k < v.size(); ++k) fastest = std::max(fastest, std::abs(Value(v[k])));
+    NearPairs(model_, contacts_, ws.frames, q, 2.0 * step * fastest * LengthScale(model_), &near_);
+  }
+  for (int i = 0; i < size(); ++i) {
+    const Side& side = sides_[i];
+    if (side.feature >= 0 && !near_[contacts_.features[side.feature].pair]) continue;  // every gap positive
+    const Gap gap = GapAt(i, q, v, ws);
+    const double g = Value(gap.g), closing = g + step * Value(gap.rate);
+    if (g < 0.0 || (closing < 0.0 && Value(Restitution(side)) == 0.0)) {
+      step_sides_.push_back(i);
+      step_gaps_.push_back(gap.g);
+    }
+  }
+}
+
+template <typename T>
+void UnilateralEvents<T>::StepRows(double step, const VecX<T>& q, const VecX<T>& v, const Workspace<T>& ws) {
+  const double w = Describe(model_.simulation.integrator).force_position_weight;
+  const T k = step * ws.beta / (1.0 + step * ws.alpha);
+  blocks_.clear();
+  step_rows_.clear();
+  targets_.resize(0);
+  std::vector<T> targets;
+  for (size_t s = 0; s < step_sides_.size(); ++s) {
+    const int i = step_sides_[s];
+    const Side& side = sides_[i];
+    StepBlock block;
+    block.side = i;
+    block.first_row = static_cast<int>(step_rows_.size());
+    ConstraintRow<T> row;
+    if (side.feature < 0) {
+      const Joint<T>& joint = model_.joints[side.joint];
+      const LimitPrimitive<T> limit{joint.scene_index, joint.a.body,
+                                    joint.b.body,      ws.coordinates.references[side.coordinate],
+                                    side.side,         Bound(side)};
+      EvaluateLimitRow(model_, limit, ws.frames, q, v, false, &row);
+      step_rows_.push_back(row);
+    } else {
+      const ContactFeature& feature = contacts_.features[side.feature];
+      EvaluateContactRow(model_, feature, ws.frames, q, v, false, &row);
+      step_rows_.push_back(row);
+      block.friction = PairFriction(model_, feature.first, feature.second);
+      if (Value(block.friction) > 0.0) {
+        const ContactPoint<T> contact = ContactPointOf(model_, feature, ws.frames, q, v, false);
+        Vec3<T> tangents[2];
+        block.rows += Tangents(model_.dimension, contact.normal, tangents);
+        for (int t = 1; t < block.rows; ++t) {
+          SlipRow(model_, ws.frames, contact, tangents[t - 1], false, &row);
+          step_rows_.push_back(row);
+        }
+      }
+    }
+    const T& gap = step_gaps_[s];
+    const T rate = RowRate(model_, step_rows_[block.first_row], v);
+    if (Value(gap) >= 0.0) {  // closing within the next step: no faster than to touch at its end
+      targets.push_back(-gap / step);
+    } else {
+      const T e = touching_[i] ? T(0.0) : Restitution(side);
+      // a held side's impulse is a force for the part that cancels the approach the step added to its rate
+      const double u = Value(rate), before = last_impulses_[kImpulseStride * i + 3];
+      if (touching_[i] && u < 0.0) block.force = std::clamp((before - u) / -u, 0.0, 1.0);
+      const T left = gap - w * step * block.force * rate;  // g^
+      targets.push_back((Value(rate) < 0.0 ? -e * rate : T(0.0)) - (Value(left) < 0.0 ? k * left : T(0.0)));
+    }
+    for (int t = 1; t < block.rows; ++t) targets.push_back(T(0.0));
+    blocks_.push_back(block);
+  }
+  targets_ = Eigen::Map<VecX<T>>(targets.data(), static_cast<Eigen::Index>(targets.size()));
+  free_rates_.resize(static_cast<Eigen::Index>(step_rows_.size()));
+  for (size_t r = 0; r < step_rows_.size(); ++r) free_rates_[r] = RowRate(model_, step_rows_[r], v);
+}
+
+template <typename T>
+bool UnilateralEvents<T>::Response(const ConstraintRow<T>& row, bool first, Workspace<T>* ws, VecX<T>* dv) {
+  dv->setZero(model_.NumVelocities());
+  AddScaled(model_, row.a, T(1.0), dv);
+  AddScaled(model_, row.b, T(1.0), dv);
+  ApplyInverseMass(model_, ws->inverse_mass, *dv, dv);
+  if (ws->rows.empty()) return true;
+  MultiplyJacobian(model_, *dv, ws);
+  const bool solved = first ? ws->solver->Solve(ws->kkt.schur, ws->kkt.rhs, &ws->kkt.lambda)
+                            : ws->solver->SolveAgain(ws->kkt.schur, ws->kkt.rhs, &ws->kkt.lambda);
+  if (!solved) return false;
+  ApplyReaction(model_, ws, &ws->reaction);
+  *dv -= ws->reaction;
+  return true;
+}
+
+template <typename T>
+bool UnilateralEvents<T>::SolveImpulses() {
+  const Eigen::Index n = free_rates_.size();
+  impulses_.setZero(n);
+  for (const StepBlock& block : blocks_) {  // from the impulses of the step before, where the side touched then
+    for (int r = 0; r < block.rows; ++r)
+      impulses_[block.first_row + r] = T(last_impulses_[kImpulseStride * block.side + r]);
+  }
+  VecX<T> residual = free_rates_ - targets_ + delassus_ * impulses_;  // u + W p - b
+  double fastest = kRestingSpeed;
+  for (Eigen::Index r = 0; r < n; ++r) fastest = std::max(fastest, std::abs(Value(free_rates_[r])));
+  for (int sweep = 0; sweep < kMostSweeps; ++sweep) {
+    double change = 0.0;
+    auto move = [&](Eigen::Index r, const T& value) {
+      const T delta = value - impulses_[r];
+      if (Value(delta) == 0.0) return;
+      impulses_[r] = value;
+      residual += delassus_.col(r) * delta;
+      change = std::max(change, std::abs(Value(delta)) * Value(delassus_(r, r)));
+    };
+    for (const StepBlock& block : blocks_) {
+      const Eigen::Index n_row = block.first_row;
+      const double w_nn = Value(delassus_(n_row, n_row));
+      if (!(w_nn > 0.0)) continue;  // a row that no impulse moves (its bodies held by the equality rows)
+      const T pushed = impulses_[n_row] - residual[n_row] / delassus_(n_row, n_row);
+      move(n_row, Value(pushed) > 0.0 ? pushed : T(0.0));
+      if (block.rows == 1) continue;
+      double w_tt = 0.0;
+      for (int t = 1; t < block.rows; ++t) w_tt = std::max(w_tt, Value(delassus_(n_row + t, n_row + t)));
+      if (!(w_tt > 0.0)) continue;
+      Vec3<T> slip = Vec3<T>::Zero();
+      for (int t = 1; t < block.rows; ++t) slip[t - 1] = impulses_[n_row + t] - residual[n_row + t] / w_tt;
+      const T radius = block.friction * impulses_[n_row];
+      const double length = std::sqrt(Value(slip.squaredNorm()));
+      if (length > Value(radius)) slip = length > 0.0 ? Vec3<T>(slip * (radius / slip.norm())) : Vec3<T>::Zero();
+      for (int t = 1; t < block.rows; ++t) move(n_row + t, slip[t - 1]);
+    }
+    const bool settled = change <= kSweepTolerance * fastest;
+    if (!settled && sweep % kPolishEvery == kPolishEvery - 1 && Polish(fastest)) return true;
+    if (settled) {
+      Polish(fastest);
+      return true;
+    }
+  }
+  return false;
+}
+
+template <typename T>
+bool UnilateralEvents<T>::Polish(double fastest) {
+  enum class Split { kApart, kStick, kSlide };
+  const size_t count = blocks_.size();
+  std::vector<Split> split(count, Split::kApart);
+  std::vector<Vec3<double>> along(count, Vec3<double>::Zero());  // a sliding side's impulse direction
+  for (size_t b = 0; b < count; ++b) {
+    const StepBlock& block = blocks_[b];
+    const double normal = Value(impulses_[block.first_row]);
+    if (!(normal > 0.0)) continue;
+    split[b] = Split::kStick;
+    for (int t = 1; t < block.rows; ++t) along[b][t - 1] = Value(impulses_[block.first_row + t]);
+    const double length = along[b].norm();
+    if (block.rows > 1 && length > 0.0 && length >= (1.0 - 1e-6) * Value(block.friction) * normal) {
+      split[b] = Split::kSlide;
+      along[b] /= length;
+    }
+  }
+  const double tolerance = 1e-9 * fastest;
+  for (int attempt = 0; attempt < kSplitAttempts; ++attempt) {
+    std::vector<Eigen::Index>
+        unknowns;  // the rows whose impulses are unknown; a sliding side's gap row carries its slip
+    for (size_t b = 0; b < count; ++b) {
+      if (split[b] == Split::kApart) continue;
+      const int rows = split[b] == Split::kStick ? blocks_[b].rows : 1;
+      for (int t = 0; t < rows; ++t) unknowns.push_back(blocks_[b].first_row + t);
+    }
+    const Eigen::Index m = static_cast<Eigen::Index>(unknowns.size());
+    polish_matrix_.resize(m, m);
+    polish_rhs_.resize(m);
+    size_t b = 0;
+    for (Eigen::Index j = 0; j < m; ++j) {
+      while (blocks_[b].first_row + blocks_[b].rows <= unknowns[j]) ++b;
+      for (Eigen::Index i = 0; i < m; ++i) {
+        T entry = delassus_(unknowns[i], unknowns[j]);
+        if (split[b] == Split::kSlide) {
+          for (int t = 1; t < blocks_[b].rows; ++t) {
+            entry += blocks_[b].friction * along[b][t - 1] * delassus_(unknowns[i], blocks_[b].first_row + t);
+          }
+        }
+        polish_matrix_(i, j) = entry;
+      }
+      polish_rhs_[j] = targets_[unknowns[j]] - free_rates_[unknowns[j]];
+    }
+    if (m > 0 && !SolveBasic(&polish_matrix_, &polish_rhs_, &polish_order_)) return false;
+    VecX<T> impulses = VecX<T>::Zero(impulses_.size());
+    for (Eigen::Index j = 0; j < m; ++j) impulses[unknowns[polish_order_[j]]] = polish_rhs_[j];
+    for (size_t c = 0; c < count; ++c) {
+      if (split[c] != Split::kSlide) continue;
+      for (int t = 1; t < blocks_[c].rows; ++t) {
+        impulses[blocks_[c].first_row + t] = blocks_[c].friction * impulses[blocks_[c].first_row] * along[c][t - 1];
+      }
+    }
+    const VecX<T> after = free_rates_ + delassus_ * impulses;
+    // the worst departure from the split's conditions (in m/s, or N s scaled by the row's W), and its repair
+    double worst = tolerance;
+    size_t repair = count;
+    Split repaired = Split::kApart;
+    Vec3<double> repaired_along = Vec3<double>::Zero();
+    for (size_t c = 0; c < count; ++c) {
+      const StepBlock& block = blocks_[c];
+      const Eigen::Index n_row = block.first_row;
+      const double normal = Value(impulses[n_row]), w_nn = Value(delassus_(n_row, n_row));
+      const double short_of = Value(targets_[n_row]) - Value(after[n_row]);  // approaching faster than the target
+      auto consider = [&](double amount, Split split_to, const Vec3<double>& direction) {
+        if (amount <= worst) return;
+        worst = amount;
+        repair = c;
+        repaired = split_to;
+        repaired_along = direction;
+      };
+      Vec3<double> tangential = Vec3<double>::Zero(), slip = Vec3<double>::Zero();
+      for (int t = 1; t < block.rows; ++t) {
+        tangential[t - 1] = Value(impulses[n_row + t]);
+        slip[t - 1] = Value(after[n_row + t]);
+      }
+      if (split[c] == Split::kApart) {
+        consider(short_of, block.rows > 1 ? Split::kStick : Split::kStick, Vec3<double>::Zero());
+        continue;
+      }
+      consider(-normal * w_nn, Split::kApart, Vec3<double>::Zero());  // pulling
+      consider(short_of, split[c], along[c]);  // a dependent row's equation, not imposed, violated
+      if (split[c] == Split::kStick) {
+        const double outside = tangential.norm() - Value(block.friction) * normal;
+        if (outside > 0.0) consider(outside * w_nn, Split::kSlide, tangential.normalized());
+        consider(slip.norm(), Split::kSlide, -slip.normalized());
+      } else if (slip.norm() > tolerance) {
+        consider((slip.normalized() + along[c]).norm() * slip.norm(), Split::kSlide, -slip.normalized());
+      }
+    }
+    if (repair == count) {
+      impulses_ = impulses;
+      return true;
+    }
+    if (repaired == split[repair] && repaired_along == along[repair]) return false;  // no repair left to try
+    split[repair] = repaired;
+    along[repair] = repaired_along;
+  }
+  return false;
+}
+
+// The kinetic energy the impulses add, p^T u + p^T W p / 2 (= v^T M dv + dv^T M dv / 2 less the work of the equality
+// rows' impulses on their drift J v, which the stabilization is removing), is at most the work of the
+// stabilization's push out of the overlaps: Newton's law with e <= 1 and Coulomb's friction add none.
+template <typename T>
+void UnilateralEvents<T>::CheckEnergy(double t, const VecX<T>& dv) const {
+  double pushed = 0.0;
+  for (const StepBlock& block : blocks_) {
+    const double rate = Value(free_rates_[block.first_row]);
+    const double newton = rate < 0.0 ? -Value(Restitution(sides_[block.side])) * rate : 0.0;
+    pushed += Value(impulses_[block.first_row]) * std::max(Value(targets_[block.first_row]) - newton, 0.0);
+  }
+  const double kinetic = Value(KineticEnergy(model_, dv));  // p^T W p / 2
+  const double gained = Value(impulses_.dot(free_rates_)) + kinetic;
+  if (gained > pushed + kImpactEnergyRoundoff * (1.0 + kinetic + std::abs(Value(impulses_.dot(free_rates_))))) {
+    std::ostringstream out;
+    out << "the contact impulses at t = " << t << " s gained " << gained
+        << " J of kinetic energy (a defect of the impulse solve: please report the scene)";
+    throw SimulationDiverged(out.str(), t, -1);
+  }
+}
+
+template <typename T>
+void UnilateralEvents<T>::StepContacts(double t, double step, VecX<T>* q, VecX<T>* v, Workspace<T>* ws,
+                                       RunReport* report) {
+  EvaluateRows(model_, *q, *v, true, ws);  // the equality rows and the frames (velocities too) at the step's end
+  StepSides(step, *q, *v, *ws);
+  for (int i = 0; i < size(); ++i) {  // sides left out: no impulse to start from; released if they touched
+    if (std::find(step_sides_.begin(), step_sides_.end(), i) != step_sides_.end()) continue;
+    std::fill_n(last_impulses_.begin() + kImpulseStride * i, kImpulseStride, 0.0);
+    if (!touching_[i]) continue;
+    touching_[i] = 0;
+    const double rate = Value(GapAt(i, *q, *v, *ws).rate);
+    report->events.push_back({t, "release", sides_[i].label, rate, rate});
+  }
+  if (step_sides_.empty()) return;
+  if (!ws->rows.empty()) AssembleSchur(ws);
+  StepRows(step, *q, *v, *ws);
+  const size_t n = step_rows_.size();
+  responses_.resize(std::max(responses_.size(), n));
+  for (size_t r = 0; r < n; ++r) {
+    if (!Response(step_rows_[r], r == 0, ws, &responses_[r])) {
+      throw SimulationDiverged("the simulation diverged at t = " + std::to_string(t) +
+                                   " s: the constraint system became singular or non-finite",
+                               t, -1);
+    }
+  }
+  delassus_.resize(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
+  for (size_t c = 0; c < n; ++c) {
+    for (size_t r = 0; r < n; ++r) delassus_(r, c) = RowRate(model_, step_rows_[r], responses_[c]);
+  }
+  if (!SolveImpulses() && !sweeps_warned_) {
+    sweeps_warned_ = true;
+    std::ostringstream out;
+    out << "t = " << t << " s: the contact impulses did not settle within " << kMostSweeps
+        << " Gauss-Seidel sweeps; the run goes on with the last ones (within the friction cones)";
+    report->warnings.push_back(out.str());
+  }
+  VecX<T> dv = VecX<T>::Zero(model_.NumVelocities()), held = dv;  // all the impulses', their forces'
+  for (size_t b = 0; b < blocks_.size(); ++b) {
+    const StepBlock& block = blocks_[b];
+    for (int r = block.first_row; r < block.first_row + block.rows; ++r) {
+      dv += responses_[r] * impulses_[r];
+      if (block.force > 0.0) held += responses_[r] * (impulses_[r] * block.force);
+    }
+  }
+  CheckEnergy(t, dv);
+  *v += dv;
+  VecX<T> moved(q->size());
+  Integrate(model_, *q, held, Describe(model_.simulation.integrator).force_position_weight * step, &moved);
+  q->swap(moved);
+  for (size_t b = 0; b < blocks_.size(); ++b) {  // a side touches where it overlaps or its impulse pushes
+    const StepBlock& block = blocks_[b];
+    const int i = block.side;
+    for (int r = 0; r < block.rows; ++r) last_impulses_[kImpulseStride * i + r] = Value(impulses_[block.first_row + r]);
+    last_impulses_[kImpulseStride * i + 3] =
+        Value(free_rates_[block.first_row] + delassus_.row(block.first_row).dot(impulses_));
+    const bool touches = Value(step_gaps_[b]) < 0.0 || Value(impulses_[block.first_row]) > 0.0;
+    const double rate = Value(free_rates_[block.first_row]);
+    if (touches && !touching_[i] && rate < -kRestingSpeed) {
+      const double after = rate + Value(delassus_.row(block.first_row).dot(impulses_));
+      report->events.push_back({t, "impact", sides_[i].label, rate, after});
+    } else if (!touches && touching_[i]) {
+      report->events.push_back({t, "release", sides_[i].label, rate, rate});
+    }
+    touching_[i] = touches;
+  }
+}
+
+#define TETHER_INSTANTIATE_UNILATERAL_STEPPING(T)                                                                 \
+  template void UnilateralEvents<T>::StepContacts(double, double, VecX<T>*, VecX<T>*, Workspace<T>*, RunReport*); \
+  template void UnilateralEvents<T>::StepSides(double, const VecX<T>&, const VecX<T>&, const Workspace<T>&);      \
+  template void UnilateralEvents<T>::StepRows(double, const VecX<T>&, const VecX<T>&, const Workspace<T>&);       \
+  template bool UnilateralEvents<T>::Response(const ConstraintRow<T>&, bool, Workspace<T>*, VecX<T>*);            \
+  template bool UnilateralEvents<T>::SolveImpulses();                                                             \
+  template void UnilateralEvents<T>::CheckEnergy(double, const VecX<T>&) const;                                   \
+  template bool UnilateralEvents<T>::Polish(double);
+TETHER_FOR_EACH_SCALAR(TETHER_INSTANTIATE_UNILATERAL_STEPPING)
+
+}  // namespace tether
