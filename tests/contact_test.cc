@@ -555,27 +555,36 @@ TEST(ContactFriction, JetsThroughTheStopOfASlipMatchTheClosedFormAndCentralDiffe
   }
 }
 
+// A uniform rod (1 m, 1 kg) at 30 degrees, its lower end (radius 0.01) on the floor and leading as it slides at
+// 1 m/s, with friction mu.
+constexpr double kRodAngle = M_PI / 6, kRodRadius = 0.01;
+json SlidingRod(double mu, double duration) {
+  return {{"dimension", 2},
+          {"bodies",
+           {{{"name", "rod"},
+             {"type", "rigid"},
+             {"mass", 1.0},
+             {"inertia", 1.0 / 12},
+             {"position", {0.0, 0.5 * std::sin(kRodAngle) + kRodRadius}},
+             {"angle", kRodAngle},
+             {"velocity", {-1.0, 0.0}}}}},
+          {"shapes",
+           {{{"name", "stick"},
+             {"body", "rod"},
+             {"type", "capsule"},
+             {"radius", kRodRadius},
+             {"length", 1.0},
+             {"friction", mu}},
+            {{"name", "floor"}, {"body", "world"}, {"type", "plane"}}}},
+          {"effects", {{{"type", "gravity"}, {"acceleration", {0.0, -kG}}}}},
+          {"simulation", {{"step", 1e-3}, {"duration", duration}}}};
+}
+
 TEST(ContactFriction, PainlevesParadoxIsReportedNamingTheContactAndTheTime) {
-  // a uniform rod (1 m, 1 kg) at 30 degrees, its lower end on the floor and leading as it slides at 1 m/s: with
-  // I = m l^2 / 3 (l half its length) the normal acceleration's coefficient of N is 1 + 3 cos(th) (cos(th) - mu
-  // sin(th)) over m, negative for mu > 2.5 (Painleve's paradox); mu = 1 slides on
-  const double th = M_PI / 6, r = 0.01;
+  // with I = m l^2 / 3 (l half its length) the normal acceleration's coefficient of N is 1 + 3 cos(th) (cos(th) -
+  // mu sin(th)) over m, negative for mu > 2.5 (Painleve's paradox); mu = 1 slides on
   for (const double mu : {3.0, 1.0}) {
-    const json scene = {
-        {"dimension", 2},
-        {"bodies",
-         {{{"name", "rod"},
-           {"type", "rigid"},
-           {"mass", 1.0},
-           {"inertia", 1.0 / 12},
-           {"position", {0.0, 0.5 * std::sin(th) + r}},
-           {"angle", th},
-           {"velocity", {-1.0, 0.0}}}}},
-        {"shapes",
-         {{{"name", "stick"}, {"body", "rod"}, {"type", "capsule"}, {"radius", r}, {"length", 1.0}, {"friction", mu}},
-          {{"name", "floor"}, {"body", "world"}, {"type", "plane"}}}},
-        {"effects", {{{"type", "gravity"}, {"acceleration", {0.0, -kG}}}}},
-        {"simulation", {{"step", 1e-3}, {"duration", 0.05}}}};
+    const json scene = SlidingRod(mu, 0.05);
     if (mu < 2.5) {
       EXPECT_NO_THROW(Simulate<double>(Parse(scene), RunOptions{}, [](const Sample<double>&) {}));
       continue;
@@ -671,25 +680,10 @@ TEST(ContactTimeStepping, ABoxOnASlopeSticksWithoutCreepOrSlidesAtCoulombsAccele
 
 TEST(ContactTimeStepping, PainlevesRodSlidesOnWithoutAParadoxAtTheImpulseLevel) {
   // the rod of PainlevesParadoxIsReported (mu = 3, no consistent accelerations): impulses always have a solution
-  const double th = M_PI / 6, r = 0.01;
-  const json scene = {
-      {"dimension", 2},
-      {"bodies",
-       {{{"name", "rod"},
-         {"type", "rigid"},
-         {"mass", 1.0},
-         {"inertia", 1.0 / 12},
-         {"position", {0.0, 0.5 * std::sin(th) + r}},
-         {"angle", th},
-         {"velocity", {-1.0, 0.0}}}}},
-      {"shapes",
-       {{{"name", "stick"}, {"body", "rod"}, {"type", "capsule"}, {"radius", r}, {"length", 1.0}, {"friction", 3.0}},
-        {{"name", "floor"}, {"body", "world"}, {"type", "plane"}}}},
-      {"effects", {{{"type", "gravity"}, {"acceleration", {0.0, -kG}}}}},
-      {"simulation", {{"step", 1e-3}, {"duration", 0.5}}}};
+  const json scene = SlidingRod(3.0, 0.5);
   double lowest = 1.0;
   EXPECT_NO_THROW(Simulate<double>(Parse(Stepping(scene, 1e-3)), RunOptions{}, [&](const Sample<double>& s) {
-    lowest = std::min(lowest, s.q[1] - 0.5 * std::sin(s.q[2]) - r);
+    lowest = std::min(lowest, s.q[1] - 0.5 * std::sin(s.q[2]) - kRodRadius);
   }));
   EXPECT_GT(lowest, -3e-3);  // measured 2.0e-3: the leading end's overlap, which the default gains close
 }
