@@ -59,6 +59,9 @@ class ImportCommand final : public Command {
     app_->add_flag("--merge-fixed", options_.merge_fixed, "merge links welded to their parent into its body");
     app_->add_flag("--split-joints", options_.split_joints,
                    "keep every model joint as its own constraint (through light intermediate bodies)");
+    app_->add_flag_callback(
+        "--no-contact", [this] { options_.contact = false; },
+        "keep the collision shapes as drawn only (\"contact\": false): no contact is simulated");
   }
 
   CLI::App* app() const override { return app_; }

@@ -1,6 +1,10 @@
 #include "tether/importers/mujoco_tree.h"
 
+#include <algorithm>
+#include <cmath>
+#include <map>
 #include <memory>
+#include <set>
 #include <sstream>
 #include <string>
 
@@ -28,10 +32,18 @@ TreeJoint ReadJoint(const mjModel& m, int j, const std::string& link_name, int i
   joint.name = name && *name ? std::string(name)
                              : link_name + "_joint" + (index_in_link > 0 ? std::to_string(index_in_link + 1) : "");
   switch (m.jnt_type[j]) {
-    case mjJNT_FREE: joint.type = TreeJointType::kFree; break;
-    case mjJNT_BALL: joint.type = TreeJointType::kBall; break;
-    case mjJNT_SLIDE: joint.type = TreeJointType::kSlide; break;
-    default: joint.type = TreeJointType::kHinge; break;
+    case mjJNT_FREE:
+      joint.type = TreeJointType::kFree;
+      break;
+    case mjJNT_BALL:
+      joint.type = TreeJointType::kBall;
+      break;
+    case mjJNT_SLIDE:
+      joint.type = TreeJointType::kSlide;
+      break;
+    default:
+      joint.type = TreeJointType::kHinge;
+      break;
   }
   joint.p_LJ = Vector3(m.jnt_pos + 3 * j);
   joint.axis_L = Vector3(m.jnt_axis + 3 * j).normalized();
@@ -45,7 +57,8 @@ TreeJoint ReadJoint(const mjModel& m, int j, const std::string& link_name, int i
     if (scalar) joint.spring_rest = m.qpos_spring[qpos];
   }
   joint.armature = m.dof_armature[dof];
-  if (!Disabled(m, mjDSBL_FRICTIONLOSS) && !Disabled(m, mjDSBL_CONSTRAINT)) joint.friction_loss = m.dof_frictionloss[dof];
+  if (!Disabled(m, mjDSBL_FRICTIONLOSS) && !Disabled(m, mjDSBL_CONSTRAINT))
+    joint.friction_loss = m.dof_frictionloss[dof];
   if (m.jnt_limited[j] && !Disabled(m, mjDSBL_LIMIT) && !Disabled(m, mjDSBL_CONSTRAINT)) {
     joint.range = Eigen::Vector2d(m.jnt_range[2 * j], m.jnt_range[2 * j + 1]);
   }
@@ -63,11 +76,16 @@ std::string ActuatorKind(const mjModel& m, int u) {
   if (m.actuator_dyntype[u] == mjDYN_MUSCLE || m.actuator_gaintype[u] == mjGAIN_MUSCLE) return "a muscle";
   if (m.actuator_biastype[u] == mjBIAS_AFFINE) return "a servo";
   switch (m.actuator_trntype[u]) {
-    case mjTRN_SLIDERCRANK: return "on a slider-crank";
-    case mjTRN_TENDON: return "on a tendon";
-    case mjTRN_SITE: return "on a site";
-    case mjTRN_BODY: return "an adhesion actuator";
-    default: return "with activation dynamics or a custom gain";
+    case mjTRN_SLIDERCRANK:
+      return "on a slider-crank";
+    case mjTRN_TENDON:
+      return "on a tendon";
+    case mjTRN_SITE:
+      return "on a site";
+    case mjTRN_BODY:
+      return "an adhesion actuator";
+    default:
+      return "with activation dynamics or a custom gain";
   }
 }
 
@@ -109,18 +127,98 @@ void ReadEqualities(const mjModel& m, KinematicTree* tree) {
   }
 }
 
-void WarnAboutDroppedPhysics(const mjModel& m, KinematicTree* tree) {
-  std::vector<std::string> tendons, colliding;
-  for (int t = 0; t < m.ntendon; ++t) tendons.push_back(NameOf(m, mjOBJ_TENDON, t, "tendon"));
-  if (!tendons.empty()) tree->warnings.push_back(ListWarning("tendons are dropped (tether has none)", tendons));
-  if (!Disabled(m, mjDSBL_CONTACT) && !Disabled(m, mjDSBL_CONSTRAINT)) {
-    for (int g = 0; g < m.ngeom; ++g) {
-      if (m.geom_contype[g] || m.geom_conaffinity[g]) colliding.push_back(NameOf(m, mjOBJ_GEOM, g, "geom"));
+// MuJoCo's geoms as shapes: sphere, capsule (MuJoCo's is along its z axis, tether's along x), box (MuJoCo's size
+// is half the edges), plane; a cylinder as the capsule of its radius and overall length, with a warning; the
+// other types, one warning per kind. The pair rules: a geom with contype = conaffinity = 0 never touches;
+// <exclude> pairs, and body pairs none of whose geoms' bits meet ((contype_a & conaffinity_b) |
+// (contype_b & conaffinity_a) = 0 for every pair), become exclusions.
+void ReadGeoms(const mjModel& m, KinematicTree* tree) {
+  const bool contacts = !Disabled(m, mjDSBL_CONTACT) && !Disabled(m, mjDSBL_CONSTRAINT);
+  std::map<std::string, std::vector<std::string>> dropped;  // by kind
+  std::vector<std::string> cylinders;
+  std::vector<int> bodies;  // of the geoms kept
+  std::vector<int> kept;
+  const Eigen::Quaterniond z_to_x(Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitY()));  // takes x to z
+  for (int g = 0; g < m.ngeom; ++g) {
+    TreeGeom geom;
+    geom.name = NameOf(m, mjOBJ_GEOM, g, "geom");
+    geom.link = m.geom_bodyid[g] - 1;
+    geom.p_LG = Vector3(m.geom_pos + 3 * g);
+    geom.q_LG = Quaternion(m.geom_quat + 4 * g);
+    const mjtNum* size = m.geom_size + 3 * g;
+    switch (m.geom_type[g]) {
+      case mjGEOM_SPHERE:
+        geom.type = TreeGeom::Type::kSphere;
+        geom.radius = size[0];
+        break;
+      case mjGEOM_CYLINDER:
+        cylinders.push_back(geom.name);
+        [[fallthrough]];
+      case mjGEOM_CAPSULE:
+        geom.type = TreeGeom::Type::kCapsule;
+        geom.radius = size[0];
+        geom.length = m.geom_type[g] == mjGEOM_CAPSULE ? 2 * size[1] : std::max(2 * size[1] - 2 * size[0], 0.0);
+        geom.q_LG = geom.q_LG * z_to_x;
+        break;
+      case mjGEOM_BOX:
+        geom.type = TreeGeom::Type::kBox;
+        geom.size = 2 * Vector3(size);
+        break;
+      case mjGEOM_PLANE:
+        geom.type = TreeGeom::Type::kPlane;
+        break;
+      default: {
+        const int type = m.geom_type[g];
+        const std::string kind = type == mjGEOM_MESH        ? "meshes"
+                                 : type == mjGEOM_HFIELD    ? "height fields"
+                                 : type == mjGEOM_ELLIPSOID ? "ellipsoids"
+                                                            : "other geom types";
+        dropped[kind].push_back(geom.name);
+        continue;
+      }
+    }
+    geom.friction = m.geom_friction[3 * g];
+    geom.contact = contacts && (m.geom_contype[g] || m.geom_conaffinity[g]);
+    tree->geoms.push_back(geom);
+    kept.push_back(g);
+  }
+  for (const auto& [kind, names] : dropped) {
+    tree->warnings.push_back(ListWarning(kind + " are dropped (tether's shapes are spheres, capsules, boxes and "
+                                                "planes)",
+                                         names));
+  }
+  if (!cylinders.empty()) {
+    tree->warnings.push_back(
+        ListWarning("cylinders become capsules of the same radius and overall length (rounded "
+                    "ends instead of flat ones)",
+                    cylinders));
+  }
+  std::set<std::pair<int, int>> meet, touching;  // body pairs (MuJoCo's ids) some of whose geoms may touch
+  for (size_t i = 0; i < kept.size(); ++i) {
+    for (size_t j = i + 1; j < kept.size(); ++j) {
+      const int a = kept[i], b = kept[j];
+      const int body_a = m.geom_bodyid[a], body_b = m.geom_bodyid[b];
+      if (!tree->geoms[i].contact || !tree->geoms[j].contact || body_a == body_b) continue;
+      const std::pair<int, int> key(std::min(body_a, body_b), std::max(body_a, body_b));
+      touching.insert(key);
+      if ((m.geom_contype[a] & m.geom_conaffinity[b]) || (m.geom_contype[b] & m.geom_conaffinity[a])) meet.insert(key);
     }
   }
-  if (!colliding.empty()) {
-    tree->warnings.push_back(ListWarning("contacts are ignored (tether has none); geoms that collide", colliding));
+  std::set<std::pair<int, int>> excluded;
+  for (const auto& key : touching) {
+    if (!meet.count(key)) excluded.insert(key);
   }
+  for (int e = 0; e < m.nexclude; ++e) {
+    const int a = m.exclude_signature[e] >> 16, b = m.exclude_signature[e] & 0xFFFF;
+    excluded.insert({std::min(a, b), std::max(a, b)});
+  }
+  for (const auto& [a, b] : excluded) tree->contact_excludes.emplace_back(a - 1, b - 1);
+}
+
+void WarnAboutDroppedPhysics(const mjModel& m, KinematicTree* tree) {
+  std::vector<std::string> tendons;
+  for (int t = 0; t < m.ntendon; ++t) tendons.push_back(NameOf(m, mjOBJ_TENDON, t, "tendon"));
+  if (!tendons.empty()) tree->warnings.push_back(ListWarning("tendons are dropped (tether has none)", tendons));
   if (m.opt.density > 0 || m.opt.viscosity > 0) {
     std::ostringstream medium;
     medium << "fluid forces are dropped (tether has none): the medium's density " << m.opt.density
@@ -166,6 +264,7 @@ KinematicTree TreeFromMujoco(const mjModel& m) {
   }
   ReadActuators(m, &tree);
   ReadEqualities(m, &tree);
+  ReadGeoms(m, &tree);
   WarnAboutDroppedPhysics(m, &tree);
   return tree;
 }

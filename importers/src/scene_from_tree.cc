@@ -41,16 +41,16 @@ std::string Joined(const std::vector<const PlacedJoint*>& joints, const char* se
 // A tether body: a link with the links merged into it, or an intermediate body of a split joint list.
 struct Body {
   std::string name;
-  std::vector<int> links;                 // the links it is made of, its own first (none: intermediate)
-  double mass = 0.0;                      // kg
-  Vector3d p_WC = Vector3d::Zero();       // centre of mass at the initial state
-  Matrix3d R_WB = Matrix3d::Identity();   // its axes (its first link's) at the initial state
-  Matrix3d I_C_W = Matrix3d::Zero();      // inertia about C in world axes
+  std::vector<int> links;                // the links it is made of, its own first (none: intermediate)
+  double mass = 0.0;                     // kg
+  Vector3d p_WC = Vector3d::Zero();      // centre of mass at the initial state
+  Matrix3d R_WB = Matrix3d::Identity();  // its axes (its first link's) at the initial state
+  Matrix3d I_C_W = Matrix3d::Zero();     // inertia about C in world axes
   Twist V;
-  int parent = -1;                        // the body it hangs from (-1: the world)
-  std::vector<PlacedJoint> joints;        // the model joints between parent and this body; none: welded
-  bool fixed = false;                     // --fix: welded to the world instead
-  bool removed = false;                   // a massless link whose joints went to its only child
+  int parent = -1;                  // the body it hangs from (-1: the world)
+  std::vector<PlacedJoint> joints;  // the model joints between parent and this body; none: welded
+  bool fixed = false;               // --fix: welded to the world instead
+  bool removed = false;             // a massless link whose joints went to its only child
 };
 
 // How a model joint's coordinate lives on in the scene: a named constraint and which of its coordinates.
@@ -80,6 +80,7 @@ class SceneBuilder {
     EmitConstraints();
     EmitEqualities();
     EmitMarkers();
+    EmitShapes();
     EmitEffects();
     WarnAboutJoints();
     return Finish();
@@ -204,9 +205,10 @@ class SceneBuilder {
       }
     }
     if (!collapsed.empty()) {
-      warnings_.push_back(ListWarning("massless links with joints are not bodies: their joints join those of the "
-                                      "link they carry (exactly), and their sites are dropped",
-                                      collapsed));
+      warnings_.push_back(
+          ListWarning("massless links with joints are not bodies: their joints join those of the "
+                      "link they carry (exactly), and their sites are dropped",
+                      collapsed));
     }
     if (!weighted.empty()) {
       for (const TreeLink& link : tree_.links) {
@@ -214,8 +216,8 @@ class SceneBuilder {
         largest_moment_ = std::max(largest_moment_, link.I_C_L.trace() / 2);  // a bound of the largest
       }
       warnings_.push_back(ListWarning("massless links with joints that carry no single link are given " +
-                                      Format(kNegligible) + " of the heaviest link's mass and inertia (an error " +
-                                      "of that order)",
+                                          Format(kNegligible) + " of the heaviest link's mass and inertia (an error " +
+                                          "of that order)",
                                       weighted));
     }
   }
@@ -427,8 +429,9 @@ class SceneBuilder {
     if (!split_.empty()) {
       warnings_.push_back(ListWarning(
           "joints that no single tether constraint combines are split: each is its own constraint, joined by "
-          "intermediate bodies of " + Format(kNegligible) + " of the carried body's mass and inertia (" +
-              Format(added_mass_) + " kg added in all; measured on MuJoCo's humanoid split so, the bodies part " +
+          "intermediate bodies of " +
+              Format(kNegligible) + " of the carried body's mass and inertia (" + Format(added_mass_) +
+              " kg added in all; measured on MuJoCo's humanoid split so, the bodies part " +
               "from MuJoCo's by 1.4e-7 m in 1 s: docs/import.md)",
           split_));
     }
@@ -461,9 +464,10 @@ class SceneBuilder {
       constraints_.push_back(pin);
     }
     if (!dropped.empty()) {
-      warnings_.push_back(ListWarning("equality constraints between parts of one body, or on massless links, are "
-                                      "dropped",
-                                      dropped));
+      warnings_.push_back(
+          ListWarning("equality constraints between parts of one body, or on massless links, are "
+                      "dropped",
+                      dropped));
     }
   }
 
@@ -488,14 +492,103 @@ class SceneBuilder {
       }
     }
     if (!dropped_sites_.empty()) {
-      warnings_.push_back(ListWarning("sites of the world, of static bodies and of massless links are dropped (a "
-                                      "marker names a point of a moving body)",
-                                      dropped_sites_));
+      warnings_.push_back(
+          ListWarning("sites of the world, of static bodies and of massless links are dropped (a "
+                      "marker names a point of a moving body)",
+                      dropped_sites_));
+    }
+  }
+
+  // The geoms as shapes, placed in their bodies' frames (a geom of a link welded to the world, of the world's); the
+  // exclusions as body pairs. A geom of a massless link that collapsed away is dropped with a warning.
+  void EmitShapes() {
+    std::vector<std::string> dropped;
+    std::vector<std::pair<int, TreeGeom::Type>> touching;  // the bodies and types of the shapes that touch
+    for (const TreeGeom& geom : tree_.geoms) {
+      const int body = geom.link >= 0 ? link_body_[geom.link] : -1;
+      if (body == -2) {
+        dropped.push_back(geom.name);
+        continue;
+      }
+      const Isometry3d X_WL = geom.link >= 0 ? placed_[geom.link].X_WL : Isometry3d::Identity();
+      const Matrix3d R_WB = body >= 0 ? bodies_[body].R_WB : Matrix3d(Matrix3d::Identity());
+      const Matrix3d R_BS = R_WB.transpose() * X_WL.linear() * geom.q_LG.toRotationMatrix();
+      Eigen::Quaterniond q(R_BS);
+      q.normalize();
+      if (q.w() < 0) q.coeffs() = -q.coeffs();
+      json shape = {{"name", Claim(geom.name, "shape")}, {"body", BodyName(body)}};
+      switch (geom.type) {
+        case TreeGeom::Type::kSphere:
+          shape["type"] = "sphere";
+          shape["radius"] = geom.radius;
+          break;
+        case TreeGeom::Type::kCapsule:
+          shape["type"] = "capsule";
+          shape["radius"] = geom.radius;
+          shape["length"] = geom.length;
+          break;
+        case TreeGeom::Type::kBox:
+          shape["type"] = "box";
+          shape["size"] = Array3(geom.size);
+          break;
+        case TreeGeom::Type::kPlane:
+          shape["type"] = "plane";
+          break;
+      }
+      shape["position"] = Array3(Local(body, X_WL * geom.p_LG));
+      shape["orientation"] = {q.w(), q.x(), q.y(), q.z()};
+      shape["friction"] = geom.friction;
+      if (!geom.contact || !options_.contact) shape["contact"] = false;
+      if (geom.contact && options_.contact) touching.emplace_back(body, geom.type);
+      shapes_.push_back(shape);
+    }
+    std::set<std::pair<int, int>> excluded;
+    for (const auto& [a, b] : options_.contact ? tree_.contact_excludes : std::vector<std::pair<int, int>>{}) {
+      const int body_a = a >= 0 ? link_body_[a] : -1, body_b = b >= 0 ? link_body_[b] : -1;
+      if (body_a == -2 || body_b == -2 || body_a == body_b) continue;
+      excluded.insert({std::min(body_a, body_b), std::max(body_a, body_b)});
+    }
+    // tether measures no gap between a box and a box or a capsule yet (contact.md): such body pairs, unless a
+    // constraint joins them directly (the pair rules leave those out), are excluded
+    std::set<std::pair<std::string, std::string>> joined;
+    for (const json& c : constraints_) {
+      if (c.contains("bodies")) joined.emplace(c["bodies"][0].get<std::string>(), c["bodies"][1].get<std::string>());
+    }
+    auto measurable = [](TreeGeom::Type a, TreeGeom::Type b) {
+      const auto box = TreeGeom::Type::kBox, capsule = TreeGeom::Type::kCapsule;
+      return !((a == box && (b == box || b == capsule)) || (b == box && a == capsule));
+    };
+    std::set<std::pair<int, int>> unmeasured;
+    for (size_t i = 0; i < touching.size(); ++i) {
+      for (size_t j = i + 1; j < touching.size(); ++j) {
+        const auto [body_a, type_a] = touching[i];
+        const auto [body_b, type_b] = touching[j];
+        if (body_a == body_b || measurable(type_a, type_b)) continue;
+        const std::pair<int, int> key(std::min(body_a, body_b), std::max(body_a, body_b));
+        const std::string a = BodyName(key.first), b = BodyName(key.second);
+        if (!excluded.count(key) && !joined.count({a, b}) && !joined.count({b, a})) unmeasured.insert(key);
+      }
+    }
+    std::vector<std::string> unmeasured_names;
+    for (const auto& key : unmeasured) {
+      excluded.insert(key);
+      unmeasured_names.push_back(BodyName(key.first) + "|" + BodyName(key.second));
+    }
+    if (!unmeasured_names.empty()) {
+      warnings_.push_back(
+          ListWarning("body pairs with a box against a box or a capsule are excluded from contact "
+                      "(tether measures no such gap yet)",
+                      unmeasured_names));
+    }
+    for (const auto& [a, b] : excluded) excludes_.push_back({BodyName(a), BodyName(b)});
+    if (!dropped.empty()) {
+      warnings_.push_back(ListWarning("collision shapes of massless links that collapsed away are dropped", dropped));
     }
   }
 
   void AddMarker(const std::string& name, int body, const Vector3d& p_W) {
-    markers_.push_back({{"name", Claim(name, "marker")}, {"body", BodyName(body)}, {"point", Array3(Local(body, p_W))}});
+    markers_.push_back(
+        {{"name", Claim(name, "marker")}, {"body", BodyName(body)}, {"point", Array3(Local(body, p_W))}});
   }
 
   void EmitEffects() {
@@ -544,8 +637,9 @@ class SceneBuilder {
         if (joint.friction_loss != 0) friction.push_back(joint.name);
       }
     }
-    const std::string without = " of joints without a coordinate of their own in the scene (combined into one "
-                                "constraint, which --split-joints avoids, or replaced by --fix) are dropped";
+    const std::string without =
+        " of joints without a coordinate of their own in the scene (combined into one "
+        "constraint, which --split-joints avoids, or replaced by --fix) are dropped";
     const std::vector<std::pair<std::string, const std::vector<std::string>*>> kinds = {
         {"limits" + without, &limits_dropped},
         {"limits of joints that start outside their range are dropped", &limits_outside_},
@@ -588,6 +682,8 @@ class SceneBuilder {
     ImportedScene out;
     out.scene = {{"dimension", 3}, {"bodies", bodies}, {"constraints", constraints_}};
     if (!markers_.empty()) out.scene["markers"] = markers_;
+    if (!shapes_.empty()) out.scene["shapes"] = shapes_;
+    if (!excludes_.empty()) out.scene["contact"] = {{"exclude", excludes_}};
     out.scene["effects"] = effects_;
     if (tree_.time_step) out.scene["simulation"] = {{"step", *tree_.time_step}};
     out.warnings = tree_.warnings;
@@ -607,14 +703,15 @@ class SceneBuilder {
   const std::string source_;
   std::vector<PlacedLink> placed_, reference_;
   std::vector<Body> bodies_;
-  std::vector<int> link_body_;        // the body of each link; -1 the world, -2 collapsed away
-  std::set<int> negligible_links_;    // massless links given kNegligible mass
+  std::vector<int> link_body_;                         // the body of each link; -1 the world, -2 collapsed away
+  std::set<int> negligible_links_;                     // massless links given kNegligible mass
   double heaviest_mass_ = 0.0, largest_moment_ = 0.0;  // over the links, for massless links given kNegligible
   double size_ = 0.0;
   double added_mass_ = 0.0;
   std::set<std::string> names_;
   std::map<std::string, KeptCoordinate> kept_;  // by model joint name
   json constraints_ = json::array(), markers_ = json::array(), effects_ = json::array();
+  json shapes_ = json::array(), excludes_ = json::array();
   std::vector<std::string> warnings_, renamed_, split_, replaced_, dropped_sites_;
   std::vector<std::string> limits_kept_, limits_outside_, springs_dropped_, motors_dropped_;
 };

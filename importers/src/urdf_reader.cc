@@ -157,6 +157,48 @@ void CheckTree(const urdf::ModelInterface& model, const std::string& path) {
   }
 }
 
+// A link's <collision> shapes as tether shapes (link -1: the world): a sphere, a box, a cylinder as the capsule
+// of its radius and overall length (listed in `cylinders` for the warning); a mesh is listed in `meshes`.
+void ReadCollisions(const urdf::Link& source, int link, KinematicTree* tree, std::vector<std::string>* cylinders,
+                    std::vector<std::string>* meshes) {
+  std::vector<urdf::CollisionSharedPtr> collisions = source.collision_array;
+  if (collisions.empty() && source.collision) collisions.push_back(source.collision);
+  const Eigen::Quaterniond z_to_x(Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitY()));  // takes x to z
+  for (size_t k = 0; k < collisions.size(); ++k) {
+    const urdf::Collision& collision = *collisions[k];
+    if (!collision.geometry) continue;
+    TreeGeom geom;
+    geom.name =
+        !collision.name.empty() ? collision.name : source.name + "_collision" + (k ? std::to_string(k + 1) : "");
+    geom.link = link;
+    geom.p_LG = Vector3(collision.origin.position);
+    geom.q_LG = Quaternion(collision.origin.rotation);
+    switch (collision.geometry->type) {
+      case urdf::Geometry::SPHERE:
+        geom.type = TreeGeom::Type::kSphere;
+        geom.radius = static_cast<const urdf::Sphere&>(*collision.geometry).radius;
+        break;
+      case urdf::Geometry::BOX:
+        geom.type = TreeGeom::Type::kBox;
+        geom.size = Vector3(static_cast<const urdf::Box&>(*collision.geometry).dim);
+        break;
+      case urdf::Geometry::CYLINDER: {
+        const auto& cylinder = static_cast<const urdf::Cylinder&>(*collision.geometry);
+        geom.type = TreeGeom::Type::kCapsule;
+        geom.radius = cylinder.radius;
+        geom.length = std::max(cylinder.length - 2 * cylinder.radius, 0.0);
+        geom.q_LG = geom.q_LG * z_to_x;
+        cylinders->push_back(geom.name);
+        break;
+      }
+      default:
+        meshes->push_back(geom.name);
+        continue;
+    }
+    tree->geoms.push_back(geom);
+  }
+}
+
 }  // namespace
 
 KinematicTree ReadUrdf(const std::string& path) {
@@ -169,7 +211,8 @@ KinematicTree ReadUrdf(const std::string& path) {
   {
     CapturedLog log;
     model = urdf::parseURDF(text);
-    if (!model) throw InputError(path + ": not a valid URDF model: " + (log.text().empty() ? "urdfdom refused it" : log.text()));
+    if (!model)
+      throw InputError(path + ": not a valid URDF model: " + (log.text().empty() ? "urdfdom refused it" : log.text()));
   }
   try {
     CheckTree(*model, path);
@@ -184,12 +227,14 @@ KinematicTree ReadUrdf(const std::string& path) {
   KinematicTree tree;
   tree.gravity = Eigen::Vector3d(0, 0, -9.81);
   const urdf::LinkConstSharedPtr root = model->getRoot();
-  std::vector<std::string> mimics, colliding, planar;
+  std::vector<std::string> mimics, planar, cylinders, meshes;
   if (root->inertial && root->inertial->mass > 0) {
-    tree.warnings.push_back("the root link '" + root->name + "' is the world (a fixed base), so its mass does not "
+    tree.warnings.push_back("the root link '" + root->name +
+                            "' is the world (a fixed base), so its mass does not "
                             "move; a floating base is a 'floating' joint below a root link");
   }
   // breadth first from the root, so that parents come before their children
+  ReadCollisions(*root, -1, &tree, &cylinders, &meshes);  // the root link is the world
   std::map<std::string, int> index;
   std::deque<std::pair<urdf::LinkSharedPtr, int>> queue;
   for (const urdf::LinkSharedPtr& child : root->child_links) queue.emplace_back(child, -1);
@@ -209,19 +254,27 @@ KinematicTree ReadUrdf(const std::string& path) {
                         joint.type == urdf::Joint::PRISMATIC;
     if (driven && joint.limits && joint.limits->effort > 0) tree.motors.push_back({joint.name, joint.name});
     if (joint.mimic) mimics.push_back(joint.name + " (follows " + joint.mimic->joint_name + ")");
-    if (!source->collision_array.empty() || source->collision) colliding.push_back(source->name);
     const int self = static_cast<int>(tree.links.size());
+    ReadCollisions(*source, self, &tree, &cylinders, &meshes);
     tree.links.push_back(link);
     for (const urdf::LinkSharedPtr& child : source->child_links) queue.emplace_back(child, self);
   }
   if (!mimics.empty()) tree.warnings.push_back(ListWarning("mimic couplings are dropped (tether has none)", mimics));
-  if (!colliding.empty()) {
-    tree.warnings.push_back(ListWarning("contacts are ignored (tether has none); links with collision shapes", colliding));
+  if (!cylinders.empty()) {
+    tree.warnings.push_back(
+        ListWarning("cylinders become capsules of the same radius and overall length (rounded "
+                    "ends instead of flat ones)",
+                    cylinders));
+  }
+  if (!meshes.empty()) {
+    tree.warnings.push_back(
+        ListWarning("meshes are dropped (tether's shapes are spheres, capsules, boxes and planes)", meshes));
   }
   if (!planar.empty()) {
-    tree.warnings.push_back(ListWarning("planar joints are read as two slides across the axis (NAME_u, NAME_v) and a "
-                                        "hinge about it (NAME)",
-                                        planar));
+    tree.warnings.push_back(
+        ListWarning("planar joints are read as two slides across the axis (NAME_u, NAME_v) and a "
+                    "hinge about it (NAME)",
+                    planar));
   }
   return tree;
 }

@@ -61,6 +61,8 @@ void DropRanges(KinematicTree* tree) {
 // joints, or --split-joints); RK4. The tree loses alike what MuJoCo loses.
 void KeepRigidBodyDynamics(mjModel* m, KinematicTree* tree, bool springs) {
   DropRanges(tree);
+  tree->geoms.clear();
+  tree->contact_excludes.clear();
   for (TreeLink& link : tree->links) {
     for (TreeJoint& joint : link.joints) {
       joint.armature = joint.friction_loss = 0;

@@ -3,6 +3,7 @@
 // MuJoCo: mujoco_round_trip_test.cc.)
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <string>
 
 #include "test_files.h"
@@ -76,7 +77,14 @@ TEST(MujocoTree, ReadsTheCompiledModel) {
   EXPECT_EQ(tree.gravity, Vector3d(0, 0, -9));
   EXPECT_EQ(tree.time_step, 0.004);
   EXPECT_TRUE(Warned(tree, "actuators other than motors on joints are dropped: servo (a servo)"));
-  EXPECT_TRUE(Warned(tree, "contacts are ignored (tether has none); geoms that collide: fore"));
+  // the geoms become shapes (MuJoCo's box size is half the edges)
+  const auto fore =
+      std::find_if(tree.geoms.begin(), tree.geoms.end(), [](const TreeGeom& g) { return g.name == "fore"; });
+  ASSERT_NE(fore, tree.geoms.end());
+  EXPECT_EQ(fore->type, TreeGeom::Type::kBox);
+  EXPECT_TRUE(fore->size.isApprox(Vector3d(0.2, 0.04, 0.04)));
+  EXPECT_TRUE(fore->p_LG.isApprox(Vector3d(0.1, 0, 0)));
+  EXPECT_TRUE(fore->contact);
 }
 
 TEST(MujocoTree, HonoursTheOptionFlags) {

@@ -92,15 +92,51 @@ Start StartOf(const ImportedScene& imported) {
   return start;
 }
 
+// A geom of `link` (-1 the world) of one type, at its link's origin.
+TreeGeom Geom(const std::string& name, int link, TreeGeom::Type type) {
+  TreeGeom geom;
+  geom.name = name;
+  geom.link = link;
+  geom.type = type;
+  geom.radius = 0.05;
+  geom.length = 0.2;
+  geom.size = Vector3d(0.1, 0.2, 0.3);
+  geom.friction = 0.7;
+  return geom;
+}
+
+TEST(SceneFromTree, GeomsBecomeShapesAndThePairsTetherCannotMeasureAreExcluded) {
+  // a chain upper - fore - hand of boxes and a capsule over a floor: fore's box is joined to both neighbours; upper's
+  // box and hand's capsule are not, and tether measures no box-capsule gap yet: that pair is excluded, warned of
+  KinematicTree tree =
+      Tree({Link("upper", -1, Vector3d(0, 0, 1), {Hinge("shoulder", Vector3d::Zero(), Vector3d::UnitY())}),
+            Link("fore", 0, Vector3d(0.3, 0, 0), {Hinge("elbow", Vector3d::Zero(), Vector3d::UnitY())}),
+            Link("hand", 1, Vector3d(0.3, 0, 0), {Hinge("wrist", Vector3d::Zero(), Vector3d::UnitY())})});
+  tree.geoms = {Geom("floor", -1, TreeGeom::Type::kPlane), Geom("upper_box", 0, TreeGeom::Type::kBox),
+                Geom("fore_box", 1, TreeGeom::Type::kBox), Geom("hand_capsule", 2, TreeGeom::Type::kCapsule)};
+  const ImportedScene imported = Import(tree);
+  ASSERT_EQ(imported.scene["shapes"].size(), 4u);
+  EXPECT_EQ(imported.scene["shapes"][3]["type"], "capsule");
+  EXPECT_EQ(imported.scene["shapes"][3]["friction"], 0.7);
+  EXPECT_EQ(imported.scene["contact"]["exclude"], json::parse(R"([["upper", "hand"]])"));
+  EXPECT_TRUE(Warned(imported,
+                     "body pairs with a box against a box or a capsule are excluded from contact (tether "
+                     "measures no such gap yet): upper|hand"));
+  EXPECT_NO_THROW(ParseScene(nlohmann::json::parse(imported.scene.dump()), "imported"));
+  ImportOptions drawn;  // --no-contact
+  drawn.contact = false;
+  for (const json& shape : Import(tree, drawn).scene["shapes"]) EXPECT_EQ(shape["contact"], false);
+}
+
 TEST(SceneFromTree, SingleJointsKeepTheirCoordinatesAndRates) {
   TreeJoint elbow = Hinge("elbow", Vector3d(-0.1, 0.05, 0), Vector3d(0, 1, 1));
   elbow.reference = 0.2;
   elbow.range = Eigen::Vector2d(-1, 2);
   TreeJoint slide = Slide("slide", Vector3d(1, 0, 1));
   slide.reference = 0.05;
-  const KinematicTree tree = Tree({Link("upper", -1, Vector3d(0, 0, 1), {Hinge("shoulder", Vector3d::Zero(), Vector3d::UnitY())}),
-                                   Link("fore", 0, Vector3d(0.3, 0, 0), {elbow}),
-                                   Link("tip", 1, Vector3d(0.2, 0.1, 0), {slide})});
+  const KinematicTree tree =
+      Tree({Link("upper", -1, Vector3d(0, 0, 1), {Hinge("shoulder", Vector3d::Zero(), Vector3d::UnitY())}),
+            Link("fore", 0, Vector3d(0.3, 0, 0), {elbow}), Link("tip", 1, Vector3d(0.2, 0.1, 0), {slide})});
   ImportOptions options;
   options.joint_values = {{"elbow", 0.7}, {"slide", -0.04}};
   options.joint_rates = {{"shoulder", 0.5}, {"elbow", -1.2}, {"slide", 0.3}};
@@ -121,9 +157,10 @@ TEST(SceneFromTree, SingleJointsKeepTheirCoordinatesAndRates) {
 // The bodies' velocities from --joint-velocity are those of their placement: a central difference of the
 // positions imported at coordinates q -+ e rate.
 TEST(SceneFromTree, BodyVelocitiesAreTheRatesOfTheirPlacement) {
-  const KinematicTree tree = Tree({Link("a", -1, Vector3d(0, 0, 1), {Hinge("j1", Vector3d(0.05, 0, 0), Vector3d(0, 1, 0))}),
-                                   Link("b", 0, Vector3d(0.3, 0, 0), {Slide("j2", Vector3d(1, 1, 0))}),
-                                   Link("c", 1, Vector3d(0.2, 0.1, 0), {Hinge("j3", Vector3d(0, 0.1, 0), Vector3d(1, 0, 1))})});
+  const KinematicTree tree =
+      Tree({Link("a", -1, Vector3d(0, 0, 1), {Hinge("j1", Vector3d(0.05, 0, 0), Vector3d(0, 1, 0))}),
+            Link("b", 0, Vector3d(0.3, 0, 0), {Slide("j2", Vector3d(1, 1, 0))}),
+            Link("c", 1, Vector3d(0.2, 0.1, 0), {Hinge("j3", Vector3d(0, 0.1, 0), Vector3d(1, 0, 1))})});
   const std::vector<std::pair<std::string, double>> rates = {{"j1", 0.8}, {"j2", -0.5}, {"j3", 1.7}};
   ImportOptions moving;
   moving.joint_values = {{"j1", 0.4}, {"j2", 0.1}, {"j3", -0.6}};
@@ -193,16 +230,17 @@ TEST(SceneFromTree, ACylindricalJointKeepsBothCoordinates) {
   EXPECT_EQ(effects[1]["damping"], 2.0);
   EXPECT_EQ(effects[2]["coordinate"], "angle");
   EXPECT_EQ(effects[2]["stiffness"], 3.0);
-  EXPECT_EQ(effects[3], (json{{"type", "joint_torque"}, {"joint", "lift+turn"}, {"coordinate", "displacement"}, {"value", 0.0}}));
+  EXPECT_EQ(effects[3],
+            (json{{"type", "joint_torque"}, {"joint", "lift+turn"}, {"coordinate", "displacement"}, {"value", 0.0}}));
 }
 
 TEST(SceneFromTree, JointsNoConstraintCombinesAreSplitThroughLightBodies) {
   const Vector3d z = Vector3d::UnitZ();
   const std::vector<std::vector<TreeJoint>> lists = {
-      {Hinge("a", Vector3d::Zero(), z), Hinge("b", Vector3d(0, 0, 0.3), z)},              // one line
+      {Hinge("a", Vector3d::Zero(), z), Hinge("b", Vector3d(0, 0, 0.3), z)},                 // one line
       {Hinge("a", Vector3d::Zero(), z), Hinge("b", Vector3d(0, 0, 0.1), Vector3d::UnitY()),  // not concurrent
        Hinge("c", Vector3d(0.1, 0, 0), Vector3d::UnitX())},
-      {Slide("a", z), Hinge("b", Vector3d::Zero(), -z)},                                     // opposite directions
+      {Slide("a", z), Hinge("b", Vector3d::Zero(), -z)},  // opposite directions
       {Slide("a", Vector3d::UnitX()), Slide("b", Vector3d::UnitY())},
       {Joint("a", TreeJointType::kBall), Hinge("b", Vector3d(0.1, 0, 0), z)}};
   for (size_t k = 0; k < lists.size(); ++k) {
@@ -272,7 +310,8 @@ TEST(SceneFromTree, AMasslessLinkWithJointsHandsThemToTheLinkItCarries) {
   StartOf(imported);
   // carrying two links, it cannot: it weighs 1e-6 of the heaviest link instead
   KinematicTree forked = tree;
-  forked.links.push_back(Link("thumb", 0, Vector3d(0, -0.04, 0.05), {Hinge("pinch", Vector3d::Zero(), Vector3d::UnitY())}));
+  forked.links.push_back(
+      Link("thumb", 0, Vector3d(0, -0.04, 0.05), {Hinge("pinch", Vector3d::Zero(), Vector3d::UnitY())}));
   const ImportedScene weighted = Import(forked);
   EXPECT_EQ(weighted.scene["bodies"].size(), 3u);
   EXPECT_NEAR(weighted.scene["bodies"][0]["mass"].get<double>(), 1e-6, 1e-18);
@@ -280,8 +319,9 @@ TEST(SceneFromTree, AMasslessLinkWithJointsHandsThemToTheLinkItCarries) {
 }
 
 TEST(SceneFromTree, FixedBodiesAreWeldedToTheWorld) {
-  const KinematicTree tree = Tree({Link("torso", -1, Vector3d(0, 0, 1.5), {Joint("root", TreeJointType::kFree)}),
-                                   Link("arm", 0, Vector3d(0, 0.2, 0), {Hinge("shoulder", Vector3d::Zero(), Vector3d::UnitX())})});
+  const KinematicTree tree =
+      Tree({Link("torso", -1, Vector3d(0, 0, 1.5), {Joint("root", TreeJointType::kFree)}),
+            Link("arm", 0, Vector3d(0, 0.2, 0), {Hinge("shoulder", Vector3d::Zero(), Vector3d::UnitX())})});
   const ImportedScene free = Import(tree);
   EXPECT_EQ(ConstraintTypes(free.scene), std::vector<std::string>{"hinge"});
   ImportOptions fix;
@@ -316,12 +356,14 @@ TEST(SceneFromTree, WarnsOncePerKindOfJointPropertyItCannotKeep) {
   b.friction_loss = 0.1;
   TreeJoint c = Hinge("c", Vector3d::Zero(), Vector3d::UnitY());
   c.range = Eigen::Vector2d(-0.5, 0.5);
-  KinematicTree tree = Tree({Link("upper", -1, Vector3d(0, 0, 1), {a, b}), Link("upper_joint", 0, Vector3d(0, 0, -0.3), {c})});
+  KinematicTree tree =
+      Tree({Link("upper", -1, Vector3d(0, 0, 1), {a, b}), Link("upper_joint", 0, Vector3d(0, 0, -0.3), {c})});
   tree.links[1].joints[0].name = "upper";  // a joint named like a body: renamed
   const ImportedScene imported = Import(tree);
   EXPECT_FALSE(Warned(imported, "range"));  // c's limits are kept, and enforced
-  EXPECT_TRUE(Warned(imported, "limits of joints without a coordinate of their own in the scene (combined into one "
-                               "constraint, which --split-joints avoids, or replaced by --fix) are dropped: a, b"));
+  EXPECT_TRUE(Warned(imported,
+                     "limits of joints without a coordinate of their own in the scene (combined into one "
+                     "constraint, which --split-joints avoids, or replaced by --fix) are dropped: a, b"));
   EXPECT_TRUE(Warned(imported, "joint armature (rotor inertia) is dropped (tether has none): a"));
   EXPECT_TRUE(Warned(imported, "joint friction loss (dry friction) is dropped (tether has none): b"));
   EXPECT_TRUE(Warned(imported, "names already taken are given a suffix: upper -> upper_joint2"));
@@ -330,12 +372,14 @@ TEST(SceneFromTree, WarnsOncePerKindOfJointPropertyItCannotKeep) {
 TEST(SceneFromTree, SitesOfTheWorldAndOfStaticLinksAreDroppedWithAWarning) {
   TreeLink wall = Link("wall", -1, Vector3d(1, 0, 0), {});
   wall.sites = {{"hook", Vector3d::Zero()}};
-  KinematicTree tree = Tree({wall, Link("door", 0, Vector3d(0, 0.5, 0), {Hinge("hinge", Vector3d::Zero(), Vector3d::UnitZ())})});
+  KinematicTree tree =
+      Tree({wall, Link("door", 0, Vector3d(0, 0.5, 0), {Hinge("hinge", Vector3d::Zero(), Vector3d::UnitZ())})});
   tree.world_sites = {"origin"};
   const ImportedScene imported = Import(tree);
   EXPECT_EQ(imported.scene["constraints"][0]["bodies"], json::array({"world", "door"}));
-  EXPECT_TRUE(Warned(imported, "sites of the world, of static bodies and of massless links are dropped (a marker "
-                               "names a point of a moving body): origin, hook"));
+  EXPECT_TRUE(Warned(imported,
+                     "sites of the world, of static bodies and of massless links are dropped (a marker "
+                     "names a point of a moving body): origin, hook"));
 }
 
 TEST(SceneFromTree, EqualitiesAreExactConstraintsOrDroppedWithAWarning) {
@@ -347,8 +391,9 @@ TEST(SceneFromTree, EqualitiesAreExactConstraintsOrDroppedWithAWarning) {
   const ImportedScene imported = Import(tree);
   EXPECT_EQ(ConstraintTypes(imported.scene), (std::vector<std::string>{"hinge", "hinge", "pin"}));
   EXPECT_EQ(imported.scene["constraints"][2]["name"], "coupler");
-  EXPECT_TRUE(Warned(imported, "equality constraints between parts of one body, or on massless links, are dropped: "
-                               "inside"));
+  EXPECT_TRUE(Warned(imported,
+                     "equality constraints between parts of one body, or on massless links, are dropped: "
+                     "inside"));
 }
 
 TEST(SceneFromTree, RefusesWhatItCannotImport) {
@@ -360,8 +405,9 @@ TEST(SceneFromTree, RefusesWhatItCannotImport) {
       EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
     }
   };
-  const KinematicTree arm = Tree({Link("arm", -1, Vector3d(0, 0, 1), {Hinge("shoulder", Vector3d::Zero(), Vector3d::UnitY()),
-                                                                       Joint("ball", TreeJointType::kBall)})});
+  const KinematicTree arm =
+      Tree({Link("arm", -1, Vector3d(0, 0, 1),
+                 {Hinge("shoulder", Vector3d::Zero(), Vector3d::UnitY()), Joint("ball", TreeJointType::kBall)})});
   ImportOptions options;
   refused(Tree({Link("statue", -1, Vector3d::Zero(), {})}), options,
           "model.xml: nothing to import: the model has no moving body");

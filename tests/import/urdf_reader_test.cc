@@ -112,7 +112,10 @@ TEST(UrdfReader, WarnsAboutWhatTetherDoesNotSimulate) {
       Joint("j2", "revolute", "a", "b", "<limit lower=\"-1\" upper=\"1\" effort=\"1\" velocity=\"1\"/><mimic joint=\"j1\"/>")));
   EXPECT_TRUE(Warned(tree, "the root link 'base' is the world (a fixed base), so its mass does not move"));
   EXPECT_TRUE(Warned(tree, "mimic couplings are dropped (tether has none): j2 (follows j1)"));
-  EXPECT_TRUE(Warned(tree, "contacts are ignored (tether has none); links with collision shapes: a"));
+  ASSERT_EQ(tree.geoms.size(), 1u);  // the collision box becomes a shape of link a
+  EXPECT_EQ(tree.geoms[0].type, TreeGeom::Type::kBox);
+  EXPECT_EQ(tree.geoms[0].size, Vector3d(1, 1, 1));
+  EXPECT_EQ(tree.links[tree.geoms[0].link].name, "a");
 }
 
 TEST(UrdfReader, RefusesWhatItCannotRead) {

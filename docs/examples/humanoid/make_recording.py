@@ -30,7 +30,7 @@ ap.add_argument("--model", default="/usr/share/mujoco/model/humanoid/humanoid.xm
 args = ap.parse_args()
 with tempfile.TemporaryDirectory() as work:
     scene_path = os.path.join(work, "humanoid.json")
-    run(args.tether, "import", args.model, "--fix", "torso", "--joint-velocity", "left_elbow=2",
+    run(args.tether, "import", args.model, "--fix", "torso", "--no-contact", "--joint-velocity", "left_elbow=2",
         "--joint-velocity", "right_knee=-1.5", "-o", scene_path)
     scene = json.load(open(scene_path))
     forearm = [b["name"] for b in scene["bodies"]].index("left_lower_arm")

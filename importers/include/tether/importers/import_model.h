@@ -26,6 +26,7 @@ struct ImportOptions {
   std::vector<std::string> fixed_bodies;                     // --fix BODY: welded to the world where it starts
   bool merge_fixed = false;   // --merge-fixed: welded links join their parent's body instead of a weld
   bool split_joints = false;  // --split-joints: every joint its own constraint, through light intermediate bodies
+  bool contact = true;        // false (--no-contact): the collision shapes are drawn only ("contact": false)
 };
 
 struct ImportedScene {

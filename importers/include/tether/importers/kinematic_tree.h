@@ -18,6 +18,7 @@
 #include <Eigen/Geometry>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace tether::importers {
@@ -73,8 +74,26 @@ struct TreeEquality {
   Eigen::Vector3d p_L1 = Eigen::Vector3d::Zero();  // the point, m, in link_1's frame
 };
 
+// A collision shape of a link (an MJCF geom, a URDF <collision>), in tether's shape types (model/shapes.h).
+struct TreeGeom {
+  enum class Type { kSphere, kCapsule, kBox, kPlane } type = Type::kSphere;
+  std::string name;                                          // never empty (readers name them)
+  int link = -1;                                             // index into KinematicTree::links, -1 the world
+  Eigen::Vector3d p_LG = Eigen::Vector3d::Zero();            // m, in L
+  Eigen::Quaterniond q_LG = Eigen::Quaterniond::Identity();  // the shape's frame: a capsule along its x axis, a
+                                                             // plane's normal its z axis
+  double radius = 0.0, length = 0.0;                         // sphere, capsule (length between the cap centres)
+  Eigen::Vector3d size = Eigen::Vector3d::Zero();            // box: full edge lengths
+  double friction = 0.0;                                     // Coulomb's coefficient
+  bool contact = true;  // false: never touches (MuJoCo's contype = conaffinity = 0)
+};
+
 struct KinematicTree {
   std::vector<TreeLink> links;             // parents before their children
+  std::vector<TreeGeom> geoms;
+  // pairs of links (-1 the world) whose geoms never touch each other although each touches others (MuJoCo's
+  // <exclude>, and pairs whose contype and conaffinity bits never meet)
+  std::vector<std::pair<int, int>> contact_excludes;
   std::vector<TreeMotor> motors;
   std::vector<TreeEquality> equalities;
   std::vector<std::string> world_sites;    // named points of the world, which markers cannot name
