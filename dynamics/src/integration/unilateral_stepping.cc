@@ -114,10 +114,13 @@ template <typename T>
 void UnilateralEvents<T>::StepSides(double step, const VecX<T>& q, const VecX<T>& v, const Workspace<T>& ws) {
   step_sides_.clear();
   step_gaps_.clear();
-  if (!contacts_.features.empty()) {  // grown by how far any point moves over the next step, roughly bounded
+  if (!contacts_.features.empty()) {
+    // the bounding spheres grown by how far a point may move over the next step: a point r from its body's origin
+    // moves at |v| + |w| r <= c (1 + r / 1 m), c the largest velocity component, r at most the length scale; twice
+    // that, for two shapes closing on each other
     double fastest = 0.0;
     for (Eigen::Index k = 0; k < v.size(); ++k) fastest = std::max(fastest, std::abs(Value(v[k])));
-    NearPairs(model_, contacts_, ws.frames, q, 2.0 * step * fastest * LengthScale(model_), &near_);
+    NearPairs(model_, contacts_, ws.frames, q, 2.0 * step * fastest * (1.0 + LengthScale(model_)), &near_);
   }
   for (int i = 0; i < size(); ++i) {
     const Side& side = sides_[i];

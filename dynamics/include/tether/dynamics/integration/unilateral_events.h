@@ -120,7 +120,8 @@ class UnilateralEvents {
   void FollowSlips(double t, double step, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws);
 
   // Time stepping (unilateral_stepping.cc): after a step of `step` that ended at t in (q, v), impulses on the sides
-  // that overlap there, and the configuration moved by what the integrator makes of them (integrator_descriptor.h).
+  // that overlap there or would close within the next step, and the configuration moved by what the integrator
+  // makes of a lasting contact's (integrator_descriptor.h).
   void StepContacts(double t, double step, VecX<T>* q, VecX<T>* v, Workspace<T>* ws, RunReport* report);
   // The sides that touched at the last step's end (time stepping): their restitution is spent; and their impulses
   // there (kImpulseStride numbers a side: the gap row's, the slip rows', then the gap's rate after them), where the
