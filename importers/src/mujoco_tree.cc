@@ -136,9 +136,7 @@ void ReadGeoms(const mjModel& m, KinematicTree* tree) {
   const bool contacts = !Disabled(m, mjDSBL_CONTACT) && !Disabled(m, mjDSBL_CONSTRAINT);
   std::map<std::string, std::vector<std::string>> dropped;  // by kind
   std::vector<std::string> cylinders;
-  std::vector<int> bodies;  // of the geoms kept
   std::vector<int> kept;
-  const Eigen::Quaterniond z_to_x(Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitY()));  // takes x to z
   for (int g = 0; g < m.ngeom; ++g) {
     TreeGeom geom;
     geom.name = NameOf(m, mjOBJ_GEOM, g, "geom");
@@ -158,7 +156,7 @@ void ReadGeoms(const mjModel& m, KinematicTree* tree) {
         geom.type = TreeGeom::Type::kCapsule;
         geom.radius = size[0];
         geom.length = m.geom_type[g] == mjGEOM_CAPSULE ? 2 * size[1] : std::max(2 * size[1] - 2 * size[0], 0.0);
-        geom.q_LG = geom.q_LG * z_to_x;
+        geom.q_LG = geom.q_LG * CapsuleAxisFromZ();
         break;
       case mjGEOM_BOX:
         geom.type = TreeGeom::Type::kBox;

@@ -163,7 +163,6 @@ void ReadCollisions(const urdf::Link& source, int link, KinematicTree* tree, std
                     std::vector<std::string>* meshes) {
   std::vector<urdf::CollisionSharedPtr> collisions = source.collision_array;
   if (collisions.empty() && source.collision) collisions.push_back(source.collision);
-  const Eigen::Quaterniond z_to_x(Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitY()));  // takes x to z
   for (size_t k = 0; k < collisions.size(); ++k) {
     const urdf::Collision& collision = *collisions[k];
     if (!collision.geometry) continue;
@@ -187,7 +186,7 @@ void ReadCollisions(const urdf::Link& source, int link, KinematicTree* tree, std
         geom.type = TreeGeom::Type::kCapsule;
         geom.radius = cylinder.radius;
         geom.length = std::max(cylinder.length - 2 * cylinder.radius, 0.0);
-        geom.q_LG = geom.q_LG * z_to_x;
+        geom.q_LG = geom.q_LG * CapsuleAxisFromZ();
         cylinders->push_back(geom.name);
         break;
       }

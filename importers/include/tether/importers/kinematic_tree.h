@@ -16,6 +16,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <cmath>
 #include <optional>
 #include <string>
 #include <utility>
@@ -87,6 +88,12 @@ struct TreeGeom {
   double friction = 0.0;                                     // Coulomb's coefficient
   bool contact = true;  // false: never touches (MuJoCo's contype = conaffinity = 0)
 };
+
+// The frame of a tether capsule (its axis x) in the frame of an MJCF capsule or cylinder or a URDF cylinder (axis z):
+// the rotation by -90 degrees about y, which takes x to z.
+inline Eigen::Quaterniond CapsuleAxisFromZ() {
+  return Eigen::Quaterniond(Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitY()));
+}
 
 struct KinematicTree {
   std::vector<TreeLink> links;             // parents before their children
