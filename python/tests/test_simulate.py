@@ -104,3 +104,21 @@ def test_events_are_the_cli_events_file(tmp_path):
     assert len(run.events) == 2 and run.events[0].kind == "impact" and run.events[0].constraint == "hinge"
     assert run.events[0].speed_after == pytest.approx(-0.5 * run.events[0].speed_before, rel=1e-9)
     assert list(run.events_to_pandas().columns) == list(tether.Event._fields)
+
+
+@pytest.mark.parametrize("mode", ["events", "stepping"])
+def test_a_ball_bounces_on_a_floor_in_both_contact_modes(mode):
+    """A ball (e = 0.8) dropped 1 m on a floor: the first impact at sqrt(2 h / g), exactly when events are located,
+    within a step when impulses resolve the step ends; Newton's law at it."""
+    import math
+    scene = {"dimension": 3,
+             "bodies": [{"name": "ball", "type": "particle", "mass": 1.0, "position": [0.0, 0.0, 1.1]}],
+             "shapes": [{"name": "surface", "body": "ball", "type": "sphere", "radius": 0.1, "restitution": 0.8},
+                        {"name": "floor", "body": "world", "type": "plane"}],
+             "effects": [{"type": "gravity", "acceleration": [0.0, 0.0, -9.81]}],
+             "simulation": {"integrator": "rk4", "step": 1e-3, "duration": 0.6, "contact": mode}}
+    run = tether.Scene.from_dict(scene).simulate()
+    impact = run.events[0]
+    assert impact.kind == "impact" and impact.constraint == "surface|floor"
+    assert impact.t == pytest.approx(math.sqrt(2 / 9.81), abs=1e-12 if mode == "events" else 1e-3)
+    assert impact.speed_after == pytest.approx(-0.8 * impact.speed_before, rel=1e-9 if mode == "events" else 1e-4)

@@ -154,15 +154,16 @@ class Scene:
 
 
 Event = _namedtuple("Event", ["t", "kind", "constraint", "speed_before", "speed_after"])
-Event.__doc__ = """An event of a joint limit, as a row of `tether simulate --events`: time (s), "impact" or "release",
-the joint's name (or /constraints/K), and the gap's rate just before and after (rad/s or m/s, positive opening)."""
+Event.__doc__ = """An event of a joint limit or a contact, as a row of `tether simulate --events`: time (s), "impact",
+"release", "stick" or "slip", the joint's name (or /constraints/K) or the contact's "SHAPE_A|SHAPE_B", and the gap's
+rate just before and after (rad/s or m/s, positive opening)."""
 
 
 class Trajectory:
     """A run: every output row's time `t`, configuration `q` and velocity `v` (the model's layouts, rows x size),
     `constraint_error` and `energy`, and every CSV column by name (columns(), to_pandas()). The arrays are views of
-    the memory the run filled. `events` is the table of the joint limits' events (a list of Event rows, in time
-    order; events_to_pandas() as a DataFrame)."""
+    the memory the run filled. `events` is the table of the joint limits' and contacts' events (a list of Event rows,
+    in time order; events_to_pandas() as a DataFrame)."""
 
     def __init__(self, recorded):
         self.events = [Event(*row) for row in recorded.events]
