@@ -125,7 +125,8 @@ TEST(SceneFromTree, GeomsBecomeShapesAndThePairsTetherCannotMeasureAreExcluded) 
   EXPECT_NO_THROW(ParseScene(nlohmann::json::parse(imported.scene.dump()), "imported"));
   ImportOptions drawn;  // --no-contact
   drawn.contact = false;
-  for (const json& shape : Import(tree, drawn).scene["shapes"]) EXPECT_EQ(shape["contact"], false);
+  const ImportedScene drawn_only = Import(tree, drawn);
+  for (const json& shape : drawn_only.scene["shapes"]) EXPECT_EQ(shape["contact"], false);
 }
 
 TEST(SceneFromTree, SingleJointsKeepTheirCoordinatesAndRates) {
