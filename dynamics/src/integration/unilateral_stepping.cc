@@ -367,8 +367,9 @@ void UnilateralEvents<T>::CheckEnergy(double t, const VecX<T>& dv) const {
     pushed += Value(impulses_[block.first_row]) * std::max(Value(targets_[block.first_row]) - newton, 0.0);
   }
   const double kinetic = Value(KineticEnergy(model_, dv));  // p^T W p / 2
-  const double gained = Value(impulses_.dot(free_rates_)) + kinetic;
-  if (gained > pushed + kImpactEnergyRoundoff * (1.0 + kinetic + std::abs(Value(impulses_.dot(free_rates_))))) {
+  const double work = Value(impulses_.dot(free_rates_));    // p^T u
+  const double gained = work + kinetic;
+  if (gained > pushed + kImpactEnergyRoundoff * (1.0 + kinetic + std::abs(work))) {
     std::ostringstream out;
     out << "the contact impulses at t = " << t << " s gained " << gained
         << " J of kinetic energy (a defect of the impulse solve: please report the scene)";
@@ -428,13 +429,12 @@ void UnilateralEvents<T>::StepContacts(double t, double step, VecX<T>* q, VecX<T
   for (size_t b = 0; b < blocks_.size(); ++b) {  // a side touches where it overlaps or its impulse pushes
     const StepBlock& block = blocks_[b];
     const int i = block.side;
-    for (int r = 0; r < block.rows; ++r) last_impulses_[kImpulseStride * i + r] = Value(impulses_[block.first_row + r]);
-    last_impulses_[kImpulseStride * i + 3] =
-        Value(free_rates_[block.first_row] + delassus_.row(block.first_row).dot(impulses_));
-    const bool touches = Value(step_gaps_[b]) < 0.0 || Value(impulses_[block.first_row]) > 0.0;
     const double rate = Value(free_rates_[block.first_row]);
+    const double after = rate + Value(delassus_.row(block.first_row).dot(impulses_));
+    for (int r = 0; r < block.rows; ++r) last_impulses_[kImpulseStride * i + r] = Value(impulses_[block.first_row + r]);
+    last_impulses_[kImpulseStride * i + 3] = after;
+    const bool touches = Value(step_gaps_[b]) < 0.0 || Value(impulses_[block.first_row]) > 0.0;
     if (touches && !touching_[i] && rate < -kRestingSpeed) {
-      const double after = rate + Value(delassus_.row(block.first_row).dot(impulses_));
       report->events.push_back({t, "impact", sides_[i].label, rate, after});
     } else if (!touches && touching_[i]) {
       report->events.push_back({t, "release", sides_[i].label, rate, rate});
