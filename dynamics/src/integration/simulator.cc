@@ -267,8 +267,9 @@ template <typename T>
 void Stepper<T>::Advance(double t, double dt) {
   if (gaps_.empty()) return AdvanceSmooth(t, dt);
   if (gaps_.stepping()) {  // impulses at the step's end (unilateral_stepping.cc)
+    v_start_ = state_.v;
     AdvanceSmooth(t, dt);
-    gaps_.StepContacts(t + dt, dt, &state_.q, &state_.v, &ws_, &report_);
+    gaps_.StepContacts(t + dt, dt, v_start_, &state_.q, &state_.v, &ws_, &report_);
     return;
   }
   const double t_end = t + dt;

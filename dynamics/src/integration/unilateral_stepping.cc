@@ -20,20 +20,18 @@
 //   v <- v + dv,  q <- q (+) w h dv_held,  g^ = g - w h f u_n (the overlap left for u_n+ = 0),
 // w the integrator's force position weight (integrator_descriptor.h), so that a body resting or sticking on a slope
 // does not creep. A held side's impulse counts as a force for the fraction that cancels what the step added to its
-// approach, f = (u_n(before) - u_n) / -u_n with u_n(before) its rate after the last step's impulse; the rest of it, and
-// a new contact's impulse, are an impact's: they change the velocity only.
+// approach, f = (J_n v_start - u_n) / -u_n (clamped to [0, 1]) with J_n v_start its rate at the step's start, after
+// the last step's impulses (its row at the step's end: f is a function of the state, which derivatives follow); the
+// rest of it, and a new contact's impulse, are an impact's: they change the velocity only.
 //
-// The impulses are found by projected Gauss-Seidel over the sides, started from the last step's: the gap row's
-// impulse p_n <- max(0, p_n - r_n / W_nn), then the slip rows' p_t <- P(p_t - r_t / max_k W_tk,tk), P the
-// projection on the disc |p_t| <= mu p_n, with r = u + W p - b the residuals. Its fixed points are exactly the
-// conditions above (the projection's normal cone gives u_t+ = -c p_t): Coulomb's problem, not a convex relaxation
-// of it (Anitescu's cone complementarity would lift a sliding contact off at mu |u_t| per step). Once the sweeps
-// settle, and every kPolishEvery sweeps before, Polish solves the conditions directly on the split the iterate shows
-// (apart, sticking, sliding) and repairs it a few times: a solution it accepts is exact to round-off, and so are its
-// derivatives (Jets, the adjoint's replay). Gauss-Seidel's convergence is not guaranteed for Coulomb's problem and is
-// slow on articulated bodies (W spans a torso and a hand): a run whose sweeps do not settle within kMostSweeps goes
-// on with the last iterate (within the cones) and is warned of once. Several contacts along one plane (a box's four
-// corners) make W singular: the impulses are then not unique, the motion is; Polish leaves the dependent rows' out.
+// The impulses solve Coulomb's problem by Newton's method on Alart and Curnier's function (coulomb_impulses.h),
+// started from the last step's: Coulomb's problem itself, not a convex relaxation of it (Anitescu's cone
+// complementarity would lift a sliding contact off at mu |u_t| per step). Where the contacts persist it takes one or
+// two iterations; its solution meets the conditions to kImpulseTolerance of the largest rate, and its derivatives
+// (Jets, the adjoint's replay) are the implicit function theorem's. Several contacts along one plane (a box's four
+// corners) make W singular: the motion is unique, the impulses are not, and the solver's regularization picks the
+// least ones. A run whose solves do not converge goes on with the last iterate (within the cones) and is warned of
+// once.
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -49,59 +47,9 @@
 namespace tether {
 namespace {
 
-// Gauss-Seidel stops when a sweep changes no row's rate by more than this (m/s or rad/s), relative to the largest
-// rate at the step's end (and at least a resting speed's)
-constexpr double kSweepTolerance = 1e-7;
-constexpr int kMostSweeps = 2000;
-// the direct solve's pivots below this fraction of its first are dependent rows (coplanar contacts make W singular)
-constexpr double kDependentPivot = 1e-10;
-// sweeps between attempts to finish the solve directly (Polish) before they settle
-constexpr int kPolishEvery = 50;
-// repairs of the split (a side apart, sticking or sliding, a sliding direction turned) before it is given back to
-// Gauss-Seidel
-constexpr int kSplitAttempts = 8;
-
-// Solves K x = b in place by Gaussian elimination with diagonal pivoting (the largest remaining diagonal value
-// first), stopping where the largest left is below kDependentPivot of the first: the unknowns left are 0 and
-// their equations are not imposed (dependent rows: several contacts along one plane). False when K has no pivot.
-template <typename T>
-bool SolveBasic(Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>* k, VecX<T>* b, std::vector<Eigen::Index>* order) {
-  const Eigen::Index n = b->size();
-  order->resize(n);
-  for (Eigen::Index i = 0; i < n; ++i) (*order)[i] = i;
-  double first = 0.0;
-  Eigen::Index rank = 0;
-  for (; rank < n; ++rank) {
-    Eigen::Index pivot = rank;
-    for (Eigen::Index i = rank + 1; i < n; ++i) {
-      if (std::abs(Value((*k)(i, i))) > std::abs(Value((*k)(pivot, pivot)))) pivot = i;
-    }
-    const double size = std::abs(Value((*k)(pivot, pivot)));
-    if (rank == 0) first = size;
-    if (!(size > kDependentPivot * first)) break;
-    k->row(rank).swap(k->row(pivot));
-    k->col(rank).swap(k->col(pivot));
-    std::swap((*b)[rank], (*b)[pivot]);
-    std::swap((*order)[rank], (*order)[pivot]);
-    for (Eigen::Index r = rank + 1; r < n; ++r) {
-      const T factor = (*k)(r, rank) / (*k)(rank, rank);
-      if (Value(factor) == 0.0) continue;
-      k->row(r).tail(n - rank) -= factor * k->row(rank).tail(n - rank);
-      (*b)[r] -= factor * (*b)[rank];
-    }
-  }
-  if (rank == 0) return false;
-  for (Eigen::Index c = n - 1; c >= 0; --c) {
-    if (c >= rank) {
-      (*b)[c] = T(0.0);
-      continue;
-    }
-    T sum = (*b)[c];
-    for (Eigen::Index j = c + 1; j < rank; ++j) sum -= (*k)(c, j) * (*b)[j];
-    (*b)[c] = sum / (*k)(c, c);
-  }
-  return true;
-}
+// the impulses' conditions hold to this fraction of the largest rate at the step's end (and at least a resting
+// speed's)
+constexpr double kImpulseTolerance = 1e-10;
 
 template <typename T>
 T RowRate(const Model<T>& model, const ConstraintRow<T>& row, const VecX<T>& v) {
@@ -135,7 +83,8 @@ void UnilateralEvents<T>::StepSides(double step, const VecX<T>& q, const VecX<T>
 }
 
 template <typename T>
-void UnilateralEvents<T>::StepRows(double step, const VecX<T>& q, const VecX<T>& v, const Workspace<T>& ws) {
+void UnilateralEvents<T>::StepRows(double step, const VecX<T>& v_start, const VecX<T>& q, const VecX<T>& v,
+                                   const Workspace<T>& ws) {
   const double w = Describe(model_.simulation.integrator).force_position_weight;
   const T k = step * ws.beta / (1.0 + step * ws.alpha);
   blocks_.clear();
@@ -178,8 +127,10 @@ void UnilateralEvents<T>::StepRows(double step, const VecX<T>& q, const VecX<T>&
     } else {
       const T e = touching_[i] ? T(0.0) : Restitution(side);
       // a held side's impulse is a force for the part that cancels the approach the step added to its rate
-      const double u = Value(rate), before = last_impulses_[kImpulseStride * i + 3];
-      if (touching_[i] && u < 0.0) block.force = std::clamp((before - u) / -u, 0.0, 1.0);
+      if (touching_[i] && Value(rate) < 0.0) {
+        const T force = (RowRate(model_, step_rows_[block.first_row], v_start) - rate) / -rate;
+        block.force = Value(force) <= 0.0 ? T(0.0) : Value(force) >= 1.0 ? T(1.0) : force;
+      }
       const T left = gap - w * step * block.force * rate;  // g^
       targets.push_back((Value(rate) < 0.0 ? -e * rate : T(0.0)) - (Value(left) < 0.0 ? k * left : T(0.0)));
     }
@@ -209,150 +160,17 @@ bool UnilateralEvents<T>::Response(const ConstraintRow<T>& row, bool first, Work
 
 template <typename T>
 bool UnilateralEvents<T>::SolveImpulses() {
-  const Eigen::Index n = free_rates_.size();
-  impulses_.setZero(n);
+  impulses_.setZero(free_rates_.size());
+  impulse_blocks_.clear();
   for (const StepBlock& block : blocks_) {  // from the impulses of the step before, where the side touched then
+    impulse_blocks_.push_back({block.first_row, block.rows, block.friction});
     for (int r = 0; r < block.rows; ++r)
       impulses_[block.first_row + r] = T(last_impulses_[kImpulseStride * block.side + r]);
   }
-  VecX<T> residual = free_rates_ - targets_ + delassus_ * impulses_;  // u + W p - b
   double fastest = kRestingSpeed;
-  for (Eigen::Index r = 0; r < n; ++r) fastest = std::max(fastest, std::abs(Value(free_rates_[r])));
-  for (int sweep = 0; sweep < kMostSweeps; ++sweep) {
-    double change = 0.0;
-    auto move = [&](Eigen::Index r, const T& value) {
-      const T delta = value - impulses_[r];
-      if (Value(delta) == 0.0) return;
-      impulses_[r] = value;
-      residual += delassus_.col(r) * delta;
-      change = std::max(change, std::abs(Value(delta)) * Value(delassus_(r, r)));
-    };
-    for (const StepBlock& block : blocks_) {
-      const Eigen::Index n_row = block.first_row;
-      const double w_nn = Value(delassus_(n_row, n_row));
-      if (!(w_nn > 0.0)) continue;  // a row that no impulse moves (its bodies held by the equality rows)
-      const T pushed = impulses_[n_row] - residual[n_row] / delassus_(n_row, n_row);
-      move(n_row, Value(pushed) > 0.0 ? pushed : T(0.0));
-      if (block.rows == 1) continue;
-      double w_tt = 0.0;
-      for (int t = 1; t < block.rows; ++t) w_tt = std::max(w_tt, Value(delassus_(n_row + t, n_row + t)));
-      if (!(w_tt > 0.0)) continue;
-      Vec3<T> slip = Vec3<T>::Zero();
-      for (int t = 1; t < block.rows; ++t) slip[t - 1] = impulses_[n_row + t] - residual[n_row + t] / w_tt;
-      const T radius = block.friction * impulses_[n_row];
-      const double length = std::sqrt(Value(slip.squaredNorm()));
-      if (length > Value(radius)) slip = length > 0.0 ? Vec3<T>(slip * (radius / slip.norm())) : Vec3<T>::Zero();
-      for (int t = 1; t < block.rows; ++t) move(n_row + t, slip[t - 1]);
-    }
-    const bool settled = change <= kSweepTolerance * fastest;
-    if (!settled && sweep % kPolishEvery == kPolishEvery - 1 && Polish(fastest)) return true;
-    if (settled) {
-      Polish(fastest);
-      return true;
-    }
-  }
-  return false;
-}
-
-template <typename T>
-bool UnilateralEvents<T>::Polish(double fastest) {
-  enum class Split { kApart, kStick, kSlide };
-  const size_t count = blocks_.size();
-  std::vector<Split> split(count, Split::kApart);
-  std::vector<Vec3<double>> along(count, Vec3<double>::Zero());  // a sliding side's impulse direction
-  for (size_t b = 0; b < count; ++b) {
-    const StepBlock& block = blocks_[b];
-    const double normal = Value(impulses_[block.first_row]);
-    if (!(normal > 0.0)) continue;
-    split[b] = Split::kStick;
-    for (int t = 1; t < block.rows; ++t) along[b][t - 1] = Value(impulses_[block.first_row + t]);
-    const double length = along[b].norm();
-    if (block.rows > 1 && length > 0.0 && length >= (1.0 - 1e-6) * Value(block.friction) * normal) {
-      split[b] = Split::kSlide;
-      along[b] /= length;
-    }
-  }
-  const double tolerance = 1e-9 * fastest;
-  for (int attempt = 0; attempt < kSplitAttempts; ++attempt) {
-    std::vector<Eigen::Index>
-        unknowns;  // the rows whose impulses are unknown; a sliding side's gap row carries its slip
-    for (size_t b = 0; b < count; ++b) {
-      if (split[b] == Split::kApart) continue;
-      const int rows = split[b] == Split::kStick ? blocks_[b].rows : 1;
-      for (int t = 0; t < rows; ++t) unknowns.push_back(blocks_[b].first_row + t);
-    }
-    const Eigen::Index m = static_cast<Eigen::Index>(unknowns.size());
-    polish_matrix_.resize(m, m);
-    polish_rhs_.resize(m);
-    size_t b = 0;
-    for (Eigen::Index j = 0; j < m; ++j) {
-      while (blocks_[b].first_row + blocks_[b].rows <= unknowns[j]) ++b;
-      for (Eigen::Index i = 0; i < m; ++i) {
-        T entry = delassus_(unknowns[i], unknowns[j]);
-        if (split[b] == Split::kSlide) {
-          for (int t = 1; t < blocks_[b].rows; ++t) {
-            entry += blocks_[b].friction * along[b][t - 1] * delassus_(unknowns[i], blocks_[b].first_row + t);
-          }
-        }
-        polish_matrix_(i, j) = entry;
-      }
-      polish_rhs_[j] = targets_[unknowns[j]] - free_rates_[unknowns[j]];
-    }
-    if (m > 0 && !SolveBasic(&polish_matrix_, &polish_rhs_, &polish_order_)) return false;
-    VecX<T> impulses = VecX<T>::Zero(impulses_.size());
-    for (Eigen::Index j = 0; j < m; ++j) impulses[unknowns[polish_order_[j]]] = polish_rhs_[j];
-    for (size_t c = 0; c < count; ++c) {
-      if (split[c] != Split::kSlide) continue;
-      for (int t = 1; t < blocks_[c].rows; ++t) {
-        impulses[blocks_[c].first_row + t] = blocks_[c].friction * impulses[blocks_[c].first_row] * along[c][t - 1];
-      }
-    }
-    const VecX<T> after = free_rates_ + delassus_ * impulses;
-    // the worst departure from the split's conditions (in m/s, or N s scaled by the row's W), and its repair
-    double worst = tolerance;
-    size_t repair = count;
-    Split repaired = Split::kApart;
-    Vec3<double> repaired_along = Vec3<double>::Zero();
-    for (size_t c = 0; c < count; ++c) {
-      const StepBlock& block = blocks_[c];
-      const Eigen::Index n_row = block.first_row;
-      const double normal = Value(impulses[n_row]), w_nn = Value(delassus_(n_row, n_row));
-      const double short_of = Value(targets_[n_row]) - Value(after[n_row]);  // approaching faster than the target
-      auto consider = [&](double amount, Split split_to, const Vec3<double>& direction) {
-        if (amount <= worst) return;
-        worst = amount;
-        repair = c;
-        repaired = split_to;
-        repaired_along = direction;
-      };
-      Vec3<double> tangential = Vec3<double>::Zero(), slip = Vec3<double>::Zero();
-      for (int t = 1; t < block.rows; ++t) {
-        tangential[t - 1] = Value(impulses[n_row + t]);
-        slip[t - 1] = Value(after[n_row + t]);
-      }
-      if (split[c] == Split::kApart) {
-        consider(short_of, block.rows > 1 ? Split::kStick : Split::kStick, Vec3<double>::Zero());
-        continue;
-      }
-      consider(-normal * w_nn, Split::kApart, Vec3<double>::Zero());  // pulling
-      consider(short_of, split[c], along[c]);  // a dependent row's equation, not imposed, violated
-      if (split[c] == Split::kStick) {
-        const double outside = tangential.norm() - Value(block.friction) * normal;
-        if (outside > 0.0) consider(outside * w_nn, Split::kSlide, tangential.normalized());
-        consider(slip.norm(), Split::kSlide, -slip.normalized());
-      } else if (slip.norm() > tolerance) {
-        consider((slip.normalized() + along[c]).norm() * slip.norm(), Split::kSlide, -slip.normalized());
-      }
-    }
-    if (repair == count) {
-      impulses_ = impulses;
-      return true;
-    }
-    if (repaired == split[repair] && repaired_along == along[repair]) return false;  // no repair left to try
-    split[repair] = repaired;
-    along[repair] = repaired_along;
-  }
-  return false;
+  for (Eigen::Index r = 0; r < free_rates_.size(); ++r) fastest = std::max(fastest, std::abs(Value(free_rates_[r])));
+  return impulse_solver_.Solve(delassus_, free_rates_, targets_, impulse_blocks_, kImpulseTolerance * fastest,
+                               &impulses_);
 }
 
 // The kinetic energy the impulses add, p^T u + p^T W p / 2 (= v^T M dv + dv^T M dv / 2 less the work of the equality
@@ -378,8 +196,8 @@ void UnilateralEvents<T>::CheckEnergy(double t, const VecX<T>& dv) const {
 }
 
 template <typename T>
-void UnilateralEvents<T>::StepContacts(double t, double step, VecX<T>* q, VecX<T>* v, Workspace<T>* ws,
-                                       RunReport* report) {
+void UnilateralEvents<T>::StepContacts(double t, double step, const VecX<T>& v_start, VecX<T>* q, VecX<T>* v,
+                                       Workspace<T>* ws, RunReport* report) {
   EvaluateRows(model_, *q, *v, true, ws);  // the equality rows and the frames (velocities too) at the step's end
   StepSides(step, *q, *v, *ws);
   for (int i = 0; i < size(); ++i) {  // sides left out: no impulse to start from; released if they touched
@@ -392,7 +210,7 @@ void UnilateralEvents<T>::StepContacts(double t, double step, VecX<T>* q, VecX<T
   }
   if (step_sides_.empty()) return;
   if (!ws->rows.empty()) AssembleSchur(ws);
-  StepRows(step, *q, *v, *ws);
+  StepRows(step, v_start, *q, *v, *ws);
   const size_t n = step_rows_.size();
   responses_.resize(std::max(responses_.size(), n));
   for (size_t r = 0; r < n; ++r) {
@@ -406,11 +224,12 @@ void UnilateralEvents<T>::StepContacts(double t, double step, VecX<T>* q, VecX<T
   for (size_t c = 0; c < n; ++c) {
     for (size_t r = 0; r < n; ++r) delassus_(r, c) = RowRate(model_, step_rows_[r], responses_[c]);
   }
-  if (!SolveImpulses() && !sweeps_warned_) {
-    sweeps_warned_ = true;
+  if (!SolveImpulses() && !unsolved_warned_) {
+    unsolved_warned_ = true;
     std::ostringstream out;
-    out << "t = " << t << " s: the contact impulses did not settle within " << kMostSweeps
-        << " Gauss-Seidel sweeps; the run goes on with the last ones (within the friction cones)";
+    out << "t = " << t << " s: the contact impulses did not converge (" << impulse_solver_.newton_iterations()
+        << " Newton iterations, " << impulse_solver_.sweeps()
+        << " Gauss-Seidel sweeps); the run goes on with the last ones (within the friction cones)";
     report->warnings.push_back(out.str());
   }
   VecX<T> dv = VecX<T>::Zero(model_.NumVelocities()), held = dv;  // all the impulses', their forces'
@@ -418,7 +237,7 @@ void UnilateralEvents<T>::StepContacts(double t, double step, VecX<T>* q, VecX<T
     const StepBlock& block = blocks_[b];
     for (int r = block.first_row; r < block.first_row + block.rows; ++r) {
       dv += responses_[r] * impulses_[r];
-      if (block.force > 0.0) held += responses_[r] * (impulses_[r] * block.force);
+      if (Value(block.force) > 0.0) held += responses_[r] * (impulses_[r] * block.force);
     }
   }
   CheckEnergy(t, dv);
@@ -432,7 +251,6 @@ void UnilateralEvents<T>::StepContacts(double t, double step, VecX<T>* q, VecX<T
     const double rate = Value(free_rates_[block.first_row]);
     const double after = rate + Value(delassus_.row(block.first_row).dot(impulses_));
     for (int r = 0; r < block.rows; ++r) last_impulses_[kImpulseStride * i + r] = Value(impulses_[block.first_row + r]);
-    last_impulses_[kImpulseStride * i + 3] = after;
     const bool touches = Value(step_gaps_[b]) < 0.0 || Value(impulses_[block.first_row]) > 0.0;
     if (touches && !touching_[i] && rate < -kRestingSpeed) {
       report->events.push_back({t, "impact", sides_[i].label, rate, after});
@@ -443,14 +261,15 @@ void UnilateralEvents<T>::StepContacts(double t, double step, VecX<T>* q, VecX<T
   }
 }
 
-#define TETHER_INSTANTIATE_UNILATERAL_STEPPING(T)                                                                 \
-  template void UnilateralEvents<T>::StepContacts(double, double, VecX<T>*, VecX<T>*, Workspace<T>*, RunReport*); \
-  template void UnilateralEvents<T>::StepSides(double, const VecX<T>&, const VecX<T>&, const Workspace<T>&);      \
-  template void UnilateralEvents<T>::StepRows(double, const VecX<T>&, const VecX<T>&, const Workspace<T>&);       \
-  template bool UnilateralEvents<T>::Response(const ConstraintRow<T>&, bool, Workspace<T>*, VecX<T>*);            \
-  template bool UnilateralEvents<T>::SolveImpulses();                                                             \
-  template void UnilateralEvents<T>::CheckEnergy(double, const VecX<T>&) const;                                   \
-  template bool UnilateralEvents<T>::Polish(double);
+#define TETHER_INSTANTIATE_UNILATERAL_STEPPING(T)                                                                    \
+  template void UnilateralEvents<T>::StepContacts(double, double, const VecX<T>&, VecX<T>*, VecX<T>*, Workspace<T>*, \
+                                                  RunReport*);                                                       \
+  template void UnilateralEvents<T>::StepSides(double, const VecX<T>&, const VecX<T>&, const Workspace<T>&);         \
+  template void UnilateralEvents<T>::StepRows(double, const VecX<T>&, const VecX<T>&, const VecX<T>&,                \
+                                              const Workspace<T>&);                                                  \
+  template bool UnilateralEvents<T>::Response(const ConstraintRow<T>&, bool, Workspace<T>*, VecX<T>*);               \
+  template bool UnilateralEvents<T>::SolveImpulses();                                                                \
+  template void UnilateralEvents<T>::CheckEnergy(double, const VecX<T>&) const;
 TETHER_FOR_EACH_SCALAR(TETHER_INSTANTIATE_UNILATERAL_STEPPING)
 
 }  // namespace tether

@@ -110,6 +110,7 @@ class Stepper {
   size_t next_stop_ = 0;
   VecX<T> coordinates_, rates_, q_projected_, v_projected_;
   VecX<T> q_values_, v_values_;  // the state's values alone, for tracking the joint angles' branches
+  VecX<T> v_start_;              // the velocity at the start of a step (time stepping)
   SettleState<T> settle_;
   UnilateralEvents<T> gaps_;
   std::vector<int> due_;             // the sides whose event lies within the step being taken

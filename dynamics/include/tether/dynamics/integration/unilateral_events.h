@@ -41,6 +41,7 @@
 
 #include "tether/dynamics/constraints/contact_geometry.h"
 #include "tether/dynamics/integration/simulator.h"
+#include "tether/dynamics/solvers/coulomb_impulses.h"
 #include "tether/dynamics/solvers/workspace.h"
 
 namespace tether {
@@ -75,7 +76,7 @@ class UnilateralEvents {
   // The scene's "contact": "stepping": no event is located and no side is ever active; StepContacts resolves them
   // all by impulses at every step's end.
   bool stepping() const { return stepping_; }
-  static constexpr int kImpulseStride = 4;
+  static constexpr int kImpulseStride = 3;
   int size() const { return static_cast<int>(sides_.size()); }
   bool active(int i) const { return active_[i] != 0; }
   // An active contact's friction (kNone for a limit or an inactive side).
@@ -119,13 +120,13 @@ class UnilateralEvents {
   // direction then decays without overshoot.
   void FollowSlips(double t, double step, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws);
 
-  // Time stepping (unilateral_stepping.cc): after a step of `step` that ended at t in (q, v), impulses on the sides
-  // that overlap there or would close within the next step, and the configuration moved by what the integrator
-  // makes of a lasting contact's (integrator_descriptor.h).
-  void StepContacts(double t, double step, VecX<T>* q, VecX<T>* v, Workspace<T>* ws, RunReport* report);
+  // Time stepping (unilateral_stepping.cc): after a step of `step` from the velocity v_start that ended at t in
+  // (q, v), impulses on the sides that overlap there or would close within the next step, and the configuration
+  // moved by what the integrator makes of a lasting contact's (integrator_descriptor.h).
+  void StepContacts(double t, double step, const VecX<T>& v_start, VecX<T>* q, VecX<T>* v, Workspace<T>* ws,
+                    RunReport* report);
   // The sides that touched at the last step's end (time stepping): their restitution is spent; and their impulses
-  // there (kImpulseStride numbers a side: the gap row's, the slip rows', then the gap's rate after them), where the
-  // next step's solve starts.
+  // there (kImpulseStride numbers a side: the gap row's, then the slip rows'), where the next step's solve starts.
   const std::vector<char>& touching() const { return touching_; }
   const std::vector<double>& last_impulses() const { return last_impulses_; }
   void SetTouching(const std::vector<char>& touching, const std::vector<double>& impulses) {
@@ -216,17 +217,11 @@ class UnilateralEvents {
   void StepSides(double step, const VecX<T>& q, const VecX<T>& v, const Workspace<T>& ws);
   // Their rows: per side its gap row, then for a contact with friction its tangents' slip rows; their friction
   // coefficients, targets and rates.
-  void StepRows(double step, const VecX<T>& q, const VecX<T>& v, const Workspace<T>& ws);
+  void StepRows(double step, const VecX<T>& v_start, const VecX<T>& q, const VecX<T>& v, const Workspace<T>& ws);
   // Column r of the impulse response: the velocity change M^-1 J_r^T less what the equality rows take away.
   bool Response(const ConstraintRow<T>& row, bool first, Workspace<T>* ws, VecX<T>* dv);
-  // The impulses by projected Gauss-Seidel from the last step's (then Polish); false when they did not settle within
-  // kMostSweeps.
+  // The impulses (coulomb_impulses.h) from the last step's; false when they did not converge.
   bool SolveImpulses();
-  // The impulses' law solved directly on the split the iterate shows (each side apart, sticking, or sliding with
-  // its impulse along the direction the iterate gives, turned against the slip after until it agrees); true, with
-  // the impulses replaced, where the solution keeps that split (pushing, within the cones, the sides apart not
-  // approaching faster than their targets). `fastest` is the largest rate, for the tolerances.
-  bool Polish(double fastest);
   // Throws SimulationDiverged where the impulses' velocity change dv gained kinetic energy (below).
   void CheckEnergy(double t, const VecX<T>& dv) const;
 
@@ -246,10 +241,10 @@ class UnilateralEvents {
     int side = 0;
     int first_row = 0, rows = 1;  // the gap row, then d - 1 slip rows where it has friction
     T friction = T(0.0);
-    double force = 0.0;  // the fraction of its impulse that is a force the step did without (unilateral_stepping.cc)
+    T force = T(0.0);  // the fraction of its impulse that is a force the step did without (unilateral_stepping.cc)
   };
   std::vector<char> touching_;         // per side
-  std::vector<double> last_impulses_;  // 4 per side: kImpulseStride
+  std::vector<double> last_impulses_;  // kImpulseStride per side
   std::vector<int> step_sides_;
   std::vector<T> step_gaps_;
   std::vector<StepBlock> blocks_;
@@ -257,10 +252,9 @@ class UnilateralEvents {
   std::vector<VecX<T>> responses_;                             // per row, M^-1 J_r^T projected (Response)
   Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> delassus_;  // W = J A J^T over the rows
   VecX<T> free_rates_, targets_, impulses_;
-  Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> polish_matrix_;
-  VecX<T> polish_rhs_;
-  std::vector<Eigen::Index> polish_order_;
-  bool sweeps_warned_ = false;
+  std::vector<ImpulseBlock<T>> impulse_blocks_;
+  CoulombImpulses<T> impulse_solver_;
+  bool unsolved_warned_ = false;
 };
 
 }  // namespace tether

@@ -1,0 +1,83 @@
+// Coulomb's impulse problem of a time step (the scene's "contact": "stepping", unilateral_stepping.cc): impulses p
+// on rows grouped in blocks (a contact's gap row and its 0 to 2 slip rows, or a joint limit's one row) such that,
+// with W the Delassus matrix, u the rates before and b the targets, the rates after y = u + W p - b meet
+//   gap row    p_n >= 0,  y_n >= 0,  p_n y_n = 0
+//   slip rows  |p_t| <= mu p_n,  y_t = -c p_t with c >= 0 and c (mu p_n - |p_t|) = 0
+// (a side apart, held, sticking, or sliding with the impulse mu p_n against its slip after: Coulomb's exact cone).
+//
+// They are the root of Alart and Curnier's function, block by block (rho_n = 1 / W_nn, rho_t = 1 / max_t W_tt):
+//   F_n = p_n - max(0, a),                a = p_n - rho_n y_n
+//   F_t = p_t - P(p_t - rho_t y_t, mu max(0, a)),   P(z, R) = z min(1, R / |z|) (the projection on the disc)
+// F = 0 exactly where the conditions above hold. F is piecewise smooth, so Newton's method with an element of its
+// generalized Jacobian converges quadratically near a solution: from the last step's impulses one or two
+// iterations where the contacts persist. A backtracking (Armijo) line search on |S F|^2, S = diag(1 / rho) (rates
+// in m/s or rad/s), globalizes it; where it stalls anyway (Coulomb's problem is not monotone, and has no solution in
+// Painleve's configurations) projected Gauss-Seidel sweeps move the iterate before Newton goes on.
+//
+// Several contacts along one plane (a box's four corners) make W singular: the motion is unique, the impulses are
+// not, and neither is Newton's step. The steps on the problem itself are taken with W + eps diag(W) in the Jacobian
+// (eps = kImpulseRegularization), F itself with W, so that the conditions hold exactly where they converge. Where
+// they do not within a few iterations (a humanoid's feet: four capsule ends on the floor, 12 rows of rank 6, and
+// targets no rigid motion meets), proximal steps follow: each solves the problem with W + e D and u - b - e D p_k
+// (D = diag(W), e = kProximalWeight, p_k the impulses so far), which is well posed, and whose fixed point is the
+// problem itself. A solve that has not met the tolerance when its iterations run out keeps its last iterate.
+//
+// The iteration runs in double. For another scalar (Jets, the reverse tape) one more Newton step in that scalar
+// starts from the double solution: its value is the solution's (F is 0 there), its derivatives are the implicit
+// function theorem's, dp = -J^-1 dF, exact for W, u, b and mu given as functions of the parameters.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/LU>
+#include <vector>
+
+#include "tether/dynamics/scalars/scalar.h"
+
+namespace tether {
+
+inline constexpr double kImpulseRegularization = 1e-9;
+
+template <typename T>
+struct ImpulseBlock {
+  Eigen::Index first_row = 0;
+  int rows = 1;         // the gap row, then the slip rows (none without friction or for a limit)
+  T friction = T(0.0);  // mu
+};
+
+template <typename T>
+class CoulombImpulses {
+ public:
+  using Matrix = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
+
+  // Solves the problem above from `impulses` (a start: the last step's, or 0), writing the solution there. True
+  // when every row's |F| / rho is at most `tolerance` (a rate); false, with the last iterate (within the cones),
+  // when the iterations ran out.
+  bool Solve(const Matrix& delassus, const VecX<T>& rates, const VecX<T>& targets,
+             const std::vector<ImpulseBlock<T>>& blocks, double tolerance, VecX<T>* impulses);
+
+  int newton_iterations() const { return newton_iterations_; }  // of the last Solve, for tests and benchmarks
+  int sweeps() const { return sweeps_; }
+
+ private:
+  void Prepare(const Matrix& delassus, const VecX<T>& rates, const VecX<T>& targets,
+               const std::vector<ImpulseBlock<T>>& blocks);
+  // |S F(p)|_inf into largest and |S F(p)|^2 of the double problem with W = w and u - b = shift, F into residual_
+  double Merit(const Eigen::MatrixXd& w, const Eigen::VectorXd& shift, const Eigen::VectorXd& impulses,
+               double* largest);
+  // one projected Gauss-Seidel sweep
+  void Sweep(const Eigen::MatrixXd& w, const Eigen::VectorXd& shift, Eigen::VectorXd* impulses) const;
+  // At most `iterations` Newton steps on that problem, their Jacobians from w_steps; |S F|_inf after them.
+  double Newton(const Eigen::MatrixXd& w, const Eigen::VectorXd& shift, const Eigen::MatrixXd& w_steps, int iterations,
+                double tolerance, Eigen::VectorXd* impulses);
+
+  Eigen::MatrixXd delassus_, regularized_, proximal_;  // W, W + eps diag(W), W + eps_proximal diag(W)
+  Eigen::VectorXd shift_, proximal_shift_;             // u - b, and the proximal step's
+  std::vector<double> friction_, rho_normal_, rho_tangent_;
+  std::vector<ImpulseBlock<T>> blocks_;
+  Eigen::VectorXd residual_, step_, trial_;
+  Eigen::MatrixXd jacobian_;
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
+  int newton_iterations_ = 0, sweeps_ = 0;
+};
+
+}  // namespace tether

@@ -1,0 +1,248 @@
+// Coulomb's impulse problem by Newton's method on Alart and Curnier's function (coulomb_impulses.h states the maths).
+#include "tether/dynamics/solvers/coulomb_impulses.h"
+
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <type_traits>
+
+namespace tether {
+namespace {
+
+constexpr int kMostExactIterations = 8;    // on the problem itself, before proximal steps
+constexpr int kMostNewtonIterations = 10;  // on each proximal step's problem
+constexpr int kMostProximalSteps = 4;
+constexpr double kProximalWeight = 1e-5;  // eps of the proximal steps, relative to W's diagonal
+constexpr int kMostBacktracks = 12;       // step lengths 1, 1/2, ..., 1/2^11
+constexpr double kArmijo = 1e-4;          // the decrease of |S F|^2 a step must give, against its linear prediction
+constexpr int kSweepsPerRestart = 10;     // Gauss-Seidel sweeps where Newton's step does not decrease |S F|^2
+
+template <typename S>
+using MatrixOf = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>;
+
+// F of Alart and Curnier's function at p (the header), with y = shift + W p, and where `jacobian` is not null the
+// element of its generalized Jacobian that Newton's method uses, in double (w_values: W's values): a row of rho W
+// where F is rho y (pushing, sticking), a unit row where F is p (apart), the projection's derivative where a side
+// slides.
+template <typename S, typename Block>
+void AlartCurnier(const MatrixOf<S>& w, const VecX<S>& shift, const std::vector<Block>& blocks,
+                  const std::vector<S>& friction, const std::vector<double>& rho_normal,
+                  const std::vector<double>& rho_tangent, const VecX<S>& p, VecX<S>* f, const Eigen::MatrixXd& w_values,
+                  Eigen::MatrixXd* jacobian) {
+  using std::sqrt;
+  const VecX<S> y = shift + w * p;
+  f->resize(p.size());
+  if (jacobian != nullptr) jacobian->setZero(p.size(), p.size());
+  auto unit_row = [&](Eigen::Index r) {
+    (*f)[r] = p[r];
+    if (jacobian != nullptr) (*jacobian)(r, r) = 1.0;
+  };
+  for (size_t b = 0; b < blocks.size(); ++b) {
+    const Eigen::Index n = blocks[b].first_row;
+    const int tangents = std::min(blocks[b].rows - 1, 2);  // a 3D contact has two
+    if (!(rho_normal[b] > 0.0)) {  // a block that no impulse moves (its bodies held by the equality rows)
+      for (int r = 0; r <= tangents; ++r) unit_row(n + r);
+      continue;
+    }
+    const S a = p[n] - rho_normal[b] * y[n];
+    const bool pushing = Value(a) > 0.0;
+    if (pushing) {
+      (*f)[n] = rho_normal[b] * y[n];
+      if (jacobian != nullptr) jacobian->row(n) = rho_normal[b] * w_values.row(n);
+    } else {
+      unit_row(n);
+    }
+    if (tangents == 0) continue;
+    const double rho = rho_tangent[b];
+    const S radius = pushing ? S(friction[b] * a) : S(0.0);
+    S z[2];
+    double length = 0.0;
+    for (int t = 0; t < tangents; ++t) {
+      z[t] = p[n + 1 + t] - rho * y[n + 1 + t];
+      length += Value(z[t]) * Value(z[t]);
+    }
+    length = std::sqrt(length);
+    if (!(rho > 0.0) || !(Value(radius) > 0.0)) {  // no friction impulse: apart, or rows no impulse moves
+      for (int t = 0; t < tangents; ++t) unit_row(n + 1 + t);
+    } else if (length <= Value(radius)) {  // sticking
+      for (int t = 0; t < tangents; ++t) {
+        (*f)[n + 1 + t] = rho * y[n + 1 + t];
+        if (jacobian != nullptr) jacobian->row(n + 1 + t) = rho * w_values.row(n + 1 + t);
+      }
+    } else {  // sliding: F_t = p_t - R z / |z|
+      S norm_squared = S(0.0);
+      for (int t = 0; t < tangents; ++t) norm_squared += z[t] * z[t];
+      const S scale = radius / sqrt(norm_squared);
+      for (int t = 0; t < tangents; ++t) (*f)[n + 1 + t] = p[n + 1 + t] - scale * z[t];
+      if (jacobian == nullptr) continue;
+      // dP = (R / |z|) (I - zh zh^T) dz + zh dR,  dz = E_t - rho W_t,  dR = mu (e_n - rho_n W_n)
+      const double s = Value(scale), mu = Value(friction[b]);
+      double unit[2];
+      for (int t = 0; t < tangents; ++t) unit[t] = Value(z[t]) / length;
+      for (int t = 0; t < tangents; ++t) {
+        auto row = jacobian->row(n + 1 + t);
+        row[n + 1 + t] = 1.0;
+        for (int k = 0; k < tangents; ++k) {
+          const double projector = s * ((t == k ? 1.0 : 0.0) - unit[t] * unit[k]);
+          row[n + 1 + k] -= projector;
+          for (Eigen::Index c = 0; c < row.size(); ++c) row[c] += projector * rho * w_values(n + 1 + k, c);
+        }
+        row[n] -= unit[t] * mu;
+        for (Eigen::Index c = 0; c < row.size(); ++c) row[c] += unit[t] * mu * rho_normal[b] * w_values(n, c);
+      }
+    }
+  }
+}
+
+Eigen::VectorXd Values(const VecX<double>& x) { return x; }
+template <typename T>
+Eigen::VectorXd Values(const VecX<T>& x) {
+  Eigen::VectorXd values(x.size());
+  for (Eigen::Index i = 0; i < x.size(); ++i) values[i] = Value(x[i]);
+  return values;
+}
+
+}  // namespace
+
+template <typename T>
+void CoulombImpulses<T>::Prepare(const Matrix& delassus, const VecX<T>& rates, const VecX<T>& targets,
+                                 const std::vector<ImpulseBlock<T>>& blocks) {
+  const Eigen::Index n = rates.size();
+  delassus_.resize(n, n);
+  for (Eigen::Index c = 0; c < n; ++c) {
+    for (Eigen::Index r = 0; r < n; ++r) delassus_(r, c) = Value(delassus(r, c));
+  }
+  regularized_ = delassus_;
+  regularized_.diagonal() *= 1.0 + kImpulseRegularization;
+  proximal_ = delassus_;
+  proximal_.diagonal() *= 1.0 + kProximalWeight;
+  shift_ = Values(VecX<T>(rates - targets));
+  blocks_ = blocks;
+  friction_.clear();
+  rho_normal_.clear();
+  rho_tangent_.clear();
+  for (const ImpulseBlock<T>& block : blocks) {
+    friction_.push_back(Value(block.friction));
+    const double w_nn = regularized_(block.first_row, block.first_row);
+    double w_tt = 0.0;
+    for (int t = 1; t < block.rows; ++t) w_tt = std::max(w_tt, regularized_(block.first_row + t, block.first_row + t));
+    rho_normal_.push_back(w_nn > 0.0 ? 1.0 / w_nn : 0.0);
+    rho_tangent_.push_back(w_tt > 0.0 ? 1.0 / w_tt : 0.0);
+  }
+}
+
+template <typename T>
+double CoulombImpulses<T>::Merit(const Eigen::MatrixXd& w, const Eigen::VectorXd& shift,
+                                 const Eigen::VectorXd& impulses, double* largest) {
+  AlartCurnier(w, shift, blocks_, friction_, rho_normal_, rho_tangent_, impulses, &residual_, w, nullptr);
+  double sum = 0.0;
+  *largest = 0.0;
+  for (size_t b = 0; b < blocks_.size(); ++b) {
+    for (int r = 0; r < blocks_[b].rows; ++r) {
+      const double rho = r == 0 ? rho_normal_[b] : rho_tangent_[b];
+      const double rate = rho > 0.0 ? residual_[blocks_[b].first_row + r] / rho : residual_[blocks_[b].first_row + r];
+      sum += rate * rate;
+      *largest = std::max(*largest, std::abs(rate));
+    }
+  }
+  return sum;
+}
+
+// The gap row's impulse p_n <- max(0, p_n - y_n / W_nn), then the slip rows' p_t <- P(p_t - y_t / max W_tt, mu p_n)
+template <typename T>
+void CoulombImpulses<T>::Sweep(const Eigen::MatrixXd& w, const Eigen::VectorXd& shift,
+                               Eigen::VectorXd* impulses) const {
+  Eigen::VectorXd& p = *impulses;
+  for (size_t b = 0; b < blocks_.size(); ++b) {
+    const Eigen::Index n = blocks_[b].first_row;
+    if (!(rho_normal_[b] > 0.0)) continue;
+    p[n] = std::max(0.0, p[n] - rho_normal_[b] * (shift[n] + w.row(n).dot(p)));
+    if (blocks_[b].rows == 1 || !(rho_tangent_[b] > 0.0)) continue;
+    double slip[2] = {0.0, 0.0}, length = 0.0;
+    for (int t = 1; t < blocks_[b].rows; ++t) {
+      slip[t - 1] = p[n + t] - rho_tangent_[b] * (shift[n + t] + w.row(n + t).dot(p));
+      length += slip[t - 1] * slip[t - 1];
+    }
+    length = std::sqrt(length);
+    const double radius = friction_[b] * p[n], scale = length > radius ? radius / length : 1.0;
+    for (int t = 1; t < blocks_[b].rows; ++t) p[n + t] = scale * slip[t - 1];
+  }
+}
+
+template <typename T>
+double CoulombImpulses<T>::Newton(const Eigen::MatrixXd& w, const Eigen::VectorXd& shift,
+                                  const Eigen::MatrixXd& w_steps, int iterations, double tolerance,
+                                  Eigen::VectorXd* impulses) {
+  Eigen::VectorXd& p = *impulses;
+  double largest = 0.0, merit = Merit(w, shift, p, &largest);
+  for (int iteration = 0; largest > tolerance && iteration < iterations; ++iteration) {
+    ++newton_iterations_;
+    AlartCurnier(w, shift, blocks_, friction_, rho_normal_, rho_tangent_, p, &residual_, w_steps, &jacobian_);
+    lu_.compute(jacobian_);
+    step_ = -lu_.solve(residual_);
+    bool moved = false;
+    double length = 1.0;
+    for (int backtrack = 0; step_.allFinite() && backtrack < kMostBacktracks && !moved; ++backtrack, length /= 2) {
+      trial_ = p + length * step_;
+      double trial_largest = 0.0;
+      const double trial_merit = Merit(w, shift, trial_, &trial_largest);
+      if (trial_merit <= (1.0 - 2.0 * kArmijo * length) * merit) {
+        p.swap(trial_);
+        merit = trial_merit;
+        largest = trial_largest;
+        moved = true;
+      }
+    }
+    if (moved) continue;
+    for (int sweep = 0; sweep < kSweepsPerRestart; ++sweep) Sweep(w, shift, &p);
+    sweeps_ += kSweepsPerRestart;
+    merit = Merit(w, shift, p, &largest);
+  }
+  return largest;
+}
+
+template <typename T>
+bool CoulombImpulses<T>::Solve(const Matrix& delassus, const VecX<T>& rates, const VecX<T>& targets,
+                               const std::vector<ImpulseBlock<T>>& blocks, double tolerance, VecX<T>* impulses) {
+  Prepare(delassus, rates, targets, blocks);
+  Eigen::VectorXd p = Values(*impulses);
+  newton_iterations_ = sweeps_ = 0;
+  // proximal steps: each solves the problem with W + eps D and u - b - eps D p_k (the last step's impulses p_k),
+  // well posed where W is singular, and at its fixed point the problem itself
+  double largest = Newton(delassus_, shift_, regularized_, kMostExactIterations, tolerance, &p);
+  for (int step = 0; largest > tolerance && step < kMostProximalSteps; ++step) {
+    proximal_shift_ = shift_ - kProximalWeight * (delassus_.diagonal().asDiagonal() * p);
+    Newton(proximal_, proximal_shift_, proximal_, kMostNewtonIterations, tolerance, &p);
+    Merit(delassus_, shift_, p, &largest);
+  }
+  if constexpr (std::is_same_v<T, double>) {
+    *impulses = p;
+  } else {
+    // one Newton step in T from the solution: the value stays, the derivatives become the implicit function's
+    std::vector<T> friction;
+    for (const ImpulseBlock<T>& block : blocks) friction.push_back(block.friction);
+    const VecX<T> start = p.cast<T>();
+    VecX<T> f;
+    AlartCurnier(delassus, VecX<T>(rates - targets), blocks, friction, rho_normal_, rho_tangent_, start, &f,
+                 regularized_, &jacobian_);
+    lu_.compute(jacobian_);
+    // start - J^-1 f with the double factors P J = L U applied to the scalar's vector
+    const Eigen::MatrixXd& factors = lu_.matrixLU();
+    VecX<T> x = lu_.permutationP() * f;
+    const Eigen::Index n = x.size();
+    for (Eigen::Index i = 0; i < n; ++i) {
+      for (Eigen::Index j = 0; j < i; ++j) x[i] -= factors(i, j) * x[j];
+    }
+    for (Eigen::Index i = n - 1; i >= 0; --i) {
+      for (Eigen::Index j = i + 1; j < n; ++j) x[i] -= factors(i, j) * x[j];
+      x[i] /= factors(i, i);
+    }
+    *impulses = start - x;
+  }
+  return largest <= tolerance;
+}
+
+#define TETHER_INSTANTIATE_COULOMB_IMPULSES(T) template class CoulombImpulses<T>;
+TETHER_FOR_EACH_SCALAR(TETHER_INSTANTIATE_COULOMB_IMPULSES)
+
+}  // namespace tether
