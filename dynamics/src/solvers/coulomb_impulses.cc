@@ -104,36 +104,42 @@ Eigen::VectorXd Values(const VecX<T>& x) {
 
 }  // namespace
 
-template <typename T>
-void CoulombImpulses<T>::Prepare(const Matrix& delassus, const VecX<T>& rates, const VecX<T>& targets,
-                                 const std::vector<ImpulseBlock<T>>& blocks) {
-  const Eigen::Index n = rates.size();
-  delassus_.resize(n, n);
-  for (Eigen::Index c = 0; c < n; ++c) {
-    for (Eigen::Index r = 0; r < n; ++r) delassus_(r, c) = Value(delassus(r, c));
-  }
+double CoulombIteration::Iterate(double tolerance, Eigen::VectorXd* impulses) {
   regularized_ = delassus_;
   regularized_.diagonal() *= 1.0 + kImpulseRegularization;
   proximal_ = delassus_;
   proximal_.diagonal() *= 1.0 + kProximalWeight;
-  shift_ = Values(VecX<T>(rates - targets));
-  blocks_ = blocks;
   friction_.clear();
   rho_normal_.clear();
   rho_tangent_.clear();
-  for (const ImpulseBlock<T>& block : blocks) {
-    friction_.push_back(Value(block.friction));
+  for (const Block& block : blocks_) {
+    friction_.push_back(block.friction);
     const double w_nn = regularized_(block.first_row, block.first_row);
     double w_tt = 0.0;
     for (int t = 1; t < block.rows; ++t) w_tt = std::max(w_tt, regularized_(block.first_row + t, block.first_row + t));
     rho_normal_.push_back(w_nn > 0.0 ? 1.0 / w_nn : 0.0);
     rho_tangent_.push_back(w_tt > 0.0 ? 1.0 / w_tt : 0.0);
   }
+  Eigen::VectorXd& p = *impulses;
+  newton_iterations_ = sweeps_ = 0;
+  // proximal steps: each solves the problem with W + eps D and u - b - eps D p_k (the last step's impulses p_k),
+  // well posed where W is singular, and at its fixed point the problem itself
+  double largest = Newton(delassus_, shift_, regularized_, kMostExactIterations, tolerance, &p);
+  for (int step = 0; largest > tolerance && step < kMostProximalSteps; ++step) {
+    proximal_shift_ = shift_ - kProximalWeight * (delassus_.diagonal().asDiagonal() * p);
+    Newton(proximal_, proximal_shift_, proximal_, kMostNewtonIterations, tolerance, &p);
+    Merit(delassus_, shift_, p, &largest);
+  }
+  return largest;
 }
 
-template <typename T>
-double CoulombImpulses<T>::Merit(const Eigen::MatrixXd& w, const Eigen::VectorXd& shift,
-                                 const Eigen::VectorXd& impulses, double* largest) {
+void CoulombIteration::Jacobian(const Eigen::VectorXd& impulses, Eigen::MatrixXd* jacobian) {
+  AlartCurnier(delassus_, shift_, blocks_, friction_, rho_normal_, rho_tangent_, impulses, &residual_, regularized_,
+               jacobian);
+}
+
+double CoulombIteration::Merit(const Eigen::MatrixXd& w, const Eigen::VectorXd& shift, const Eigen::VectorXd& impulses,
+                               double* largest) {
   AlartCurnier(w, shift, blocks_, friction_, rho_normal_, rho_tangent_, impulses, &residual_, w, nullptr);
   double sum = 0.0;
   *largest = 0.0;
@@ -149,9 +155,7 @@ double CoulombImpulses<T>::Merit(const Eigen::MatrixXd& w, const Eigen::VectorXd
 }
 
 // The gap row's impulse p_n <- max(0, p_n - y_n / W_nn), then the slip rows' p_t <- P(p_t - y_t / max W_tt, mu p_n)
-template <typename T>
-void CoulombImpulses<T>::Sweep(const Eigen::MatrixXd& w, const Eigen::VectorXd& shift,
-                               Eigen::VectorXd* impulses) const {
+void CoulombIteration::Sweep(const Eigen::MatrixXd& w, const Eigen::VectorXd& shift, Eigen::VectorXd* impulses) const {
   Eigen::VectorXd& p = *impulses;
   for (size_t b = 0; b < blocks_.size(); ++b) {
     const Eigen::Index n = blocks_[b].first_row;
@@ -169,10 +173,8 @@ void CoulombImpulses<T>::Sweep(const Eigen::MatrixXd& w, const Eigen::VectorXd& 
   }
 }
 
-template <typename T>
-double CoulombImpulses<T>::Newton(const Eigen::MatrixXd& w, const Eigen::VectorXd& shift,
-                                  const Eigen::MatrixXd& w_steps, int iterations, double tolerance,
-                                  Eigen::VectorXd* impulses) {
+double CoulombIteration::Newton(const Eigen::MatrixXd& w, const Eigen::VectorXd& shift, const Eigen::MatrixXd& w_steps,
+                                int iterations, double tolerance, Eigen::VectorXd* impulses) {
   Eigen::VectorXd& p = *impulses;
   double largest = 0.0, merit = Merit(w, shift, p, &largest);
   for (int iteration = 0; largest > tolerance && iteration < iterations; ++iteration) {
@@ -204,32 +206,34 @@ double CoulombImpulses<T>::Newton(const Eigen::MatrixXd& w, const Eigen::VectorX
 template <typename T>
 bool CoulombImpulses<T>::Solve(const Matrix& delassus, const VecX<T>& rates, const VecX<T>& targets,
                                const std::vector<ImpulseBlock<T>>& blocks, double tolerance, VecX<T>* impulses) {
-  Prepare(delassus, rates, targets, blocks);
-  Eigen::VectorXd p = Values(*impulses);
-  newton_iterations_ = sweeps_ = 0;
-  // proximal steps: each solves the problem with W + eps D and u - b - eps D p_k (the last step's impulses p_k),
-  // well posed where W is singular, and at its fixed point the problem itself
-  double largest = Newton(delassus_, shift_, regularized_, kMostExactIterations, tolerance, &p);
-  for (int step = 0; largest > tolerance && step < kMostProximalSteps; ++step) {
-    proximal_shift_ = shift_ - kProximalWeight * (delassus_.diagonal().asDiagonal() * p);
-    Newton(proximal_, proximal_shift_, proximal_, kMostNewtonIterations, tolerance, &p);
-    Merit(delassus_, shift_, p, &largest);
+  const Eigen::Index n = rates.size();
+  Eigen::MatrixXd& w = iteration_.delassus();
+  w.resize(n, n);
+  for (Eigen::Index c = 0; c < n; ++c) {
+    for (Eigen::Index r = 0; r < n; ++r) w(r, c) = Value(delassus(r, c));
   }
+  iteration_.shift() = Values(VecX<T>(rates - targets));
+  iteration_.blocks().clear();
+  for (const ImpulseBlock<T>& block : blocks) {
+    iteration_.blocks().push_back({block.first_row, block.rows, Value(block.friction)});
+  }
+  values_ = Values(*impulses);
+  const double largest = iteration_.Iterate(tolerance, &values_);
   if constexpr (std::is_same_v<T, double>) {
-    *impulses = p;
+    *impulses = values_;
   } else {
     // one Newton step in T from the solution: the value stays, the derivatives become the implicit function's
     std::vector<T> friction;
     for (const ImpulseBlock<T>& block : blocks) friction.push_back(block.friction);
-    const VecX<T> start = p.cast<T>();
+    const VecX<T> start = values_.cast<T>();
     VecX<T> f;
-    AlartCurnier(delassus, VecX<T>(rates - targets), blocks, friction, rho_normal_, rho_tangent_, start, &f,
-                 regularized_, &jacobian_);
+    AlartCurnier(delassus, VecX<T>(rates - targets), blocks, friction, iteration_.rho_normal(),
+                 iteration_.rho_tangent(), start, &f, w, nullptr);
+    iteration_.Jacobian(values_, &jacobian_);
     lu_.compute(jacobian_);
     // start - J^-1 f with the double factors P J = L U applied to the scalar's vector
     const Eigen::MatrixXd& factors = lu_.matrixLU();
     VecX<T> x = lu_.permutationP() * f;
-    const Eigen::Index n = x.size();
     for (Eigen::Index i = 0; i < n; ++i) {
       for (Eigen::Index j = 0; j < i; ++j) x[i] -= factors(i, j) * x[j];
     }

@@ -44,6 +44,51 @@ struct ImpulseBlock {
   T friction = T(0.0);  // mu
 };
 
+// The iteration in double behind every scalar's solve (compiled once, not once per scalar).
+class CoulombIteration {
+ public:
+  struct Block {
+    Eigen::Index first_row = 0;
+    int rows = 1;
+    double friction = 0.0;
+  };
+
+  // The problem's W, u - b and blocks, to be filled before Iterate.
+  Eigen::MatrixXd& delassus() { return delassus_; }
+  Eigen::VectorXd& shift() { return shift_; }
+  std::vector<Block>& blocks() { return blocks_; }
+
+  // Newton's steps on the problem, then proximal steps where they did not converge, from *impulses, which receives
+  // the last iterate; |S F|_inf there, a rate.
+  double Iterate(double tolerance, Eigen::VectorXd* impulses);
+  // F's Jacobian at p as the steps on the problem take it (W + eps diag(W)), and the scalings rho
+  void Jacobian(const Eigen::VectorXd& impulses, Eigen::MatrixXd* jacobian);
+  const std::vector<double>& rho_normal() const { return rho_normal_; }
+  const std::vector<double>& rho_tangent() const { return rho_tangent_; }
+
+  int newton_iterations() const { return newton_iterations_; }
+  int sweeps() const { return sweeps_; }
+
+ private:
+  // |S F(p)|_inf into largest and |S F(p)|^2 of the problem with W = w and u - b = shift, F into residual_
+  double Merit(const Eigen::MatrixXd& w, const Eigen::VectorXd& shift, const Eigen::VectorXd& impulses,
+               double* largest);
+  // one projected Gauss-Seidel sweep
+  void Sweep(const Eigen::MatrixXd& w, const Eigen::VectorXd& shift, Eigen::VectorXd* impulses) const;
+  // At most `iterations` Newton steps on that problem, their Jacobians from w_steps; |S F|_inf after them.
+  double Newton(const Eigen::MatrixXd& w, const Eigen::VectorXd& shift, const Eigen::MatrixXd& w_steps, int iterations,
+                double tolerance, Eigen::VectorXd* impulses);
+
+  Eigen::MatrixXd delassus_, regularized_, proximal_;  // W, W + eps diag(W), W + eps_proximal diag(W)
+  Eigen::VectorXd shift_, proximal_shift_;             // u - b, and the proximal step's
+  std::vector<Block> blocks_;
+  std::vector<double> friction_, rho_normal_, rho_tangent_;
+  Eigen::VectorXd residual_, step_, trial_;
+  Eigen::MatrixXd jacobian_;
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
+  int newton_iterations_ = 0, sweeps_ = 0;
+};
+
 template <typename T>
 class CoulombImpulses {
  public:
@@ -55,29 +100,14 @@ class CoulombImpulses {
   bool Solve(const Matrix& delassus, const VecX<T>& rates, const VecX<T>& targets,
              const std::vector<ImpulseBlock<T>>& blocks, double tolerance, VecX<T>* impulses);
 
-  int newton_iterations() const { return newton_iterations_; }  // of the last Solve, for tests and benchmarks
-  int sweeps() const { return sweeps_; }
+  int newton_iterations() const { return iteration_.newton_iterations(); }  // of the last Solve
+  int sweeps() const { return iteration_.sweeps(); }
 
  private:
-  void Prepare(const Matrix& delassus, const VecX<T>& rates, const VecX<T>& targets,
-               const std::vector<ImpulseBlock<T>>& blocks);
-  // |S F(p)|_inf into largest and |S F(p)|^2 of the double problem with W = w and u - b = shift, F into residual_
-  double Merit(const Eigen::MatrixXd& w, const Eigen::VectorXd& shift, const Eigen::VectorXd& impulses,
-               double* largest);
-  // one projected Gauss-Seidel sweep
-  void Sweep(const Eigen::MatrixXd& w, const Eigen::VectorXd& shift, Eigen::VectorXd* impulses) const;
-  // At most `iterations` Newton steps on that problem, their Jacobians from w_steps; |S F|_inf after them.
-  double Newton(const Eigen::MatrixXd& w, const Eigen::VectorXd& shift, const Eigen::MatrixXd& w_steps, int iterations,
-                double tolerance, Eigen::VectorXd* impulses);
-
-  Eigen::MatrixXd delassus_, regularized_, proximal_;  // W, W + eps diag(W), W + eps_proximal diag(W)
-  Eigen::VectorXd shift_, proximal_shift_;             // u - b, and the proximal step's
-  std::vector<double> friction_, rho_normal_, rho_tangent_;
-  std::vector<ImpulseBlock<T>> blocks_;
-  Eigen::VectorXd residual_, step_, trial_;
+  CoulombIteration iteration_;
+  Eigen::VectorXd values_;
   Eigen::MatrixXd jacobian_;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
-  int newton_iterations_ = 0, sweeps_ = 0;
 };
 
 }  // namespace tether
