@@ -99,7 +99,7 @@ IdentifyResult Identify(const Model<double>& model, const ParameterSet& paramete
     single.segments = 1;
     IdentifyResult result = Identify(model, parameters, recordings, single);
     if (!result.failed) return result;
-    multiple.segments = AutomaticSegments(model, parameters, recordings, settings);
+    multiple.segments = AutomaticSegments(parameters, recordings, settings);
     IdentifyResult retried = Identify(model, parameters, recordings, multiple);
     if (!retried.failed || retried.final_cost < result.final_cost) return retried;
     return result;

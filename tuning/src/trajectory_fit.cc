@@ -252,8 +252,8 @@ std::vector<InequalityTarget> AtEveryStep(const std::vector<InequalityTarget>& t
   return out;
 }
 
-int AutomaticSegments(const Model<double>& model, const ParameterSet& parameters,
-                      const std::vector<Observations>& recordings, const IdentifySettings& settings) {
+int AutomaticSegments(const ParameterSet& parameters, const std::vector<Observations>& recordings,
+                      const IdentifySettings& settings) {
   double end = 0.0;
   for (const Observations& r : recordings) end = std::max(end, r.times.back());
   for (const InequalityTarget& target : settings.inequalities) end = std::max(end, target.time);
@@ -281,7 +281,7 @@ IdentifyResult FitTrajectory(const Model<double>& model, const ParameterSet& par
   const ShootingProblem at_scene(model, parameters, recordings, single);  // checks the targets before any run
 
   const std::vector<std::vector<double>> starts = StartValues(model, parameters, settings);
-  const int automatic = settings.segments == 0 ? AutomaticSegments(model, parameters, recordings, settings) : 0;
+  const int automatic = settings.segments == 0 ? AutomaticSegments(parameters, recordings, settings) : 0;
   IdentifySettings trial = settings;  // where fit chooses: single shooting first, on an eighth of the budget
   trial.optimizer.max_evaluations = std::max(50, settings.optimizer.max_evaluations / 8);
   std::vector<Attempt> attempts(starts.size());

@@ -50,7 +50,7 @@ std::vector<InequalityTarget> AtEveryStep(const std::vector<InequalityTarget>& t
 
 // The segments fit chooses: about four knot intervals of the finest schedule among the parameters per segment
 // (a segment's Jacobian then takes few knots), between 2 and 20; 10 without scheduled parameters.
-int AutomaticSegments(const Model<double>& model, const ParameterSet& parameters,
-                      const std::vector<Observations>& recordings, const IdentifySettings& settings);
+int AutomaticSegments(const ParameterSet& parameters, const std::vector<Observations>& recordings,
+                      const IdentifySettings& settings);
 
 }  // namespace tether
