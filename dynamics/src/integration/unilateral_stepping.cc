@@ -200,8 +200,12 @@ void UnilateralEvents<T>::StepContacts(double t, double step, const VecX<T>& v_s
                                        Workspace<T>* ws, RunReport* report) {
   EvaluateRows(model_, *q, *v, true, ws);  // the equality rows and the frames (velocities too) at the step's end
   StepSides(step, *q, *v, *ws);
+  size_t next = 0;                    // step_sides_ is in the sides' order
   for (int i = 0; i < size(); ++i) {  // sides left out: no impulse to start from; released if they touched
-    if (std::find(step_sides_.begin(), step_sides_.end(), i) != step_sides_.end()) continue;
+    if (next < step_sides_.size() && step_sides_[next] == i) {
+      ++next;
+      continue;
+    }
     std::fill_n(last_impulses_.begin() + kImpulseStride * i, kImpulseStride, 0.0);
     if (!touching_[i]) continue;
     touching_[i] = 0;
@@ -221,8 +225,11 @@ void UnilateralEvents<T>::StepContacts(double t, double step, const VecX<T>& v_s
     }
   }
   delassus_.resize(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
-  for (size_t c = 0; c < n; ++c) {
-    for (size_t r = 0; r < n; ++r) delassus_(r, c) = RowRate(model_, step_rows_[r], responses_[c]);
+  for (size_t c = 0; c < n; ++c) {  // W is symmetric (A is): its upper triangle, mirrored
+    for (size_t r = 0; r <= c; ++r) {
+      delassus_(r, c) = RowRate(model_, step_rows_[r], responses_[c]);
+      delassus_(c, r) = delassus_(r, c);
+    }
   }
   if (!SolveImpulses() && !unsolved_warned_) {
     unsolved_warned_ = true;
