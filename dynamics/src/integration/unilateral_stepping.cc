@@ -3,12 +3,14 @@
 //
 // Every step is taken by the scene's integrator with no side active (the equality rows alone: one row layout for
 // the whole run, nothing located, nothing to analyze again). At its end (q, v) the sides that overlap (g < 0), and
-// those without restitution whose gap would close within the next step at its rate (0 <= g < -h g': speculative
-// contacts, so that a landing body does not sink), get impulses p along their rows J: with A = M^-1 less what the
+// those whose gap would close within the next step at its rate (0 <= g < -h g': speculative contacts, so that a
+// landing body does not sink: without restitution it ends the next step touching, with restitution it bounces at
+// this step's end, up to one step's travel above the surface rather than as far into it), get impulses p along
+// their rows J: with A = M^-1 less what the
 // equality rows take away (an impulse's velocity change keeps every equality row's J v) and the Delassus matrix
 // W = J A J^T, the rates after are u+ = u + W p, and
 //   gap row     p_n >= 0,  u_n+ >= b,  p_n (u_n+ - b) = 0,
-//               b = -e min(u_n, 0) - k min(g^, 0) where g < 0,  b = -g / h where g >= 0
+//               b = -e min(u_n, 0) - k min(g^, 0) where g < 0,  b = -g / h where g >= 0 (-e u_n where e > 0)
 //   slip rows   |p_t| <= mu p_n;  u_t+ = 0 where |p_t| < mu p_n, else u_t+ = -c p_t with c >= 0
 // (Coulomb's law at the impulse level: a contact sticks, or slides with the impulse mu p_n against its slip after).
 // e is the side's restitution where it did not touch at the step before (Newton's law, spent once: a contact that
@@ -75,7 +77,7 @@ void UnilateralEvents<T>::StepSides(double step, const VecX<T>& q, const VecX<T>
     if (side.feature >= 0 && !near_[contacts_.features[side.feature].pair]) continue;  // every gap positive
     const Gap gap = GapAt(i, q, v, ws);
     const double g = Value(gap.g), closing = g + step * Value(gap.rate);
-    if (g < 0.0 || (closing < 0.0 && Value(Restitution(side)) == 0.0)) {
+    if (g < 0.0 || closing < 0.0) {
       step_sides_.push_back(i);
       step_gaps_.push_back(gap.g);
     }
@@ -122,10 +124,10 @@ void UnilateralEvents<T>::StepRows(double step, const VecX<T>& v_start, const Ve
     }
     const T& gap = step_gaps_[s];
     const T rate = RowRate(model_, step_rows_[block.first_row], v);
-    if (Value(gap) >= 0.0) {  // closing within the next step: no faster than to touch at its end
-      targets.push_back(-gap / step);
+    const T e = touching_[i] ? T(0.0) : Restitution(side);
+    if (Value(gap) >= 0.0) {  // closing within the next step: no faster than to touch at its end, or bouncing now
+      targets.push_back(Value(e) > 0.0 ? T(-e * rate) : T(-gap / step));
     } else {
-      const T e = touching_[i] ? T(0.0) : Restitution(side);
       // a held side's impulse is a force for the part that cancels the approach the step added to its rate
       if (touching_[i] && Value(rate) < 0.0) {
         const T force = (RowRate(model_, step_rows_[block.first_row], v_start) - rate) / -rate;

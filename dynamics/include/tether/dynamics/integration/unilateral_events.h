@@ -213,7 +213,7 @@ class UnilateralEvents {
 
   // time stepping (unilateral_stepping.cc)
   // The sides an impulse may act on at (q, v), frames updated there (velocities too): those that overlap, and those
-  // without restitution whose gap would close within the next step at its rate; into step_sides_, step_gaps_.
+  // whose gap would close within the next step at its rate; into step_sides_, step_gaps_.
   void StepSides(double step, const VecX<T>& q, const VecX<T>& v, const Workspace<T>& ws);
   // Their rows: per side its gap row, then for a contact with friction its tangents' slip rows; their friction
   // coefficients, targets and rates.
