@@ -6,9 +6,8 @@
 // those whose gap would close within the next step at its rate (0 <= g < -h g': speculative contacts, so that a
 // landing body does not sink: without restitution it ends the next step touching, with restitution it bounces at
 // this step's end, up to one step's travel above the surface rather than as far into it), get impulses p along
-// their rows J: with A = M^-1 less what the
-// equality rows take away (an impulse's velocity change keeps every equality row's J v) and the Delassus matrix
-// W = J A J^T, the rates after are u+ = u + W p, and
+// their rows J: with A = M^-1 less what the equality rows take away (an impulse's velocity change keeps every
+// equality row's J v) and the Delassus matrix W = J A J^T, the rates after are u+ = u + W p, and
 //   gap row     p_n >= 0,  u_n+ >= b,  p_n (u_n+ - b) = 0,
 //               b = -e min(u_n, 0) - k min(g^, 0) where g < 0,  b = -g / h where g >= 0 (-e u_n where e > 0)
 //   slip rows   |p_t| <= mu p_n;  u_t+ = 0 where |p_t| < mu p_n, else u_t+ = -c p_t with c >= 0

@@ -11,8 +11,8 @@
 // F = 0 exactly where the conditions above hold. F is piecewise smooth, so Newton's method with an element of its
 // generalized Jacobian converges quadratically near a solution: from the last step's impulses one or two
 // iterations where the contacts persist. A backtracking (Armijo) line search on |S F|^2, S = diag(1 / rho) (rates
-// in m/s or rad/s), globalizes it; where it stalls anyway (Coulomb's problem is not monotone, and has no solution in
-// Painleve's configurations) projected Gauss-Seidel sweeps move the iterate before Newton goes on.
+// in m/s or rad/s), globalizes it; where it stalls anyway (Coulomb's problem is not monotone: |S F|^2 has minima
+// that are not solutions) projected Gauss-Seidel sweeps move the iterate before Newton goes on.
 //
 // Several contacts along one plane (a box's four corners) make W singular: the motion is unique, the impulses are
 // not, and neither is Newton's step. The steps on the problem itself are taken with W + eps diag(W) in the Jacobian
