@@ -678,6 +678,50 @@ TEST(ContactTimeStepping, ABoxOnASlopeSticksWithoutCreepOrSlidesAtCoulombsAccele
   }
 }
 
+TEST(ContactTimeStepping, ASideTheImpulsesDriveIntoItsSurfaceJoinsThem) {
+  // no gravity: a plate (a sphere) at rest 0.5 mm above the floor, a ball of its mass landing on it at 3 m/s. The
+  // landing's impulse sends the plate down at 1.5 m/s, 1.5 mm a step: its floor side, apart and at rest before the
+  // impulses, joins them, and the plate ends the next step on the floor instead of 1 mm into it
+  const json scene = {
+      {"dimension", 3},
+      {"bodies", {Particle("plate", {0.0, 0.0, 0.1005}), Particle("ball", {0.0, 0.0, 0.302}, {0.0, 0.0, -3.0})}},
+      {"shapes",
+       {{{"name", "plate_surface"}, {"body", "plate"}, {"type", "sphere"}, {"radius", 0.1}},
+        {{"name", "ball_surface"}, {"body", "ball"}, {"type", "sphere"}, {"radius", 0.1}},
+        {{"name", "floor"}, {"body", "world"}, {"type", "plane"}}}},
+      {"simulation", {{"integrator", "rk4"}, {"step", 1e-3}, {"duration", 0.01}, {"contact", "stepping"}}}};
+  double lowest = 1.0;
+  const RunReport report = Simulate<double>(Parse(scene), RunOptions{},
+                                            [&](const Sample<double>& s) { lowest = std::min(lowest, s.q[2] - 0.1); });
+  EXPECT_GT(lowest, -1e-12);
+  EXPECT_EQ(Impacts(report).size(), 2u);  // the ball on the plate, the plate on the floor
+}
+
+TEST(ContactTimeStepping, AnImpactPassedOnToARestingContactChangesTheVelocityOnly) {
+  // a plate (a sphere) resting on the floor, a ball of its mass landing on it at 3 m/s: the floor's impulse stops
+  // both, and all but the plate's weight over the step is the landing's, passed on through the plate. Moving the
+  // configuration by the floor's impulse as by a force would lift the plate off the floor by w h 3 m/s (1.5 mm at
+  // rk4's w = 1/2), by all the impulses the ball off the plate as much: the ball lands on the plate and stays (7.5 mm
+  // above it at the start, so that the landing is a step's end, not the first step's)
+  const double h = 1e-3;
+  const json scene = {
+      {"dimension", 3},
+      {"bodies", {Particle("plate", {0.0, 0.0, 0.1}), Particle("ball", {0.0, 0.0, 0.3075}, {0.0, 0.0, -3.0})}},
+      {"shapes",
+       {{{"name", "plate_surface"}, {"body", "plate"}, {"type", "sphere"}, {"radius", 0.1}},
+        {{"name", "ball_surface"}, {"body", "ball"}, {"type", "sphere"}, {"radius", 0.1}},
+        {{"name", "floor"}, {"body", "world"}, {"type", "plane"}}}},
+      {"effects", {{{"type", "gravity"}, {"acceleration", {0.0, 0.0, -kG}}}}},
+      {"simulation", {{"integrator", "rk4"}, {"step", h}, {"duration", 0.05}, {"contact", "stepping"}}}};
+  double plate = 0.0, ball = 0.0;  // the largest distances from the floor, and from the plate once landed
+  Simulate<double>(Parse(scene), RunOptions{}, [&](const Sample<double>& s) {
+    plate = std::max(plate, std::abs(s.q[2] - 0.1));
+    if (s.v[5] > -1.0) ball = std::max(ball, std::abs(s.q[5] - s.q[2] - 0.2));
+  });
+  EXPECT_LT(plate, h * h * kG);  // a step's fall under gravity, at most
+  EXPECT_LT(ball, h * h * kG);
+}
+
 TEST(ContactTimeStepping, PainlevesRodSlidesOnWithoutAParadoxAtTheImpulseLevel) {
   // the rod of PainlevesParadoxIsReported (mu = 3, no consistent accelerations): impulses always have a solution
   const json scene = SlidingRod(3.0, 0.5);

@@ -10,6 +10,9 @@ namespace tether {
 namespace {
 
 constexpr int kMostExactIterations = 8;    // on the problem itself, before proximal steps
+// the steps' Jacobian's W + eps diag(W): bounded steps along W's null space (redundant rows), which the line search
+// would otherwise refuse
+constexpr double kStepRegularization = 1e-3;
 constexpr int kMostNewtonIterations = 10;  // on each proximal step's problem
 constexpr int kMostProximalSteps = 4;
 constexpr double kProximalWeight = 1e-5;  // eps of the proximal steps, relative to W's diagonal
@@ -28,14 +31,16 @@ template <typename S, typename Block>
 void AlartCurnier(const MatrixOf<S>& w, const VecX<S>& shift, const std::vector<Block>& blocks,
                   const std::vector<S>& friction, const std::vector<double>& rho_normal,
                   const std::vector<double>& rho_tangent, const VecX<S>& p, VecX<S>* f, const Eigen::MatrixXd& w_values,
-                  Eigen::MatrixXd* jacobian) {
+                  Eigen::MatrixXd* jacobian, std::vector<char>* unit = nullptr) {
   using std::sqrt;
   const VecX<S> y = shift + w * p;
   f->resize(p.size());
   if (jacobian != nullptr) jacobian->setZero(p.size(), p.size());
+  if (unit != nullptr) unit->assign(p.size(), 0);
   auto unit_row = [&](Eigen::Index r) {
     (*f)[r] = p[r];
     if (jacobian != nullptr) (*jacobian)(r, r) = 1.0;
+    if (unit != nullptr) (*unit)[r] = 1;
   };
   for (size_t b = 0; b < blocks.size(); ++b) {
     const Eigen::Index n = blocks[b].first_row;
@@ -104,11 +109,13 @@ Eigen::VectorXd Values(const VecX<T>& x) {
 
 }  // namespace
 
-double CoulombIteration::Iterate(double tolerance, Eigen::VectorXd* impulses) {
+double CoulombIteration::Iterate(const Accuracy& accuracy, Eigen::VectorXd* impulses) {
   regularized_ = delassus_;
   regularized_.diagonal() *= 1.0 + kImpulseRegularization;
   proximal_ = delassus_;
   proximal_.diagonal() *= 1.0 + kProximalWeight;
+  stepping_ = delassus_;
+  stepping_.diagonal() *= 1.0 + kStepRegularization;
   friction_.clear();
   rho_normal_.clear();
   rho_tangent_.clear();
@@ -124,10 +131,10 @@ double CoulombIteration::Iterate(double tolerance, Eigen::VectorXd* impulses) {
   newton_iterations_ = sweeps_ = 0;
   // proximal steps: each solves the problem with W + eps D and u - b - eps D p_k (the last step's impulses p_k),
   // well posed where W is singular, and at its fixed point the problem itself
-  double largest = Newton(delassus_, shift_, regularized_, kMostExactIterations, tolerance, &p);
-  for (int step = 0; largest > tolerance && step < kMostProximalSteps; ++step) {
+  double largest = Newton(delassus_, shift_, regularized_, &stepping_, kMostExactIterations, accuracy, &p);
+  for (int step = 0; largest > Asked(accuracy) && step < kMostProximalSteps; ++step) {
     proximal_shift_ = shift_ - kProximalWeight * (delassus_.diagonal().asDiagonal() * p);
-    Newton(proximal_, proximal_shift_, proximal_, kMostNewtonIterations, tolerance, &p);
+    Newton(proximal_, proximal_shift_, proximal_, nullptr, kMostNewtonIterations, accuracy, &p);
     Merit(delassus_, shift_, p, &largest);
   }
   return largest;
@@ -174,17 +181,17 @@ void CoulombIteration::Sweep(const Eigen::MatrixXd& w, const Eigen::VectorXd& sh
 }
 
 double CoulombIteration::Newton(const Eigen::MatrixXd& w, const Eigen::VectorXd& shift, const Eigen::MatrixXd& w_steps,
-                                int iterations, double tolerance, Eigen::VectorXd* impulses) {
+                                const Eigen::MatrixXd* w_fallback, int iterations, const Accuracy& accuracy,
+                                Eigen::VectorXd* impulses) {
   Eigen::VectorXd& p = *impulses;
-  double largest = 0.0, merit = Merit(w, shift, p, &largest);
-  for (int iteration = 0; largest > tolerance && iteration < iterations; ++iteration) {
-    ++newton_iterations_;
-    AlartCurnier(w, shift, blocks_, friction_, rho_normal_, rho_tangent_, p, &residual_, w_steps, &jacobian_);
-    lu_.compute(jacobian_);
-    step_ = -lu_.solve(residual_);
-    bool moved = false;
+  double largest = 0.0, merit = Merit(w, shift, p, &largest), goal = accuracy.goal;
+  // one step with jacobian_w in the Jacobian, shortened until |S F|^2 decreases enough; false where none does
+  const auto step = [&](const Eigen::MatrixXd& jacobian_w) {
+    AlartCurnier(w, shift, blocks_, friction_, rho_normal_, rho_tangent_, p, &residual_, jacobian_w, &jacobian_,
+                 &unit_);
+    ReducedStep();
     double length = 1.0;
-    for (int backtrack = 0; step_.allFinite() && backtrack < kMostBacktracks && !moved; ++backtrack, length /= 2) {
+    for (int backtrack = 0; step_.allFinite() && backtrack < kMostBacktracks; ++backtrack, length /= 2) {
       trial_ = p + length * step_;
       double trial_largest = 0.0;
       const double trial_merit = Merit(w, shift, trial_, &trial_largest);
@@ -192,20 +199,63 @@ double CoulombIteration::Newton(const Eigen::MatrixXd& w, const Eigen::VectorXd&
         p.swap(trial_);
         merit = trial_merit;
         largest = trial_largest;
-        moved = true;
+        return true;
       }
     }
-    if (moved) continue;
+    return false;
+  };
+  bool degenerate = accuracy.degenerate;
+  for (int iteration = 0; largest > goal && iteration < iterations; ++iteration) {
+    ++newton_iterations_;
+    if (!degenerate && step(w_steps)) continue;
+    // a step along W's null space that the line search refused (redundant rows): the problem is degenerate, its
+    // solution no longer converges quadratically, and the accuracy accepted is the coarser one
+    degenerate = true;
+    goal = std::max(goal, accuracy.acceptable);
+    if (w_fallback != nullptr && step(*w_fallback)) continue;
     for (int sweep = 0; sweep < kSweepsPerRestart; ++sweep) Sweep(w, shift, &p);
     sweeps_ += kSweepsPerRestart;
     merit = Merit(w, shift, p, &largest);
   }
+  if (w_fallback != nullptr) degenerate_ = degenerate;
   return largest;
+}
+
+// Newton's step J s = -F, where a unit row of J (a side apart, its impulse driven to 0) gives s_r = -F_r at once:
+// the others solve J_RR s_R = -F_R - J_RU s_U.
+void CoulombIteration::ReducedStep() {
+  const Eigen::Index n = residual_.size();
+  kept_.clear();
+  step_.resize(n);
+  for (Eigen::Index r = 0; r < n; ++r) {
+    if (unit_[r]) {
+      step_[r] = -residual_[r];
+    } else {
+      kept_.push_back(r);
+    }
+  }
+  const Eigen::Index m = static_cast<Eigen::Index>(kept_.size());
+  if (m == 0) return;
+  reduced_.resize(m, m);
+  reduced_rhs_.resize(m);
+  for (Eigen::Index i = 0; i < m; ++i) {
+    const Eigen::Index r = kept_[i];
+    double rhs = -residual_[r];
+    for (Eigen::Index c = 0; c < n; ++c) {
+      if (unit_[c]) rhs -= jacobian_(r, c) * step_[c];
+    }
+    reduced_rhs_[i] = rhs;
+    for (Eigen::Index j = 0; j < m; ++j) reduced_(i, j) = jacobian_(r, kept_[j]);
+  }
+  lu_.compute(reduced_);
+  reduced_rhs_ = lu_.solve(reduced_rhs_);
+  for (Eigen::Index i = 0; i < m; ++i) step_[kept_[i]] = reduced_rhs_[i];
 }
 
 template <typename T>
 bool CoulombImpulses<T>::Solve(const Matrix& delassus, const VecX<T>& rates, const VecX<T>& targets,
-                               const std::vector<ImpulseBlock<T>>& blocks, double tolerance, VecX<T>* impulses) {
+                               const std::vector<ImpulseBlock<T>>& blocks, double tolerance, VecX<T>* impulses,
+                               double acceptable, bool* degenerate) {
   const Eigen::Index n = rates.size();
   Eigen::MatrixXd& w = iteration_.delassus();
   w.resize(n, n);
@@ -218,7 +268,10 @@ bool CoulombImpulses<T>::Solve(const Matrix& delassus, const VecX<T>& rates, con
     iteration_.blocks().push_back({block.first_row, block.rows, Value(block.friction)});
   }
   values_ = Values(*impulses);
-  const double largest = iteration_.Iterate(tolerance, &values_);
+  const CoulombIteration::Accuracy accuracy{tolerance, std::max(tolerance, acceptable),
+                                            degenerate != nullptr && *degenerate};
+  const double largest = iteration_.Iterate(accuracy, &values_);
+  if (degenerate != nullptr) *degenerate = iteration_.degenerate();
   if constexpr (std::is_same_v<T, double>) {
     *impulses = values_;
   } else {
@@ -243,7 +296,7 @@ bool CoulombImpulses<T>::Solve(const Matrix& delassus, const VecX<T>& rates, con
     }
     *impulses = start - x;
   }
-  return largest <= tolerance;
+  return largest <= iteration_.Asked(accuracy);
 }
 
 #define TETHER_INSTANTIATE_COULOMB_IMPULSES(T) template class CoulombImpulses<T>;

@@ -99,6 +99,14 @@ void SchurSolver::SolveInPlace(Eigen::VectorXd* x) {
   }
 }
 
+bool SchurSolver::HalfSolveInPlace(Eigen::VectorXd* b) {
+  if (kind_ == KktSolver::kDense) {
+    dense_factor_.matrixL().solveInPlace(*b);
+    return true;
+  }
+  return sparse_factor_.HalfSolveInPlace(b);
+}
+
 const std::vector<Jet>& SchurSolver::FactoredJets(const std::vector<Jet>& values) {
   if (!regularized_) return values;
   regularized_jets_ = values;

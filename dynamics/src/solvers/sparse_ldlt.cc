@@ -197,6 +197,7 @@ void SparseLdlt::PlanNumericPhase(const SchurPattern& pattern) {
 // The path is chosen once per factorization (listed is std::true_type or std::false_type), so that the listed
 // one's loop is as tight as it was before there were two.
 bool SparseLdlt::Factor(const std::vector<double>& values) {
+  root_inverse_d_.resize(0);
   const auto factor = [&](auto listed) {
     const int n = size();
     double* __restrict f = lower_value_.data();
@@ -248,6 +249,26 @@ void SparseLdlt::UpdateUnlisted(int j, double inverse) {
 }
 
 void SparseLdlt::SolveInPlace(Eigen::VectorXd* x) { Substitute(lower_value_.data(), inverse_d_.data(), x); }
+
+bool SparseLdlt::HalfSolveInPlace(Eigen::VectorXd* x) {
+  const int n = size();
+  if (root_inverse_d_.size() != n) {  // once per factorization
+    if (!(inverse_d_.minCoeff() > 0.0)) return false;
+    root_inverse_d_ = inverse_d_.cwiseSqrt();
+  }
+  double* __restrict t = work_.data();
+  double* __restrict b = x->data();
+  const double* __restrict lower = lower_value_.data();
+  const int* __restrict lower_row = lower_row_.data();
+  const int* __restrict start = column_start_.data();
+  for (int k = 0; k < n; ++k) t[k] = b[order_[k]];
+  for (int j = 0; j < n; ++j) {  // L z = P b
+    const double tj = t[j];
+    for (int p = start[j]; p < start[j + 1]; ++p) t[lower_row[p]] -= lower[p] * tj;
+  }
+  for (int k = 0; k < n; ++k) b[k] = t[k] * root_inverse_d_[k];
+  return true;
+}
 
 void SparseLdlt::Save(Numeric* numeric) const {
   numeric->lower.assign(lower_value_.begin(), lower_value_.begin() + nonzeros());

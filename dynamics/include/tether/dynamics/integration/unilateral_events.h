@@ -218,10 +218,24 @@ class UnilateralEvents {
   // Their rows: per side its gap row, then for a contact with friction its tangents' slip rows; their friction
   // coefficients, targets and rates.
   void StepRows(double step, const VecX<T>& v_start, const VecX<T>& q, const VecX<T>& v, const Workspace<T>& ws);
-  // Column r of the impulse response: the velocity change M^-1 J_r^T less what the equality rows take away.
-  bool Response(const ConstraintRow<T>& row, bool first, Workspace<T>* ws, VecX<T>* dv);
-  // The impulses (coulomb_impulses.h) from the last step's; false when they did not converge.
-  bool SolveImpulses();
+  // Where the impulses' velocity change moves sides left out of them (candidates_) into their surfaces within the
+  // step (v: after the impulses), those sides join step_sides_; false when none does.
+  bool AddSidesClosedByImpulses(double step, const VecX<T>& q, const VecX<T>& v, const Workspace<T>& ws);
+  // W and the impulses of step_rows_ (`factor`: the KKT matrix is factored with the first row's response), a
+  // warning where they did not converge.
+  void StepImpulses(double t, bool factor, Workspace<T>* ws, RunReport* report);
+  // The run's one warning that impulses did not converge, at t.
+  void WarnUnsolved(double t, RunReport* report);
+  // W = J A J^T over step_rows_ into delassus_, with its factors (`factor`: the KKT matrix is factored with the
+  // first row's); false where the KKT solve fails.
+  bool Delassus(bool factor, Workspace<T>* ws);
+  // z = G M^-1 J_c^T for step row c (free_moves_[c] filled): the equality rows' rates a unit impulse on it makes.
+  void CouplingOf(Eigen::Index c, const Workspace<T>& ws, VecX<T>* z) const;
+  // The velocity change A J^T p of impulses p on step_rows_ (after Delassus).
+  VecX<T> VelocityChange(const VecX<T>& impulses, Workspace<T>* ws) const;
+  // The impulses (coulomb_impulses.h) for the rows' `rates` before them, into `impulses`, from the last step's where
+  // `warm` (else from none); false when they did not converge.
+  bool SolveImpulses(const VecX<T>& rates, bool warm, VecX<T>* impulses);
   // Throws SimulationDiverged where the impulses' velocity change dv gained kinetic energy (below).
   void CheckEnergy(double t, const VecX<T>& dv) const;
 
@@ -241,19 +255,28 @@ class UnilateralEvents {
     int side = 0;
     int first_row = 0, rows = 1;  // the gap row, then d - 1 slip rows where it has friction
     T friction = T(0.0);
-    T force = T(0.0);  // the fraction of its impulse that is a force the step did without (unilateral_stepping.cc)
+    T force = T(0.0);  // f, the fraction of its rate's change the step's forces ask for (unilateral_stepping.cc)
   };
   std::vector<char> touching_;         // per side
   std::vector<double> last_impulses_;  // kImpulseStride per side
   std::vector<int> step_sides_;
-  std::vector<T> step_gaps_;
+  std::vector<Gap> step_gaps_;  // g and g' of step_sides_ (g': after other sides' impulses, for a side they drove in)
+  struct Candidate {  // a side near enough to be measured, apart and not closing at its rate before the impulses
+    int side = 0;
+    double gap = 0.0;
+  };
+  std::vector<Candidate> candidates_;
   std::vector<StepBlock> blocks_;
   std::vector<ConstraintRow<T>> step_rows_;
-  std::vector<VecX<T>> responses_;                             // per row, M^-1 J_r^T projected (Response)
+  std::vector<VecX<T>> free_moves_;  // per row r, M^-1 J_r^T (Delassus)
+  // per row, G M^-1 J_r^T and S^-1 of it, or F^-1 of it alone (solved_reactions_ false: Delassus)
+  Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> couplings_, reactions_;
+  bool solved_reactions_ = true;
   Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> delassus_;  // W = J A J^T over the rows
-  VecX<T> free_rates_, targets_, impulses_;
+  VecX<T> free_rates_, start_rates_, targets_, impulses_, impact_impulses_;
   std::vector<ImpulseBlock<T>> impulse_blocks_;
   CoulombImpulses<T> impulse_solver_;
+  bool degenerate_[2] = {false, false};  // whether the last step's impulses, and its impacts', were (SolveImpulses)
   bool unsolved_warned_ = false;
 };
 

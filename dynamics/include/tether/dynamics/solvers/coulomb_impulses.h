@@ -17,10 +17,16 @@
 // Several contacts along one plane (a box's four corners) make W singular: the motion is unique, the impulses are
 // not, and neither is Newton's step. The steps on the problem itself are taken with W + eps diag(W) in the Jacobian
 // (eps = kImpulseRegularization), F itself with W, so that the conditions hold exactly where they converge. Where
-// they do not within a few iterations (a humanoid's feet: four capsule ends on the floor, 12 rows of rank 6, and
-// targets no rigid motion meets), proximal steps follow: each solves the problem with W + e D and u - b - e D p_k
-// (D = diag(W), e = kProximalWeight, p_k the impulses so far), which is well posed, and whose fixed point is the
-// problem itself. A solve that has not met the tolerance when its iterations run out keeps its last iterate.
+// the line search refuses such a step (a long one along W's null space: a humanoid's feet, four capsule ends on the
+// floor, 12 rows of rank 6, and targets no rigid motion meets), the problem is degenerate: the steps from then on
+// take W + 1e-3 diag(W), bounded, which converge linearly, and the solve accepts the coarser `acceptable` accuracy
+// (Solve's caller states it; a solve may also be told that its problem is degenerate from the start, where the last
+// step's was). Where even those stall, proximal steps follow: each solves the problem with W + e D and
+// u - b - e D p_k (D = diag(W), e = kProximalWeight, p_k the impulses so far), which is well posed, and whose fixed
+// point is the problem itself. A solve that has not met the accuracy when its iterations run out keeps its last
+// iterate.
+//
+// Newton's step eliminates the unit rows of the Jacobian (sides apart: s_r = -F_r) and solves the rest by LU.
 //
 // The iteration runs in double. For another scalar (Jets, the reverse tape) one more Newton step in that scalar
 // starts from the double solution: its value is the solution's (F is 0 there), its derivatives are the implicit
@@ -58,9 +64,15 @@ class CoulombIteration {
   Eigen::VectorXd& shift() { return shift_; }
   std::vector<Block>& blocks() { return blocks_; }
 
+  // |S F|_inf asked for (a rate), and accepted where the problem turns out degenerate (the header), or is taken to
+  // be so from the start
+  struct Accuracy {
+    double goal = 0.0, acceptable = 0.0;
+    bool degenerate = false;
+  };
   // Newton's steps on the problem, then proximal steps where they did not converge, from *impulses, which receives
-  // the last iterate; |S F|_inf there, a rate.
-  double Iterate(double tolerance, Eigen::VectorXd* impulses);
+  // the last iterate; |S F|_inf there.
+  double Iterate(const Accuracy& accuracy, Eigen::VectorXd* impulses);
   // F's Jacobian at p as the steps on the problem take it (W + eps diag(W)), and the scalings rho
   void Jacobian(const Eigen::VectorXd& impulses, Eigen::MatrixXd* jacobian);
   const std::vector<double>& rho_normal() const { return rho_normal_; }
@@ -68,6 +80,9 @@ class CoulombIteration {
 
   int newton_iterations() const { return newton_iterations_; }
   int sweeps() const { return sweeps_; }
+  bool degenerate() const { return degenerate_; }  // whether the last Iterate found its problem degenerate
+  // the accuracy the last Iterate was held to: the goal, or the acceptable one where its problem was degenerate
+  double Asked(const Accuracy& accuracy) const { return degenerate_ ? accuracy.acceptable : accuracy.goal; }
 
  private:
   // |S F(p)|_inf into largest and |S F(p)|^2 of the problem with W = w and u - b = shift, F into residual_
@@ -75,18 +90,25 @@ class CoulombIteration {
                double* largest);
   // one projected Gauss-Seidel sweep
   void Sweep(const Eigen::MatrixXd& w, const Eigen::VectorXd& shift, Eigen::VectorXd* impulses) const;
-  // At most `iterations` Newton steps on that problem, their Jacobians from w_steps; |S F|_inf after them.
-  double Newton(const Eigen::MatrixXd& w, const Eigen::VectorXd& shift, const Eigen::MatrixXd& w_steps, int iterations,
-                double tolerance, Eigen::VectorXd* impulses);
+  // At most `iterations` Newton steps on that problem, their Jacobians from w_steps, or where the line search
+  // refuses such a step from w_fallback (if given); |S F|_inf after them.
+  double Newton(const Eigen::MatrixXd& w, const Eigen::VectorXd& shift, const Eigen::MatrixXd& w_steps,
+                const Eigen::MatrixXd* w_fallback, int iterations, const Accuracy& accuracy, Eigen::VectorXd* impulses);
 
-  Eigen::MatrixXd delassus_, regularized_, proximal_;  // W, W + eps diag(W), W + eps_proximal diag(W)
+  Eigen::MatrixXd delassus_, regularized_, proximal_, stepping_;  // W, and W + eps diag(W) for three eps (.cc)
   Eigen::VectorXd shift_, proximal_shift_;             // u - b, and the proximal step's
   std::vector<Block> blocks_;
   std::vector<double> friction_, rho_normal_, rho_tangent_;
-  Eigen::VectorXd residual_, step_, trial_;
-  Eigen::MatrixXd jacobian_;
+  // Newton's step from jacobian_ and residual_ into step_, the unit rows (unit_) eliminated
+  void ReducedStep();
+
+  Eigen::VectorXd residual_, step_, trial_, reduced_rhs_;
+  Eigen::MatrixXd jacobian_, reduced_;
+  std::vector<char> unit_;
+  std::vector<Eigen::Index> kept_;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
   int newton_iterations_ = 0, sweeps_ = 0;
+  bool degenerate_ = false;
 };
 
 template <typename T>
@@ -95,10 +117,12 @@ class CoulombImpulses {
   using Matrix = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
 
   // Solves the problem above from `impulses` (a start: the last step's, or 0), writing the solution there. True
-  // when every row's |F| / rho is at most `tolerance` (a rate); false, with the last iterate (within the cones),
-  // when the iterations ran out.
+  // when every row's |F| / rho is at most `tolerance` (a rate), or `acceptable` where the problem is degenerate;
+  // false, with the last iterate (within the cones), when the iterations ran out. `degenerate`, where given, says
+  // whether the problem is taken as degenerate from the start, and receives whether it was.
   bool Solve(const Matrix& delassus, const VecX<T>& rates, const VecX<T>& targets,
-             const std::vector<ImpulseBlock<T>>& blocks, double tolerance, VecX<T>* impulses);
+             const std::vector<ImpulseBlock<T>>& blocks, double tolerance, VecX<T>* impulses, double acceptable = 0.0,
+             bool* degenerate = nullptr);
 
   int newton_iterations() const { return iteration_.newton_iterations(); }  // of the last Solve
   int sweeps() const { return iteration_.sweeps(); }

@@ -107,6 +107,10 @@ class SchurSolver {
     }
   }
 
+  // After a Solve in double: b <- F^-1 b with S = F F^T (the factorization's: F = P^T L D^1/2, or the Cholesky
+  // factor), so that b^T S^-1 b' is the dot product of two such; false where the factorization has no such F.
+  bool HalfSolveInPlace(Eigen::VectorXd* b);
+
   // The factorization the last Solve used (of S, or of S + eps D where it regularized), kept to solve with again
   // after later ones: an adjoint sweep's solve with a recorded evaluation's matrix (S is symmetric).
   struct Factorization {

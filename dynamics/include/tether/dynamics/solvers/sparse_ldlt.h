@@ -46,6 +46,9 @@ class SparseLdlt {
 
   // x = S^-1 x with the last successful factorization.
   void SolveInPlace(Eigen::VectorXd* x);
+  // x <- D^-1/2 L^-1 P x, so that x^T S^-1 x' is the dot product of two such (half the work of a solve); false,
+  // with x unchanged, where a pivot is not positive.
+  bool HalfSolveInPlace(Eigen::VectorXd* x);
 
   // A factorization's numeric part (L below its diagonal, D^-1), kept to solve with after later ones.
   struct Numeric {
@@ -84,6 +87,7 @@ class SparseLdlt {
   std::int64_t updates_ = 0;
   bool listed_updates_ = true;
   Eigen::VectorXd d_, inverse_d_;  // D and its inverse (so that the solves multiply)
+  Eigen::VectorXd root_inverse_d_;  // D^-1/2 once a half solve has asked for it (empty after Factor)
   Eigen::VectorXd work_;           // the permuted x of a solve
 };
 
