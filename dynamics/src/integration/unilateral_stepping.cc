@@ -239,11 +239,14 @@ bool UnilateralEvents<T>::Delassus(bool factor, Workspace<T>* ws) {
     if (!ws->solver->SolveAgain(ws->kkt.schur, ws->kkt.rhs, &ws->kkt.lambda)) return false;
     reactions_.col(c) = ws->kkt.lambda;
   }
-  delassus_.resize(n, n);
+  if (m > 0) {
+    delassus_.noalias() = -couplings_.transpose().lazyProduct(halves ? couplings_ : reactions_);
+  } else {
+    delassus_.setZero(n, n);
+  }
   for (Eigen::Index c = 0; c < n; ++c) {  // W is symmetric (A is): its upper triangle, mirrored
     for (Eigen::Index r = 0; r <= c; ++r) {
-      delassus_(r, c) = Shared(step_rows_[r], step_rows_[c]) ? RowRate(model_, step_rows_[r], free_moves_[c]) : T(0.0);
-      if (m > 0) delassus_(r, c) -= couplings_.col(r).dot(halves ? couplings_.col(c) : reactions_.col(c));
+      if (Shared(step_rows_[r], step_rows_[c])) delassus_(r, c) += RowRate(model_, step_rows_[r], free_moves_[c]);
       delassus_(c, r) = delassus_(r, c);
     }
   }

@@ -20,20 +20,16 @@ constexpr int kMostBacktracks = 12;       // step lengths 1, 1/2, ..., 1/2^11
 constexpr double kArmijo = 1e-4;          // the decrease of |S F|^2 a step must give, against its linear prediction
 constexpr int kSweepsPerRestart = 10;     // Gauss-Seidel sweeps where Newton's step does not decrease |S F|^2
 
-template <typename S>
-using MatrixOf = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>;
-
-// F of Alart and Curnier's function at p (the header), with y = shift + W p, and where `jacobian` is not null the
+// F of Alart and Curnier's function at p (the header), given y = shift + W p, and where `jacobian` is not null the
 // element of its generalized Jacobian that Newton's method uses, in double (w_values: W's values): a row of rho W
 // where F is rho y (pushing, sticking), a unit row where F is p (apart), the projection's derivative where a side
 // slides.
 template <typename S, typename Block>
-void AlartCurnier(const MatrixOf<S>& w, const VecX<S>& shift, const std::vector<Block>& blocks,
-                  const std::vector<S>& friction, const std::vector<double>& rho_normal,
-                  const std::vector<double>& rho_tangent, const VecX<S>& p, VecX<S>* f, const Eigen::MatrixXd& w_values,
-                  Eigen::MatrixXd* jacobian, std::vector<char>* unit = nullptr) {
+void AlartCurnier(const VecX<S>& y, const std::vector<Block>& blocks, const std::vector<S>& friction,
+                  const std::vector<double>& rho_normal, const std::vector<double>& rho_tangent, const VecX<S>& p,
+                  VecX<S>* f, const Eigen::MatrixXd& w_values, Eigen::MatrixXd* jacobian,
+                  std::vector<char>* unit = nullptr) {
   using std::sqrt;
-  const VecX<S> y = shift + w * p;
   f->resize(p.size());
   if (jacobian != nullptr) jacobian->setZero(p.size(), p.size());
   if (unit != nullptr) unit->assign(p.size(), 0);
@@ -53,7 +49,7 @@ void AlartCurnier(const MatrixOf<S>& w, const VecX<S>& shift, const std::vector<
     const bool pushing = Value(a) > 0.0;
     if (pushing) {
       (*f)[n] = rho_normal[b] * y[n];
-      if (jacobian != nullptr) jacobian->row(n) = rho_normal[b] * w_values.row(n);
+      if (jacobian != nullptr) jacobian->row(n) = rho_normal[b] * w_values.col(n).transpose();  // W is symmetric
     } else {
       unit_row(n);
     }
@@ -72,7 +68,7 @@ void AlartCurnier(const MatrixOf<S>& w, const VecX<S>& shift, const std::vector<
     } else if (length <= Value(radius)) {  // sticking
       for (int t = 0; t < tangents; ++t) {
         (*f)[n + 1 + t] = rho * y[n + 1 + t];
-        if (jacobian != nullptr) jacobian->row(n + 1 + t) = rho * w_values.row(n + 1 + t);
+        if (jacobian != nullptr) jacobian->row(n + 1 + t) = rho * w_values.col(n + 1 + t).transpose();
       }
     } else {  // sliding: F_t = p_t - R z / |z|
       S norm_squared = S(0.0);
@@ -90,10 +86,10 @@ void AlartCurnier(const MatrixOf<S>& w, const VecX<S>& shift, const std::vector<
         for (int k = 0; k < tangents; ++k) {
           const double projector = s * ((t == k ? 1.0 : 0.0) - unit[t] * unit[k]);
           row[n + 1 + k] -= projector;
-          for (Eigen::Index c = 0; c < row.size(); ++c) row[c] += projector * rho * w_values(n + 1 + k, c);
+          for (Eigen::Index c = 0; c < row.size(); ++c) row[c] += projector * rho * w_values(c, n + 1 + k);
         }
         row[n] -= unit[t] * mu;
-        for (Eigen::Index c = 0; c < row.size(); ++c) row[c] += unit[t] * mu * rho_normal[b] * w_values(n, c);
+        for (Eigen::Index c = 0; c < row.size(); ++c) row[c] += unit[t] * mu * rho_normal[b] * w_values(c, n);
       }
     }
   }
@@ -141,13 +137,16 @@ double CoulombIteration::Iterate(const Accuracy& accuracy, Eigen::VectorXd* impu
 }
 
 void CoulombIteration::Jacobian(const Eigen::VectorXd& impulses, Eigen::MatrixXd* jacobian) {
-  AlartCurnier(delassus_, shift_, blocks_, friction_, rho_normal_, rho_tangent_, impulses, &residual_, regularized_,
-               jacobian);
+  rates_.noalias() = delassus_ * impulses;
+  rates_ += shift_;
+  AlartCurnier(rates_, blocks_, friction_, rho_normal_, rho_tangent_, impulses, &residual_, regularized_, jacobian);
 }
 
 double CoulombIteration::Merit(const Eigen::MatrixXd& w, const Eigen::VectorXd& shift, const Eigen::VectorXd& impulses,
                                double* largest) {
-  AlartCurnier(w, shift, blocks_, friction_, rho_normal_, rho_tangent_, impulses, &residual_, w, nullptr);
+  rates_.noalias() = w * impulses;
+  rates_ += shift;
+  AlartCurnier(rates_, blocks_, friction_, rho_normal_, rho_tangent_, impulses, &residual_, w, nullptr);
   double sum = 0.0;
   *largest = 0.0;
   for (size_t b = 0; b < blocks_.size(); ++b) {
@@ -187,8 +186,9 @@ double CoulombIteration::Newton(const Eigen::MatrixXd& w, const Eigen::VectorXd&
   double largest = 0.0, merit = Merit(w, shift, p, &largest), goal = accuracy.goal;
   // one step with jacobian_w in the Jacobian, shortened until |S F|^2 decreases enough; false where none does
   const auto step = [&](const Eigen::MatrixXd& jacobian_w) {
-    AlartCurnier(w, shift, blocks_, friction_, rho_normal_, rho_tangent_, p, &residual_, jacobian_w, &jacobian_,
-                 &unit_);
+    rates_.noalias() = w * p;
+    rates_ += shift;
+    AlartCurnier(rates_, blocks_, friction_, rho_normal_, rho_tangent_, p, &residual_, jacobian_w, &jacobian_, &unit_);
     ReducedStep();
     double length = 1.0;
     for (int backtrack = 0; step_.allFinite() && backtrack < kMostBacktracks; ++backtrack, length /= 2) {
@@ -280,8 +280,8 @@ bool CoulombImpulses<T>::Solve(const Matrix& delassus, const VecX<T>& rates, con
     for (const ImpulseBlock<T>& block : blocks) friction.push_back(block.friction);
     const VecX<T> start = values_.cast<T>();
     VecX<T> f;
-    AlartCurnier(delassus, VecX<T>(rates - targets), blocks, friction, iteration_.rho_normal(),
-                 iteration_.rho_tangent(), start, &f, w, nullptr);
+    const VecX<T> y = rates - targets + delassus * start;
+    AlartCurnier(y, blocks, friction, iteration_.rho_normal(), iteration_.rho_tangent(), start, &f, w, nullptr);
     iteration_.Jacobian(values_, &jacobian_);
     lu_.compute(jacobian_);
     // start - J^-1 f with the double factors P J = L U applied to the scalar's vector

@@ -262,8 +262,9 @@ bool SparseLdlt::HalfSolveInPlace(Eigen::VectorXd* x) {
   const int* __restrict lower_row = lower_row_.data();
   const int* __restrict start = column_start_.data();
   for (int k = 0; k < n; ++k) t[k] = b[order_[k]];
-  for (int j = 0; j < n; ++j) {  // L z = P b
+  for (int j = 0; j < n; ++j) {  // L z = P b, where b is sparse (a contact's rows: its bodies' joints) mostly zeros
     const double tj = t[j];
+    if (tj == 0.0) continue;
     for (int p = start[j]; p < start[j + 1]; ++p) t[lower_row[p]] -= lower[p] * tj;
   }
   for (int k = 0; k < n; ++k) b[k] = t[k] * root_inverse_d_[k];

@@ -102,7 +102,7 @@ class CoulombIteration {
   // Newton's step from jacobian_ and residual_ into step_, the unit rows (unit_) eliminated
   void ReducedStep();
 
-  Eigen::VectorXd residual_, step_, trial_, reduced_rhs_;
+  Eigen::VectorXd rates_, residual_, step_, trial_, reduced_rhs_;  // rates_: y = u - b + W p
   Eigen::MatrixXd jacobian_, reduced_;
   std::vector<char> unit_;
   std::vector<Eigen::Index> kept_;
