@@ -9,12 +9,15 @@
 // their rows J: with A = M^-1 less what the equality rows take away (an impulse's velocity change keeps every
 // equality row's J v) and the Delassus matrix W = J A J^T, the rates after are u+ = u + W p, and
 //   gap row     p_n >= 0,  u_n+ >= b,  p_n (u_n+ - b) = 0,
-//               b = -e min(u_n, 0) - k min(g^, 0) where g < 0,  b = -g / h where g >= 0 (-e u_n where e > 0)
+//               b = -e min(u_n, 0) - k g^ where g < 0 and g^ < 0,  b = -g^ / h where g < 0 <= g^,
+//               b = -g / h where g >= 0 (-e u_n where e > 0)
 //   slip rows   |p_t| <= mu p_n;  u_t+ = 0 where |p_t| < mu p_n, else u_t+ = -c p_t with c >= 0
 // (Coulomb's law at the impulse level: a contact sticks, or slides with the impulse mu p_n against its slip after).
 // e is the side's restitution where it did not touch at the step before (Newton's law, spent once: a contact that
 // persists is held, so a resting body does not hop), else 0; k = h beta / (1 + h alpha) is the Baumgarte law over
-// one step, implicit in the rate (u+ = -h (alpha u+ + beta g^)), so that the scene's gains close an overlap g^.
+// one step, implicit in the rate (u+ = -h (alpha u+ + beta g^)), so that the scene's gains close an overlap g^;
+// where the correction below leaves a gap g^ >= 0 instead, the side may close it over the next step (without that, a
+// box resting on one edge holds the other up by the gap one step's fall opens, h^2 g: tilted for good).
 // A side the impulses themselves drive into its surface within the step (a body landing on a limb pushes its other
 // end down) joins them, and they are solved again (kMostImpulseRounds).
 //
@@ -191,7 +194,11 @@ void UnilateralEvents<T>::StepRows(double step, const VecX<T>& v_start, const Ve
         block.force = Value(force) <= 0.0 ? T(0.0) : Value(force) >= 1.0 ? T(1.0) : force;
       }
       const T left = gap - w * step * block.force * rate;  // g^
-      targets.push_back((Value(rate) < 0.0 ? -e * rate : T(0.0)) - (Value(left) < 0.0 ? k * left : T(0.0)));
+      if (Value(left) >= 0.0) {  // the force's correction leaves a gap: closing it over the next step is free
+        targets.push_back(-left / step);
+      } else {
+        targets.push_back((Value(rate) < 0.0 ? -e * rate : T(0.0)) - k * left);
+      }
     }
     for (int t = 1; t < block.rows; ++t) targets.push_back(T(0.0));
     blocks_.push_back(block);
