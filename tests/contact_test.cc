@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <fstream>
 #include <random>
 #include <string>
 #include <utility>
@@ -800,6 +802,97 @@ TEST(ContactGradients, JetsAndTheAdjointAcrossABounceMatchTheClosedFormAndCentra
   for (size_t i = 0; i < jet.gradient.size(); ++i) {
     EXPECT_NEAR(adjoint.gradient[i], jet.gradient[i], 1e-9 * std::abs(jet.gradient[i])) << i;
   }
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// fit and study through contact
+
+// A ball thrown from 1 m (restitution 0.6, friction 0.3 on the floor), 1 s: it bounces once before t = 1 s.
+json Throw(double vx, double vz) {
+  json ball = Particle("ball", {0.0, 0.0, 1.0}, {vx, 0.0, vz});
+  ball["mass"] = 0.5;
+  return {{"dimension", 3},
+          {"bodies", {ball}},
+          {"shapes",
+           {{{"name", "ball_surface"},
+             {"body", "ball"},
+             {"type", "sphere"},
+             {"radius", 0.1},
+             {"restitution", 0.6},
+             {"friction", 0.3}},
+            {{"name", "floor"}, {"body", "world"}, {"type", "plane"}}}},
+          {"effects", {{{"type", "gravity"}, {"acceleration", {0.0, 0.0, -kG}}}}},
+          {"simulation", {{"integrator", "rk4"}, {"step", 1e-3}, {"duration", 1.0}}}};
+}
+
+TEST(ContactCommands, FitFindsTheThrowThatLandsTheBallInTheBasketAfterABounce) {
+  // the basket: where the throw (2.5, 1.8) m/s puts the ball at t = 1 s, after its bounce at t = 0.65 s; fit starts
+  // from (2, 1), whose ball is elsewhere then, and differentiates through the impact (its time moves with vz)
+  const testing::TempFolder folder;
+  VecX<double> q;
+  const RunReport truth =
+      Simulate<double>(Parse(Throw(2.5, 1.8)), RunOptions{}, [&](const Sample<double>& s) { q = s.q; });
+  ASSERT_EQ(Impacts(truth).size(), 1u);
+  const std::string basket =
+      folder.Write("basket.csv", "t,ball.x,ball.z\n1.0," + json(q[0]).dump() + "," + json(q[2]).dump() + "\n");
+  const std::string scene = folder.Write("throw.json", Throw(2.0, 1.0).dump());
+  const testing::Outcome fitted = testing::RunTether(
+      "fit " + scene + " --data " + basket + " --param /bodies/0/velocity/0 --param /bodies/0/velocity/2", folder);
+  ASSERT_EQ(fitted.status, 0) << fitted.err;
+  const json result = json::parse(fitted.out);
+  EXPECT_NEAR(result["parameters"]["/bodies/0/velocity/0"].get<double>(), 2.5, 1e-8);
+  EXPECT_NEAR(result["parameters"]["/bodies/0/velocity/2"].get<double>(), 1.8, 1e-8);
+}
+
+TEST(ContactCommands, AStudySweepsRestitutionAndFrictionAndMeasuresTheEnergyTheyTake) {
+  // a ball dropped from z0 = 0.6 (restitution e, one impact within T = 0.5 s) and a block sliding at v0 = 3 m/s
+  // (friction mu, still sliding at T): the energy lost is 1/2 m_b v_i^2 (1 - e^2) + 1/2 m_k (v0^2 - (v0 - mu g T)^2)
+  // of E0 (gravity's zero at z = 0), the study's energy_drift; rms_position_error is against its own reference
+  const testing::TempFolder folder;
+  const double m_b = 0.5, m_k = 1.0, z0 = 0.6, v0 = 3.0, T = 0.5, inertia = 0.2 * 0.2 / 6;
+  json ball = Particle("ball", {0.0, 1.0, z0});
+  ball["mass"] = m_b;
+  const json scene = {
+      {"dimension", 3},
+      {"bodies",
+       {ball,
+        {{"name", "block"},
+         {"type", "rigid"},
+         {"mass", m_k},
+         {"inertia", {inertia, inertia, inertia}},
+         {"position", {0.0, 0.0, 0.1}},
+         {"velocity", {v0, 0.0, 0.0}}}}},
+      {"shapes",
+       {{{"name", "ball_surface"}, {"body", "ball"}, {"type", "sphere"}, {"radius", 0.1}, {"restitution", 0.6}},
+        {{"name", "block_surface"}, {"body", "block"}, {"type", "box"}, {"size", {0.2, 0.2, 0.2}}, {"friction", 0.3}},
+        {{"name", "floor"}, {"body", "world"}, {"type", "plane"}}}},
+      {"effects", {{{"type", "gravity"}, {"acceleration", {0.0, 0.0, -kG}}}}},
+      {"simulation", {{"integrator", "rk4"}, {"step", 1e-3}, {"duration", T}}}};
+  folder.Write("both.json", scene.dump());
+  const json study = {{"scene", "both.json"},
+                      {"sweep", {{"/shapes/0/restitution", {0.3, 0.6, 0.9}}, {"/shapes/1/friction", {0.3, 0.6}}}},
+                      {"metrics", {"rms_position_error", "energy_drift"}}};
+  const testing::Outcome run =
+      testing::RunTether("study " + folder.Write("study.json", study.dump()) + " --out " + folder.Path("out"), folder);
+  ASSERT_EQ(run.status, 0) << run.err;
+  std::ifstream results(folder.Path("out/results.csv"));
+  std::string line;
+  std::getline(results, line);
+  EXPECT_EQ(line, "/shapes/0/restitution,/shapes/1/friction,rms_position_error,energy_drift,status");
+  const double e0 = m_b * kG * z0 + 0.5 * m_k * v0 * v0 + m_k * kG * 0.1, v_impact_squared = 2.0 * kG * (z0 - 0.1);
+  int rows = 0;
+  while (std::getline(results, line)) {
+    double e = 0, mu = 0, rms = 0, drift = 0;
+    char status[8] = {};
+    ASSERT_EQ(std::sscanf(line.c_str(), "%lf,%lf,%lf,%lf,%7s", &e, &mu, &rms, &drift, status), 5) << line;
+    const double slid = v0 - mu * kG * T;
+    const double lost = 0.5 * m_b * v_impact_squared * (1 - e * e) + 0.5 * m_k * (v0 * v0 - slid * slid);
+    EXPECT_STREQ(status, "ok");
+    EXPECT_NEAR(drift, lost / e0, 1e-9) << line;
+    EXPECT_LT(rms, 1e-9) << line;
+    ++rows;
+  }
+  EXPECT_EQ(rows, 6);
 }
 
 // The README's examples (docs/examples/contact/make_recordings.py): a ball's restitution (0.8 in the truth) and a
