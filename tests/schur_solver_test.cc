@@ -4,7 +4,8 @@
 //   - a duplicated row (a redundant constraint) gives finite multipliers split equally between the copies (the
 //     least-norm choice) and the acceleration of the model without the copy;
 //   - the Jet path (implicit function theorem, one factorization of the value part) matches an oracle that
-//     builds the Schur matrix as a dense matrix of Jets and factors it with Eigen.
+//     builds the Schur matrix as a dense matrix of Jets and factors it with Eigen;
+//   - half solves (F^-1 b, S = F F^T) multiply as full solves do, b^T S^-1 b'.
 #include "tether/dynamics/solvers/schur_solver.h"
 
 #include <gtest/gtest.h>
@@ -213,6 +214,34 @@ TEST(SchurSolver, DenseSparseAndKktAgreeOnAChain) { ExpectDenseSparseAndKktAgree
 TEST(SchurSolver, DenseSparseAndKktAgreeOnAFourBarLoop) { ExpectDenseSparseAndKktAgree(FourBar(), 12); }
 
 // A pendulum whose rod is declared twice: S is singular, the regularization picks the least-norm multipliers.
+TEST(SchurSolver, HalfSolvesGiveTheProductsOfAFullSolve) {
+  // y = F^-1 b with S = F F^T: y . y' = b^T S^-1 b', for the dense Cholesky and the sparse LDL^T, and a right-hand
+  // side with one nonzero (the sparse path skips the zero columns) as well as a full one
+  const Model<double> four_bar = FourBar();
+  for (const KktSolver kind : {KktSolver::kDense, KktSolver::kSparse}) {
+    Model<double> model = four_bar;
+    model.simulation.solver = kind;
+    const Eigen::VectorXd q = InitialState(model).q;
+    Workspace<double> ws(model, q);
+    ws.alpha = kAlpha;
+    ws.beta = kBeta;
+    Eigen::VectorXd a(model.NumVelocities());
+    ASSERT_TRUE(ComputeAcceleration(model, 0.0, q, SomeVelocity(model.NumVelocities(), 5), &ws, &a));
+    const Eigen::Index m = ws.kkt.rhs.size();
+    std::mt19937 random(7);
+    std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+    Eigen::VectorXd b(m), c = Eigen::VectorXd::Zero(m), x;
+    for (Eigen::Index i = 0; i < m; ++i) b[i] = uniform(random);
+    c[m / 2] = 1.5;
+    ASSERT_TRUE(ws.solver->SolveAgain(ws.kkt.schur, c, &x));  // S^-1 c
+    Eigen::VectorXd y = b, z = c;
+    ASSERT_TRUE(ws.solver->HalfSolveInPlace(&y));
+    ASSERT_TRUE(ws.solver->HalfSolveInPlace(&z));
+    EXPECT_NEAR(y.dot(z), b.dot(x), kSolverAgreement * b.norm() * x.norm()) << static_cast<int>(kind);
+    EXPECT_NEAR(z.dot(z), c.dot(x), kSolverAgreement * c.norm() * x.norm()) << static_cast<int>(kind);
+  }
+}
+
 TEST(SchurSolver, DuplicatedRowGivesEqualSplitAndTheRightAcceleration) {
   Model<double> single = WithGravity();
   const int bob = AddBody<double>(&single, "bob", BodyKind::kParticle, 1.3, 0.0, Vec3<double>(0.4, -0.5, 0.0), 0.0,

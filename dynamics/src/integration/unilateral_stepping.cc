@@ -156,7 +156,7 @@ void UnilateralEvents<T>::StepRows(double step, const VecX<T>& v_start, const Ve
     const Side& side = sides_[i];
     StepBlock block;
     block.side = i;
-    block.first_row = static_cast<int>(step_rows_.size());
+    block.first_row = static_cast<Eigen::Index>(step_rows_.size());
     ConstraintRow<T> row;
     if (side.feature < 0) {
       const Joint<T>& joint = model_.joints[side.joint];
@@ -207,7 +207,7 @@ void UnilateralEvents<T>::StepRows(double step, const VecX<T>& v_start, const Ve
   free_rates_.resize(static_cast<Eigen::Index>(step_rows_.size()));
   start_rates_.resize(free_rates_.size());
   for (const StepBlock& block : blocks_) {  // a side that touched at the step before: its rates at the step's start
-    for (int r = block.first_row; r < block.first_row + block.rows; ++r) {
+    for (Eigen::Index r = block.first_row; r < block.first_row + block.rows; ++r) {
       free_rates_[r] = RowRate(model_, step_rows_[r], v);
       start_rates_[r] = touching_[block.side] ? RowRate(model_, step_rows_[r], v_start) : free_rates_[r];
     }
@@ -288,11 +288,9 @@ VecX<T> UnilateralEvents<T>::VelocityChange(const VecX<T>& impulses, Workspace<T
 template <typename T>
 bool UnilateralEvents<T>::SolveImpulses(const VecX<T>& rates, bool warm, VecX<T>* impulses) {
   impulses->setZero(rates.size());
-  impulse_blocks_.clear();
-  for (const StepBlock& block : blocks_) {
-    impulse_blocks_.push_back({block.first_row, block.rows, block.friction});
-    if (!warm) continue;
-    for (int r = 0; r < block.rows; ++r)  // from the impulses of the step before, where the side touched then
+  impulse_blocks_.assign(blocks_.begin(), blocks_.end());
+  for (const StepBlock& block : blocks_) {  // from the impulses of the step before, where the side touched then
+    for (int r = 0; warm && r < block.rows; ++r)
       (*impulses)[block.first_row + r] = T(last_impulses_[kImpulseStride * block.side + r]);
   }
   // the rates' largest, and the largest change the impulses of the step before (or this step's whole impulses)

@@ -136,10 +136,12 @@ double CoulombIteration::Iterate(const Accuracy& accuracy, Eigen::VectorXd* impu
   return largest;
 }
 
-void CoulombIteration::Jacobian(const Eigen::VectorXd& impulses, Eigen::MatrixXd* jacobian) {
+const Eigen::PartialPivLU<Eigen::MatrixXd>& CoulombIteration::FactorJacobian(const Eigen::VectorXd& impulses) {
   rates_.noalias() = delassus_ * impulses;
   rates_ += shift_;
-  AlartCurnier(rates_, blocks_, friction_, rho_normal_, rho_tangent_, impulses, &residual_, regularized_, jacobian);
+  AlartCurnier(rates_, blocks_, friction_, rho_normal_, rho_tangent_, impulses, &residual_, regularized_, &jacobian_);
+  lu_.compute(jacobian_);
+  return lu_;
 }
 
 double CoulombIteration::Merit(const Eigen::MatrixXd& w, const Eigen::VectorXd& shift, const Eigen::VectorXd& impulses,
@@ -282,11 +284,10 @@ bool CoulombImpulses<T>::Solve(const Matrix& delassus, const VecX<T>& rates, con
     VecX<T> f;
     const VecX<T> y = rates - targets + delassus * start;
     AlartCurnier(y, blocks, friction, iteration_.rho_normal(), iteration_.rho_tangent(), start, &f, w, nullptr);
-    iteration_.Jacobian(values_, &jacobian_);
-    lu_.compute(jacobian_);
+    const Eigen::PartialPivLU<Eigen::MatrixXd>& lu = iteration_.FactorJacobian(values_);
     // start - J^-1 f with the double factors P J = L U applied to the scalar's vector
-    const Eigen::MatrixXd& factors = lu_.matrixLU();
-    VecX<T> x = lu_.permutationP() * f;
+    const Eigen::MatrixXd& factors = lu.matrixLU();
+    VecX<T> x = lu.permutationP() * f;
     for (Eigen::Index i = 0; i < n; ++i) {
       for (Eigen::Index j = 0; j < i; ++j) x[i] -= factors(i, j) * x[j];
     }

@@ -89,6 +89,18 @@ std::vector<int> EliminationTree(const std::vector<int>& row_start, const std::v
   return parent;
 }
 
+// t <- L^-1 t with L unit lower triangular, stored by columns (rows lower_row, values lower); kSparseRight skips the
+// columns whose entry of t is still zero (a right-hand side with few nonzeros reaches only their ancestors)
+template <bool kSparseRight>
+inline void ForwardSubstitute(int n, const int* __restrict start, const int* __restrict lower_row,
+                              const double* __restrict lower, double* __restrict t) {
+  for (int j = 0; j < n; ++j) {
+    const double tj = t[j];
+    if (kSparseRight && tj == 0.0) continue;
+    for (int p = start[j]; p < start[j + 1]; ++p) t[lower_row[p]] -= lower[p] * tj;
+  }
+}
+
 }  // namespace
 
 SparseLdlt::SparseLdlt(const SchurPattern& pattern) {
@@ -258,15 +270,9 @@ bool SparseLdlt::HalfSolveInPlace(Eigen::VectorXd* x) {
   }
   double* __restrict t = work_.data();
   double* __restrict b = x->data();
-  const double* __restrict lower = lower_value_.data();
-  const int* __restrict lower_row = lower_row_.data();
-  const int* __restrict start = column_start_.data();
   for (int k = 0; k < n; ++k) t[k] = b[order_[k]];
-  for (int j = 0; j < n; ++j) {  // L z = P b, where b is sparse (a contact's rows: its bodies' joints) mostly zeros
-    const double tj = t[j];
-    if (tj == 0.0) continue;
-    for (int p = start[j]; p < start[j + 1]; ++p) t[lower_row[p]] -= lower[p] * tj;
-  }
+  // L z = P b, b mostly zeros (a contact's row reaches only its bodies' joints)
+  ForwardSubstitute<true>(n, column_start_.data(), lower_row_.data(), lower_value_.data(), t);
   for (int k = 0; k < n; ++k) b[k] = t[k] * root_inverse_d_[k];
   return true;
 }
@@ -288,10 +294,7 @@ void SparseLdlt::Substitute(const double* __restrict lower, const double* __rest
   const int* __restrict start = column_start_.data();
   const int* __restrict order = order_.data();
   for (int k = 0; k < n; ++k) t[k] = b[order[k]];
-  for (int j = 0; j < n; ++j) {  // L z = P b
-    const double tj = t[j];
-    for (int p = start[j]; p < start[j + 1]; ++p) t[lower_row[p]] -= lower[p] * tj;
-  }
+  ForwardSubstitute<false>(n, start, lower_row, lower, t);  // L z = P b
   for (int j = n - 1; j >= 0; --j) {  // L^T w = D^-1 z
     double tj = t[j] * inverse_d[j];
     for (int p = start[j]; p < start[j + 1]; ++p) tj -= lower[p] * t[lower_row[p]];

@@ -251,10 +251,8 @@ class UnilateralEvents {
   mutable std::vector<char> near_;  // the broad phase's pairs (Overlapping)
 
   // time stepping's
-  struct StepBlock {
+  struct StepBlock : ImpulseBlock<T> {  // its rows: the gap row, then d - 1 slip rows where it has friction
     int side = 0;
-    int first_row = 0, rows = 1;  // the gap row, then d - 1 slip rows where it has friction
-    T friction = T(0.0);
     T force = T(0.0);  // f, the fraction of its rate's change the step's forces ask for (unilateral_stepping.cc)
   };
   std::vector<char> touching_;         // per side

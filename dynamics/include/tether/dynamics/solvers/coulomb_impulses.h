@@ -73,8 +73,8 @@ class CoulombIteration {
   // Newton's steps on the problem, then proximal steps where they did not converge, from *impulses, which receives
   // the last iterate; |S F|_inf there.
   double Iterate(const Accuracy& accuracy, Eigen::VectorXd* impulses);
-  // F's Jacobian at p as the steps on the problem take it (W + eps diag(W)), and the scalings rho
-  void Jacobian(const Eigen::VectorXd& impulses, Eigen::MatrixXd* jacobian);
+  // The LU factors of F's Jacobian at p as the steps on the problem take it (W + eps diag(W)), and the scalings rho
+  const Eigen::PartialPivLU<Eigen::MatrixXd>& FactorJacobian(const Eigen::VectorXd& impulses);
   const std::vector<double>& rho_normal() const { return rho_normal_; }
   const std::vector<double>& rho_tangent() const { return rho_tangent_; }
 
@@ -130,8 +130,6 @@ class CoulombImpulses {
  private:
   CoulombIteration iteration_;
   Eigen::VectorXd values_;
-  Eigen::MatrixXd jacobian_;
-  Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
 };
 
 }  // namespace tether
