@@ -85,6 +85,20 @@ def test_fit_as_the_cli(tmp_path):
     assert got["final_cost"] == expected["final_cost"]
 
 
+def test_a_throw_is_fitted_through_its_bounce_as_the_cli():
+    # the README's throw (docs/examples/contact/make_throw.py): the ball lands in the basket after a bounce
+    throw = source("docs", "examples", "contact", "throw.json")
+    basket = source("docs", "examples", "contact", "basket.csv")
+    params = ["/bodies/0/velocity/0", "/bodies/0/velocity/2"]
+    expected = cli_json("fit", throw, "--data", basket, "--param", params[0], "--param", params[1])
+    with open(basket, newline="") as f:
+        row = next(csv.DictReader(f))
+    got = tether.fit(throw, {name: [float(value)] for name, value in row.items()}, params)
+    assert got["parameters"] == expected["parameters"]
+    assert got["parameters"][params[0]] == pytest.approx(2.5, abs=1e-8)
+    assert got["parameters"][params[1]] == pytest.approx(1.8, abs=1e-8)
+
+
 def test_fit_by_the_adjoint_as_the_cli(tmp_path):
     scene = tether.Scene.load(source("scenes", "pendulum.json")).set("/simulation/duration", 0.5)
     scene_path = tmp_path / "pendulum.json"
