@@ -246,14 +246,17 @@ bool UnilateralEvents<T>::Delassus(bool factor, Workspace<T>* ws) {
     if (!ws->solver->SolveAgain(ws->kkt.schur, ws->kkt.rhs, &ws->kkt.lambda)) return false;
     reactions_.col(c) = ws->kkt.lambda;
   }
-  if (m > 0) {
-    delassus_.noalias() = -couplings_.transpose().lazyProduct(halves ? couplings_ : reactions_);
+  if (halves && m > 0) {
+    delassus_.noalias() = -couplings_.transpose().lazyProduct(couplings_);  // y_r . y_c: y fills in
   } else {
     delassus_.setZero(n, n);
   }
   for (Eigen::Index c = 0; c < n; ++c) {  // W is symmetric (A is): its upper triangle, mirrored
     for (Eigen::Index r = 0; r <= c; ++r) {
       if (Shared(step_rows_[r], step_rows_[c])) delassus_(r, c) += RowRate(model_, step_rows_[r], free_moves_[c]);
+      for (Eigen::Index i = 0; !halves && i < m; ++i) {  // z_r . s_c over z_r's nonzeros (CouplingOf)
+        if (Shared(ws->rows[i], step_rows_[r])) delassus_(r, c) -= couplings_(i, r) * reactions_(i, c);
+      }
       delassus_(c, r) = delassus_(r, c);
     }
   }
