@@ -772,7 +772,7 @@ TEST(ContactTimeStepping, JetsAndTheAdjointThroughTheImpulsesMatchCentralDiffere
   const LossGradient jet = JetLossGradient(scene.model, parameters, observations);
   const LossGradient adjoint = AdjointLossGradient(scene.model, parameters, observations);
   for (size_t i = 0; i < central.gradient.size(); ++i) {
-    // the impulses' derivatives are the implicit function's, the force fraction a function of the state
+    // the impulses' derivatives, and those of their impacts' part, are the implicit function's
     EXPECT_NEAR(jet.gradient[i], central.gradient[i], 1e-8) << i;
     EXPECT_NEAR(adjoint.gradient[i], jet.gradient[i], 1e-9) << i;
   }
