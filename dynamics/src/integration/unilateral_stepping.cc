@@ -149,8 +149,7 @@ void UnilateralEvents<T>::StepRows(double step, const VecX<T>& v_start, const Ve
   const T k = step * ws.beta / (1.0 + step * ws.alpha);
   blocks_.clear();
   step_rows_.clear();
-  targets_.resize(0);
-  std::vector<T> targets;
+  std::vector<T> targets, rates, start;  // per row: b, u, and J v_start where the side touched at the step before
   for (size_t s = 0; s < step_sides_.size(); ++s) {
     const int i = step_sides_[s];
     const Side& side = sides_[i];
@@ -180,20 +179,25 @@ void UnilateralEvents<T>::StepRows(double step, const VecX<T>& v_start, const Ve
         }
       }
     }
+    for (size_t r = static_cast<size_t>(block.first_row); r < step_rows_.size(); ++r) {
+      rates.push_back(RowRate(model_, step_rows_[r], v));
+      start.push_back(touching_[i] ? RowRate(model_, step_rows_[r], v_start) : rates.back());
+    }
     const T& gap = step_gaps_[s].g;
-    const T rate = RowRate(model_, step_rows_[block.first_row], v);
+    const T& rate = rates[block.first_row];
     const T e = touching_[i] ? T(0.0) : Restitution(side);
     if (Value(gap) >= 0.0) {  // closing within the next step: no faster than to touch at its end, or bouncing now
       const bool closing = Value(gap) + step * Value(rate) < 0.0;
       targets.push_back(Value(e) > 0.0 && closing ? T(-e * rate) : T(-gap / step));
     } else {
       // the overlap left once the held side's forces have moved the configuration: they cancel the approach the
-      // step added to its rate
+      // step added to its rate, the fraction f of it
+      T f(0.0);
       if (touching_[i] && Value(rate) < 0.0) {
-        const T force = (RowRate(model_, step_rows_[block.first_row], v_start) - rate) / -rate;
-        block.force = Value(force) <= 0.0 ? T(0.0) : Value(force) >= 1.0 ? T(1.0) : force;
+        const T fraction = (start[block.first_row] - rate) / -rate;
+        f = Value(fraction) <= 0.0 ? T(0.0) : Value(fraction) >= 1.0 ? T(1.0) : fraction;
       }
-      const T left = gap - w * step * block.force * rate;  // g^
+      const T left = gap - w * step * f * rate;  // g^
       if (Value(left) >= 0.0) {  // the force's correction leaves a gap: closing it over the next step is free
         targets.push_back(-left / step);
       } else {
@@ -203,15 +207,10 @@ void UnilateralEvents<T>::StepRows(double step, const VecX<T>& v_start, const Ve
     for (int t = 1; t < block.rows; ++t) targets.push_back(T(0.0));
     blocks_.push_back(block);
   }
-  targets_ = Eigen::Map<VecX<T>>(targets.data(), static_cast<Eigen::Index>(targets.size()));
-  free_rates_.resize(static_cast<Eigen::Index>(step_rows_.size()));
-  start_rates_.resize(free_rates_.size());
-  for (const StepBlock& block : blocks_) {  // a side that touched at the step before: its rates at the step's start
-    for (Eigen::Index r = block.first_row; r < block.first_row + block.rows; ++r) {
-      free_rates_[r] = RowRate(model_, step_rows_[r], v);
-      start_rates_[r] = touching_[block.side] ? RowRate(model_, step_rows_[r], v_start) : free_rates_[r];
-    }
-  }
+  const auto n = static_cast<Eigen::Index>(step_rows_.size());
+  targets_ = Eigen::Map<VecX<T>>(targets.data(), n);
+  free_rates_ = Eigen::Map<VecX<T>>(rates.data(), n);
+  start_rates_ = Eigen::Map<VecX<T>>(start.data(), n);
 }
 
 // W from its factors: per row r, x_r = M^-1 J_r^T (a unit impulse's velocity change were there no equality rows),
@@ -269,7 +268,7 @@ void UnilateralEvents<T>::CouplingOf(Eigen::Index c, const Workspace<T>& ws, Vec
   z->setZero(static_cast<Eigen::Index>(ws.rows.size()));
   for (size_t i = 0; i < ws.rows.size(); ++i) {  // the equality rows that share a body with row c
     if (!Shared(ws.rows[i], step_rows_[c])) continue;
-    (*z)[i] = Dot(model_, ws.rows[i].a, free_moves_[c]) + Dot(model_, ws.rows[i].b, free_moves_[c]);
+    (*z)[i] = RowRate(model_, ws.rows[i], free_moves_[c]);
   }
 }
 

@@ -216,7 +216,7 @@ class UnilateralEvents {
   // whose gap would close within the next step at its rate; into step_sides_, step_gaps_.
   void StepSides(double step, const VecX<T>& q, const VecX<T>& v, const Workspace<T>& ws);
   // Their rows: per side its gap row, then for a contact with friction its tangents' slip rows; their friction
-  // coefficients, targets and rates.
+  // coefficients, targets, rates, and rates at the step's start (where the side touched at the step before).
   void StepRows(double step, const VecX<T>& v_start, const VecX<T>& q, const VecX<T>& v, const Workspace<T>& ws);
   // Where the impulses' velocity change moves sides left out of them (candidates_) into their surfaces within the
   // step (v: after the impulses), those sides join step_sides_; false when none does.
@@ -253,7 +253,6 @@ class UnilateralEvents {
   // time stepping's
   struct StepBlock : ImpulseBlock<T> {  // its rows: the gap row, then d - 1 slip rows where it has friction
     int side = 0;
-    T force = T(0.0);  // f, the fraction of its rate's change the step's forces ask for (unilateral_stepping.cc)
   };
   std::vector<char> touching_;         // per side
   std::vector<double> last_impulses_;  // kImpulseStride per side
