@@ -108,10 +108,7 @@ Eigen::VectorXd Values(const VecX<T>& x) {
 double CoulombIteration::Iterate(const Accuracy& accuracy, Eigen::VectorXd* impulses) {
   regularized_ = delassus_;
   regularized_.diagonal() *= 1.0 + kImpulseRegularization;
-  proximal_ = delassus_;
-  proximal_.diagonal() *= 1.0 + kProximalWeight;
-  stepping_ = delassus_;
-  stepping_.diagonal() *= 1.0 + kStepRegularization;
+  stepping_ready_ = false;
   friction_.clear();
   rho_normal_.clear();
   rho_tangent_.clear();
@@ -127,10 +124,14 @@ double CoulombIteration::Iterate(const Accuracy& accuracy, Eigen::VectorXd* impu
   newton_iterations_ = sweeps_ = 0;
   // proximal steps: each solves the problem with W + eps D and u - b - eps D p_k (the last step's impulses p_k),
   // well posed where W is singular, and at its fixed point the problem itself
-  double largest = Newton(delassus_, shift_, regularized_, &stepping_, kMostExactIterations, accuracy, &p);
+  double largest = Newton(delassus_, shift_, regularized_, true, kMostExactIterations, accuracy, &p);
+  if (largest > Asked(accuracy)) {
+    proximal_ = delassus_;
+    proximal_.diagonal() *= 1.0 + kProximalWeight;
+  }
   for (int step = 0; largest > Asked(accuracy) && step < kMostProximalSteps; ++step) {
     proximal_shift_ = shift_ - kProximalWeight * (delassus_.diagonal().asDiagonal() * p);
-    Newton(proximal_, proximal_shift_, proximal_, nullptr, kMostNewtonIterations, accuracy, &p);
+    Newton(proximal_, proximal_shift_, proximal_, false, kMostNewtonIterations, accuracy, &p);
     Merit(delassus_, shift_, p, &largest);
   }
   return largest;
@@ -182,8 +183,7 @@ void CoulombIteration::Sweep(const Eigen::MatrixXd& w, const Eigen::VectorXd& sh
 }
 
 double CoulombIteration::Newton(const Eigen::MatrixXd& w, const Eigen::VectorXd& shift, const Eigen::MatrixXd& w_steps,
-                                const Eigen::MatrixXd* w_fallback, int iterations, const Accuracy& accuracy,
-                                Eigen::VectorXd* impulses) {
+                                bool fall_back, int iterations, const Accuracy& accuracy, Eigen::VectorXd* impulses) {
   Eigen::VectorXd& p = *impulses;
   double largest = 0.0, merit = Merit(w, shift, p, &largest), goal = accuracy.goal;
   // one step with jacobian_w in the Jacobian, shortened until |S F|^2 decreases enough; false where none does
@@ -214,12 +214,17 @@ double CoulombIteration::Newton(const Eigen::MatrixXd& w, const Eigen::VectorXd&
     // solution no longer converges quadratically, and the accuracy accepted is the coarser one
     degenerate = true;
     goal = std::max(goal, accuracy.acceptable);
-    if (w_fallback != nullptr && step(*w_fallback)) continue;
+    if (fall_back && !stepping_ready_) {  // made the first time a step of this Iterate needs it
+      stepping_ = delassus_;
+      stepping_.diagonal() *= 1.0 + kStepRegularization;
+      stepping_ready_ = true;
+    }
+    if (fall_back && step(stepping_)) continue;
     for (int sweep = 0; sweep < kSweepsPerRestart; ++sweep) Sweep(w, shift, &p);
     sweeps_ += kSweepsPerRestart;
     merit = Merit(w, shift, p, &largest);
   }
-  if (w_fallback != nullptr) degenerate_ = degenerate;
+  if (fall_back) degenerate_ = degenerate;
   return largest;
 }
 

@@ -91,11 +91,12 @@ class CoulombIteration {
   // one projected Gauss-Seidel sweep
   void Sweep(const Eigen::MatrixXd& w, const Eigen::VectorXd& shift, Eigen::VectorXd* impulses) const;
   // At most `iterations` Newton steps on that problem, their Jacobians from w_steps, or where the line search
-  // refuses such a step from w_fallback (if given); |S F|_inf after them.
-  double Newton(const Eigen::MatrixXd& w, const Eigen::VectorXd& shift, const Eigen::MatrixXd& w_steps,
-                const Eigen::MatrixXd* w_fallback, int iterations, const Accuracy& accuracy, Eigen::VectorXd* impulses);
+  // refuses such a step and `fall_back`, from W + 1e-3 diag(W) (stepping_); |S F|_inf after them.
+  double Newton(const Eigen::MatrixXd& w, const Eigen::VectorXd& shift, const Eigen::MatrixXd& w_steps, bool fall_back,
+                int iterations, const Accuracy& accuracy, Eigen::VectorXd* impulses);
 
   Eigen::MatrixXd delassus_, regularized_, proximal_, stepping_;  // W, and W + eps diag(W) for three eps (.cc)
+  bool stepping_ready_ = false;  // whether stepping_ is this Iterate's (it is made where a step needs it)
   Eigen::VectorXd shift_, proximal_shift_;             // u - b, and the proximal step's
   std::vector<Block> blocks_;
   std::vector<double> friction_, rho_normal_, rho_tangent_;
