@@ -1,8 +1,9 @@
-// Contact between shapes (contact_geometry.h, unilateral_events.h): the scene's shapes and pair rules as the
-// contract states them, every gap against its closed form with its rate against central differences of the gap
-// along the motion, and frictionless contact dynamics against exact motions: a ball's bounces (times, speeds,
-// heights), Newton's law between two balls, a box dropped flat that comes to rest on its face, no energy gained at
-// any impact, and Jet and adjoint gradients across an impact against the closed form and central differences.
+// Contact between shapes (unilateral_events.h; the gaps themselves: contact_gaps_test.cc): the scene's shapes and
+// pair rules as the contract states them, and contact dynamics against exact motions: a ball's bounces (times,
+// speeds, heights), Newton's law between two balls, boxes dropped flat on a floor and on a box that come to rest
+// on their faces, a plank resting across a beam on its crossed edges, no energy gained at any impact, Coulomb
+// friction, time stepping, and Jet and adjoint gradients across impacts against the closed form and central
+// differences.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -13,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "contact_scenes.h"
 #include "test_files.h"
 #include "tether/autodiff/adjoint.h"
 #include "tether/autodiff/residuals.h"
@@ -28,26 +30,6 @@ namespace {
 using nlohmann::json;
 
 constexpr double kG = 9.81;
-
-Model<double> Parse(const json& document) { return ParseScene(document, "contact.json").model; }
-
-json Particle(const std::string& name, const std::vector<double>& position, const std::vector<double>& velocity = {}) {
-  json body = {{"name", name}, {"type", "particle"}, {"mass", 1.0}, {"position", position}};
-  if (!velocity.empty()) body["velocity"] = velocity;
-  return body;
-}
-
-json Rigid3d(const std::string& name, const std::vector<double>& position, const std::vector<double>& orientation,
-             const std::vector<double>& angular_velocity = {0.0, 0.0, 0.0}) {
-  return {{"name", name},
-          {"type", "rigid"},
-          {"mass", 2.0},
-          {"inertia", {0.02, 0.03, 0.04}},
-          {"position", position},
-          {"orientation", orientation},
-          {"velocity", {0.3, -0.2, 0.5}},
-          {"angular_velocity", angular_velocity}};
-}
 
 // A ball of radius 0.1 (a particle with a sphere, restitution e) dropped from h0 above a floor.
 json Ball(double e, double h0, double duration, double step = 1e-3) {
@@ -165,152 +147,6 @@ TEST(ContactScenes, BadShapesAreRefusedNamingThePointer) {
 }
 
 // ---------------------------------------------------------------------------------------------------------------
-// gaps
-
-// Every feature's gap at the scene's initial state, and its rate against central differences of the gap along the
-// motion (q moved by +-h v).
-std::vector<double> GapsAndCheckRates(const Model<double>& model) {
-  const ContactGeometry geometry = BuildContactGeometry(model);
-  const State<double> start = InitialState(model);
-  BodyFrames<double> frames;
-  UpdateFrames(model, start.q, start.v, true, &frames);
-  auto gap_at = [&](const ContactFeature& f, double h) {
-    VecX<double> q(start.q.size());
-    Integrate(model, start.q, start.v, h, &q);
-    BodyFrames<double> moved;
-    UpdateFrames(model, q, start.v, false, &moved);
-    return FeatureGapValue(model, f, moved, q);
-  };
-  std::vector<double> gaps;
-  for (const ContactFeature& f : geometry.features) {
-    const GapAndRate<double> gap = FeatureGap(model, f, frames, start.q, start.v);
-    const double h = 1e-6, central = (gap_at(f, h) - gap_at(f, -h)) / (2 * h);
-    EXPECT_NEAR(gap.rate, central, 1e-7) << geometry.pairs[f.pair].label << " feature " << f.vertex;
-    gaps.push_back(gap.g);
-  }
-  return gaps;
-}
-
-json TwoShapes(const json& a, const json& b, const json& body_a, const json& body_b) {
-  return {{"dimension", 3}, {"bodies", {body_a, body_b}}, {"shapes", {a, b}}};
-}
-
-TEST(ContactGaps, EachFormMatchesItsClosedForm) {
-  const double s = std::sqrt(0.5);
-  const json tilted = {std::cos(0.3), 0.0, std::sin(0.3), 0.0};  // 0.6 rad about y
-  // a sphere and a capsule above a tilted plane of the world; a box's eight corners above the floor
-  {
-    const json scene = {
-        {"dimension", 3},
-        {"bodies", {Rigid3d("ball", {0.1, 0.2, 1.0}, {1, 0, 0, 0}, {1, 2, 3})}},
-        {"shapes",
-         {{{"body", "ball"}, {"type", "sphere"}, {"radius", 0.25}},
-          {{"body", "world"}, {"type", "plane"}, {"position", {0.0, 0.0, 0.1}}, {"orientation", tilted}}}}};
-    const std::vector<double> gaps = GapsAndCheckRates(Parse(scene));
-    const Vec3<double> n(std::sin(0.6), 0.0, std::cos(0.6));  // the plane's z axis turned 0.6 rad about y
-    ASSERT_EQ(gaps.size(), 1u);
-    EXPECT_NEAR(gaps[0], n.dot(Vec3<double>(0.1, 0.2, 0.9)) - 0.25, 1e-14);
-  }
-  {
-    const json scene = {{"dimension", 3},
-                        {"bodies", {Rigid3d("rod", {0.0, 0.0, 1.0}, {s, 0.0, s, 0.0}, {1, -2, 0.5})}},  // x -> -z
-                        {"shapes",
-                         {{{"body", "rod"}, {"type", "capsule"}, {"radius", 0.1}, {"length", 0.6}},
-                          {{"body", "world"}, {"type", "plane"}}}}};
-    const std::vector<double> gaps = GapsAndCheckRates(Parse(scene));
-    ASSERT_EQ(gaps.size(), 2u);
-    EXPECT_NEAR(gaps[0], 1.3 - 0.1, 1e-14);  // the -x cap centre is up at 1.3
-    EXPECT_NEAR(gaps[1], 0.7 - 0.1, 1e-14);
-  }
-  {
-    const json scene = {{"dimension", 3},
-                        {"bodies", {Rigid3d("box", {0.0, 0.0, 1.0}, {1, 0, 0, 0}, {0.5, 1, -1})}},
-                        {"shapes",
-                         {{{"body", "box"}, {"type", "box"}, {"size", {0.2, 0.4, 0.6}}, {"position", {0, 0, 0.05}}},
-                          {{"body", "world"}, {"type", "plane"}}}}};
-    const std::vector<double> gaps = GapsAndCheckRates(Parse(scene));
-    ASSERT_EQ(gaps.size(), 8u);
-    for (int k = 0; k < 8; ++k) EXPECT_NEAR(gaps[k], 1.05 + ((k >> 2) & 1 ? 0.3 : -0.3), 1e-14) << k;
-  }
-  // closest points: sphere-sphere, sphere-capsule (beside its segment and beyond its end), crossed capsules,
-  // a sphere beside a box's face, off its edge, and with its centre inside
-  const json ball = {{"body", "a"}, {"type", "sphere"}, {"radius", 0.1}};
-  const json capsule = {{"body", "b"}, {"type", "capsule"}, {"radius", 0.05}, {"length", 1.0}};
-  const json box = {{"body", "b"}, {"type", "box"}, {"size", {0.4, 0.6, 0.8}}};
-  struct Case {
-    json a, b, body_a;
-    double gap;
-  };
-  const json other = Rigid3d("b", {0.0, 0.0, 0.0}, {1, 0, 0, 0}, {0.2, 0.4, -0.3});
-  const std::vector<Case> cases = {
-      {ball,
-       {{"body", "b"}, {"type", "sphere"}, {"radius", 0.2}},
-       Rigid3d("a", {0.3, 0.4, 1.2}, {1, 0, 0, 0}),
-       1.3 - 0.3},
-      {ball, capsule, Rigid3d("a", {0.2, 0.0, 0.5}, {1, 0, 0, 0}), 0.5 - 0.15},
-      {ball, capsule, Rigid3d("a", {0.8, 0.0, 0.4}, {1, 0, 0, 0}), 0.5 - 0.15},
-      {{{"body", "a"}, {"type", "capsule"}, {"radius", 0.1}, {"length", 1.0}},
-       capsule,
-       Rigid3d("a", {0.1, 0.0, 0.7}, {s, 0.0, 0.0, s}),
-       0.7 - 0.15},  // along y, 0.7 above
-      {ball, box, Rigid3d("a", {0.1, 0.1, 0.9}, {1, 0, 0, 0}), 0.5 - 0.1},
-      {ball, box, Rigid3d("a", {0.5, 0.6, 0.1}, {1, 0, 0, 0}), std::hypot(0.3, 0.3) - 0.1},
-      {ball, box, Rigid3d("a", {0.15, 0.0, 0.1}, {1, 0, 0, 0}), -0.05 - 0.1},  // inside, nearest the +x face
-  };
-  for (const Case& c : cases) {
-    const std::vector<double> gaps = GapsAndCheckRates(Parse(TwoShapes(c.a, c.b, c.body_a, other)));
-    ASSERT_EQ(gaps.size(), 1u);
-    EXPECT_NEAR(gaps[0], c.gap, 1e-14) << c.a.dump() << " " << c.b.dump();
-  }
-}
-
-TEST(ContactGaps, TheBroadPhaseKeepsEveryPairThatMayTouchAndLeavesOutOnlyPairsApart) {
-  // 40 particles with spheres, capsules and boxes scattered over a floor: the pairs left out all have positive gaps,
-  // and the pairs kept are those whose bounding spheres overlap (checked pair by pair)
-  std::mt19937 random(7);
-  std::uniform_real_distribution<double> place(-1.0, 1.0), height(0.0, 0.6);
-  json scene = {{"dimension", 3}, {"bodies", json::array()}, {"shapes", json::array()}};
-  for (int k = 0; k < 40; ++k) {
-    const std::string name = "b" + std::to_string(k);
-    scene["bodies"].push_back(Particle(name, {place(random), place(random), height(random)}));
-    json shape = {{"body", name}, {"type", "sphere"}, {"radius", 0.1}};
-    if (k % 3 == 1) shape = {{"body", name}, {"type", "capsule"}, {"radius", 0.05}, {"length", 0.2}};
-    if (k % 3 == 2) shape = {{"body", name}, {"type", "sphere"}, {"radius", 0.15}};
-    scene["shapes"].push_back(shape);
-  }
-  scene["shapes"].push_back({{"body", "world"}, {"type", "plane"}});
-  const Model<double> model = Parse(scene);
-  const ContactGeometry geometry = BuildContactGeometry(model);
-  const State<double> start = InitialState(model);
-  BodyFrames<double> frames;
-  UpdateFrames(model, start.q, start.v, false, &frames);
-  std::vector<char> near;
-  NearPairs(model, geometry, frames, start.q, 0.0, &near);
-  int kept = 0;
-  for (size_t p = 0; p < geometry.pairs.size(); ++p) kept += near[p];
-  EXPECT_GT(kept, 0);
-  EXPECT_LT(kept, static_cast<int>(geometry.pairs.size()) / 4);  // most pairs are apart
-  double least_left_out = INFINITY;
-  for (const ContactFeature& f : geometry.features) {
-    if (!near[f.pair]) least_left_out = std::min(least_left_out, FeatureGapValue(model, f, frames, start.q));
-  }
-  EXPECT_GT(least_left_out, 0.0);
-  const auto bound = [&](int shape) {
-    const Shape<double>& s = model.shapes[shape];
-    return s.radius + (s.type == ShapeType::kCapsule ? s.length / 2 : 0.0);
-  };
-  for (size_t p = 0; p < geometry.pairs.size(); ++p) {
-    const ContactPair& pair = geometry.pairs[p];
-    if (model.shapes[pair.b].type == ShapeType::kPlane) {
-      EXPECT_EQ(near[p], start.q[3 * pair.a + 2] <= bound(pair.a)) << pair.label;
-      continue;
-    }
-    const double apart = (start.q.segment<3>(3 * pair.a) - start.q.segment<3>(3 * pair.b)).norm();
-    EXPECT_EQ(near[p], apart <= bound(pair.a) + bound(pair.b)) << pair.label;
-  }
-}
-
-// ---------------------------------------------------------------------------------------------------------------
 // frictionless contact dynamics
 
 TEST(ContactDynamics, ABallBouncesAtTheExactTimesAndSpeeds) {
@@ -408,6 +244,93 @@ TEST(ContactDynamics, NoImpactGainsEnergy) {
     for (double x : energy) highest = std::max(highest, x);
     EXPECT_LT(highest - energy[0], 1e-6 * std::abs(energy[0])) << "e = " << e;
     if (e == 1.0) EXPECT_NEAR(energy.back(), energy[0], 1e-6 * std::abs(energy[0]));
+  }
+}
+
+// A world box (a pedestal, a beam) with its top face at z = top, and the scene's other parts.
+json OnABox(const json& bodies, const json& shapes, const std::vector<double>& size, double top, double duration,
+            const std::string& mode) {
+  json all_shapes = shapes;
+  all_shapes.push_back({{"name", "pedestal"},
+                        {"body", "world"},
+                        {"type", "box"},
+                        {"size", size},
+                        {"position", {0.0, 0.0, top - size[2] / 2}}});
+  return {{"dimension", 3},
+          {"bodies", bodies},
+          {"shapes", all_shapes},
+          {"effects", {{{"type", "gravity"}, {"acceleration", {0.0, 0.0, -kG}}}}},
+          {"simulation",
+           {{"integrator", mode == "events" ? "rk4" : "symplectic_euler"},
+            {"step", 1e-3},
+            {"duration", duration},
+            {"contact", mode}}},
+          {"stabilization", {{"alpha", 100.0}, {"beta", 2500.0}}}};
+}
+
+TEST(ContactDynamics, ABoxAndACapsuleTumblingOntoABoxGainNoEnergy) {
+  // a box and a capsule spinning as they fall onto a pedestal, then onto each other and the pedestal's edges:
+  // corners against faces, crossed edges, a cap against a face; the energy never rises
+  for (const double e : {1.0, 0.5}) {
+    const json scene =
+        OnABox(json::array({Rigid3d("rod", {0.1, 0.0, 0.8}, {0.9, 0.3, 0.3, 0.1}, {3, -2, 1}),
+                            Rigid3d("box", {-0.1, 0.1, 1.5}, {0.8, -0.1, 0.5, 0.3162277660168379}, {-1, 2, 2})}),
+               json::array({{{"body", "rod"}, {"type", "capsule"}, {"radius", 0.05}, {"length", 0.5}},
+                            {{"body", "box"}, {"type", "box"}, {"size", {0.2, 0.3, 0.4}}, {"restitution", e}}}),
+               {0.8, 0.6, 0.4}, 0.4, 1.0, "events");
+    RunReport report;
+    const std::vector<double> energy = Energies(Parse(scene), &report);
+    EXPECT_GE(Impacts(report).size(), 3u);
+    double highest = energy[0];
+    for (double x : energy) highest = std::max(highest, x);
+    EXPECT_LT(highest - energy[0], 1e-6 * std::abs(energy[0])) << "e = " << e;
+  }
+}
+
+TEST(ContactDynamics, ABoxDroppedFlatOnABoxComesToRestOnItsFace) {
+  // a 0.2 m cube dropped 5 cm onto a pedestal whose top is at 0.4 m: its four lower corners land at once, 1 m/s
+  const json scene = OnABox(json::array({Rigid3d("box", {0.05, -0.03, 0.55}, {1, 0, 0, 0})}),
+                            json::array({{{"body", "box"}, {"type", "box"}, {"size", {0.2, 0.2, 0.2}}}}),
+                            {0.6, 0.6, 0.4}, 0.4, 0.6, "events");
+  json level = scene;
+  level["bodies"][0]["velocity"] = {0.0, 0.0, 0.0};
+  level["bodies"][0]["angular_velocity"] = {0.0, 0.0, 0.0};
+  VecX<double> q, v;
+  const RunReport report = Simulate<double>(Parse(level), RunOptions{}, [&](const Sample<double>& s) {
+    q = s.q;
+    v = s.v;
+  });
+  ASSERT_EQ(Impacts(report).size(), 4u);
+  EXPECT_NEAR(Impacts(report)[0].t, std::sqrt(2 * 0.05 / kG), 1e-9);
+  EXPECT_NEAR(q[2], 0.5, 1e-9);
+  EXPECT_LT(v.norm(), 1e-9);
+}
+
+TEST(ContactTimeStepping, APlankLaidAcrossABeamRestsOnTheEdgesItCrosses) {
+  // a plank along x dropped 1 cm across a beam along y: none of their corners is over the other's face, so only
+  // the four crossings of their edges hold it (a layer of a Jenga tower); it comes to rest level on the beam,
+  // and so does a capsule laid across it
+  const json plank = {{"name", "plank"},
+                      {"type", "rigid"},
+                      {"mass", 1.0},
+                      {"inertia", {0.001, 0.08, 0.08}},
+                      {"position", {0.02, -0.01, 0.3 + 0.025 + 0.01}}};
+  const json rod = {{"name", "rod"},
+                    {"type", "rigid"},
+                    {"mass", 1.0},
+                    {"inertia", {0.001, 0.08, 0.08}},
+                    {"position", {0.01, 0.02, 0.3 + 0.05 + 0.01}}};
+  for (const std::string mode : {"stepping", "events"}) {
+    for (const bool capsule : {false, true}) {
+      const json shape = capsule ? json{{"body", "rod"}, {"type", "capsule"}, {"radius", 0.05}, {"length", 1.0}}
+                                 : json{{"body", "plank"}, {"type", "box"}, {"size", {1.0, 0.1, 0.05}}};
+      const json scene =
+          OnABox(json::array({capsule ? rod : plank}), json::array({shape}), {0.1, 1.0, 0.3}, 0.3, 0.5, mode);
+      VecX<double> q;
+      Simulate<double>(Parse(scene), RunOptions{}, [&](const Sample<double>& s) { q = s.q; });
+      EXPECT_NEAR(q[2], capsule ? 0.35 : 0.325, 1e-7) << mode << (capsule ? " capsule" : " plank");
+      EXPECT_NEAR(std::abs(q[3]), 1.0, 1e-9) << mode << (capsule ? " capsule" : " plank");  // level
+    }
   }
 }
 

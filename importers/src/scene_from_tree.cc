@@ -503,7 +503,6 @@ class SceneBuilder {
   // exclusions as body pairs. A geom of a massless link that collapsed away is dropped with a warning.
   void EmitShapes() {
     std::vector<std::string> dropped;
-    std::vector<std::pair<int, TreeGeom::Type>> touching;  // the bodies and types of the shapes that touch
     for (const TreeGeom& geom : tree_.geoms) {
       const int body = geom.link >= 0 ? link_body_[geom.link] : -1;
       if (body == -2) {
@@ -539,7 +538,6 @@ class SceneBuilder {
       shape["orientation"] = {q.w(), q.x(), q.y(), q.z()};
       shape["friction"] = geom.friction;
       if (!geom.contact || !options_.contact) shape["contact"] = false;
-      if (geom.contact && options_.contact) touching.emplace_back(body, geom.type);
       shapes_.push_back(shape);
     }
     std::set<std::pair<int, int>> excluded;
@@ -547,38 +545,6 @@ class SceneBuilder {
       const int body_a = a >= 0 ? link_body_[a] : -1, body_b = b >= 0 ? link_body_[b] : -1;
       if (body_a == -2 || body_b == -2 || body_a == body_b) continue;
       excluded.insert({std::min(body_a, body_b), std::max(body_a, body_b)});
-    }
-    // tether measures no gap between a box and a box or a capsule yet (contact.md): such body pairs, unless a
-    // constraint joins them directly (the pair rules leave those out), are excluded
-    std::set<std::pair<std::string, std::string>> joined;
-    for (const json& c : constraints_) {
-      if (c.contains("bodies")) joined.emplace(c["bodies"][0].get<std::string>(), c["bodies"][1].get<std::string>());
-    }
-    auto measurable = [](TreeGeom::Type a, TreeGeom::Type b) {
-      const auto box = TreeGeom::Type::kBox, capsule = TreeGeom::Type::kCapsule;
-      return !((a == box && (b == box || b == capsule)) || (b == box && a == capsule));
-    };
-    std::set<std::pair<int, int>> unmeasured;
-    for (size_t i = 0; i < touching.size(); ++i) {
-      for (size_t j = i + 1; j < touching.size(); ++j) {
-        const auto [body_a, type_a] = touching[i];
-        const auto [body_b, type_b] = touching[j];
-        if (body_a == body_b || measurable(type_a, type_b)) continue;
-        const std::pair<int, int> key(std::min(body_a, body_b), std::max(body_a, body_b));
-        const std::string a = BodyName(key.first), b = BodyName(key.second);
-        if (!excluded.count(key) && !joined.count({a, b}) && !joined.count({b, a})) unmeasured.insert(key);
-      }
-    }
-    std::vector<std::string> unmeasured_names;
-    for (const auto& key : unmeasured) {
-      excluded.insert(key);
-      unmeasured_names.push_back(BodyName(key.first) + "|" + BodyName(key.second));
-    }
-    if (!unmeasured_names.empty()) {
-      warnings_.push_back(
-          ListWarning("body pairs with a box against a box or a capsule are excluded from contact "
-                      "(tether measures no such gap yet)",
-                      unmeasured_names));
     }
     for (const auto& [a, b] : excluded) excludes_.push_back({BodyName(a), BodyName(b)});
     if (!dropped.empty()) {

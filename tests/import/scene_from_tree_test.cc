@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "tether/dynamics/constraints/contact_geometry.h"
 #include "tether/dynamics/integration/simulator.h"
 #include "tether/dynamics/io/scene_reader.h"
 #include "tether/dynamics/model/errors.h"
@@ -105,9 +106,10 @@ TreeGeom Geom(const std::string& name, int link, TreeGeom::Type type) {
   return geom;
 }
 
-TEST(SceneFromTree, GeomsBecomeShapesAndThePairsTetherCannotMeasureAreExcluded) {
-  // a chain upper - fore - hand of boxes and a capsule over a floor: fore's box is joined to both neighbours; upper's
-  // box and hand's capsule are not, and tether measures no box-capsule gap yet: that pair is excluded, warned of
+TEST(SceneFromTree, GeomsBecomeShapesAndEveryPairOfThemMayTouch) {
+  // a chain world - upper - fore - hand of boxes and a capsule over a floor: the pair rules leave out the joined
+  // pairs (the floor and upper's box, fore's box and either neighbour); upper's box and hand's capsule may touch,
+  // with nothing excluded or warned of
   KinematicTree tree =
       Tree({Link("upper", -1, Vector3d(0, 0, 1), {Hinge("shoulder", Vector3d::Zero(), Vector3d::UnitY())}),
             Link("fore", 0, Vector3d(0.3, 0, 0), {Hinge("elbow", Vector3d::Zero(), Vector3d::UnitY())}),
@@ -118,10 +120,12 @@ TEST(SceneFromTree, GeomsBecomeShapesAndThePairsTetherCannotMeasureAreExcluded) 
   ASSERT_EQ(imported.scene["shapes"].size(), 4u);
   EXPECT_EQ(imported.scene["shapes"][3]["type"], "capsule");
   EXPECT_EQ(imported.scene["shapes"][3]["friction"], 0.7);
-  EXPECT_EQ(imported.scene["contact"]["exclude"], json::parse(R"([["upper", "hand"]])"));
-  EXPECT_TRUE(Warned(imported,
-                     "body pairs with a box against a box or a capsule are excluded from contact (tether "
-                     "measures no such gap yet): upper|hand"));
+  EXPECT_FALSE(imported.scene.contains("contact"));
+  EXPECT_TRUE(imported.warnings.empty()) << imported.warnings.front();
+  const Model<double> model = ParseScene(nlohmann::json::parse(imported.scene.dump()), "imported").model;
+  std::vector<std::string> pairs;
+  for (const ContactPair& pair : BuildContactGeometry(model).pairs) pairs.push_back(pair.label);
+  EXPECT_EQ(pairs, (std::vector<std::string>{"floor|fore_box", "floor|hand_capsule", "upper_box|hand_capsule"}));
   EXPECT_NO_THROW(ParseScene(nlohmann::json::parse(imported.scene.dump()), "imported"));
   ImportOptions drawn;  // --no-contact
   drawn.contact = false;

@@ -58,8 +58,7 @@ ContactPoint<T> ContactPointOf(const Model<T>& model, const ContactFeature& feat
     const PointMotion<T> pb = MovePoint(model, frames, distance.b, q, v, velocities);
     const Segment<T> segment = Between(pa, pb);
     contact.normal = segment.n;
-    const Shape<T>& first = model.shapes[feature.first];
-    const T r_a = first.type == ShapeType::kBox ? T(0.0) : first.radius;
+    const T r_a = CoreRadius(model.shapes[feature.second]);  // the distance row runs from second's core to first's
     c = pa.position + r_a * contact.normal;
     const Vec3<T> dv = pb.velocity - pa.velocity;
     const Vec3<T> turning = (dv - contact.normal * contact.normal.dot(dv)) * segment.inverse_length;

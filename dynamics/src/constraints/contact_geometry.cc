@@ -6,7 +6,7 @@
 #include <utility>
 
 #include "tether/dynamics/constraints/constraint_rows_impl.h"
-#include "tether/dynamics/model/errors.h"
+#include "tether/dynamics/constraints/core_witnesses.h"
 
 namespace tether {
 namespace {
@@ -24,11 +24,6 @@ int CoreRank(ShapeType type) {
       break;
   }
   return 3;
-}
-
-template <typename T>
-T Radius(const Shape<T>& shape) {
-  return shape.type == ShapeType::kSphere || shape.type == ShapeType::kCapsule ? shape.radius : T(0.0);
 }
 
 template <typename T>
@@ -71,13 +66,6 @@ LinePrimitive<T> AgainstPlane(const Shape<T>& plane, const Vec3<T>& o_S, const V
   return line;
 }
 
-// A shape's pose in the world at the current state, in double: x_W = origin + rotation x_S.
-struct WorldPose {
-  Vec3<double> origin;
-  Mat3<double> rotation;
-  Vec3<double> ToShape(const Vec3<double>& x_W) const { return rotation.transpose() * (x_W - origin); }
-};
-
 template <typename T>
 WorldPose PoseOf(const Model<T>& model, const Shape<T>& shape, const BodyFrames<T>& frames, const VecX<T>& q) {
   const auto value = [](const T& x) { return Value(x); };
@@ -92,14 +80,6 @@ WorldPose PoseOf(const Model<T>& model, const Shape<T>& shape, const BodyFrames<
   return {x + R_WB * p_BS, R_WB * R_BS};
 }
 
-// A closest point of a core in its shape's frame, found in double: each coordinate either its value there (a
-// stationary point of the distance: its derivative does not matter) or, where it sits on the core's end or face,
-// the shape's half dimension with its sign (so that the dimension is a parameter of the gap).
-struct Witness {
-  Vec3<double> x = Vec3<double>::Zero();
-  int on_end[3] = {0, 0, 0};  // -1, +1: at the negative or positive half dimension along that axis
-};
-
 template <typename T>
 Vec3<T> WitnessInShape(const Shape<T>& shape, const Witness& w) {
   Vec3<T> x = w.x.cast<T>();
@@ -109,52 +89,6 @@ Vec3<T> WitnessInShape(const Shape<T>& shape, const Witness& w) {
     x[j] = T(static_cast<double>(w.on_end[j])) * half;
   }
   return x;
-}
-
-// The parameter in [-1, 1] of the point of the segment (-1: a, +1: b) closest to p.
-double ClosestOnSegment(const Vec3<double>& a, const Vec3<double>& b, const Vec3<double>& p) {
-  const Vec3<double> d = b - a;
-  const double dd = d.squaredNorm();
-  const double s = dd > 0.0 ? std::clamp((p - a).dot(d) / dd, 0.0, 1.0) : 0.0;
-  return 2.0 * s - 1.0;
-}
-
-// The parameters in [0, 1] of the closest points of segments p1 + s d1 and p2 + t d2 (Ericson, Real-Time Collision
-// Detection, 5.1.9); for parallel segments the one with s at the start of their overlap.
-std::pair<double, double> ClosestOfSegments(const Vec3<double>& p1, const Vec3<double>& d1, const Vec3<double>& p2,
-                                            const Vec3<double>& d2) {
-  const Vec3<double> r = p1 - p2;
-  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
-  if (a <= 0.0 && e <= 0.0) return {0.0, 0.0};
-  if (a <= 0.0) return {0.0, std::clamp(f / e, 0.0, 1.0)};
-  const double c = d1.dot(r);
-  if (e <= 0.0) return {std::clamp(-c / a, 0.0, 1.0), 0.0};
-  const double b = d1.dot(d2), denominator = a * e - b * b;
-  double s = denominator > 1e-14 * a * e ? std::clamp((b * f - c * e) / denominator, 0.0, 1.0) : 0.0;
-  double t = (b * s + f) / e;
-  if (t < 0.0) {
-    t = 0.0;
-    s = std::clamp(-c / a, 0.0, 1.0);
-  } else if (t > 1.0) {
-    t = 1.0;
-    s = std::clamp((b - c) / a, 0.0, 1.0);
-  }
-  return {s, t};
-}
-
-// A capsule's witness at segment parameter u in [-1, 1].
-Witness CapsuleWitness(double u, double length) {
-  Witness w;
-  w.x[0] = 0.5 * u * length;
-  if (u <= -1.0) w.on_end[0] = -1;
-  if (u >= 1.0) w.on_end[0] = 1;
-  return w;
-}
-
-// A capsule's segment ends in the world.
-std::pair<Vec3<double>, Vec3<double>> SegmentOf(const WorldPose& pose, double length) {
-  const Vec3<double> half = pose.rotation.col(0) * (0.5 * length);
-  return {pose.origin - half, pose.origin + half};
 }
 
 }  // namespace
@@ -179,17 +113,23 @@ ContactGeometry BuildContactGeometry(const Model<T>& model) {
       const ShapeType low = shapes[first].type, high = shapes[second].type;
       if (low == ShapeType::kPlane) continue;  // two planes: no floor between them
       const int pair = static_cast<int>(geometry.pairs.size());
-      if (high == ShapeType::kPlane) {
-        for (int k = 0; k < VertexCount(shapes[first], model.dimension); ++k) {
-          geometry.features.push_back({pair, GapForm::kVertexPlane, first, second, k});
+      const auto vertices = [&](GapForm form, int of, int against) {
+        for (int k = 0; k < VertexCount(shapes[of], model.dimension); ++k) {
+          geometry.features.push_back({pair, form, of, against, k});
         }
-      } else if (low == ShapeType::kSphere || (low == ShapeType::kCapsule && high == ShapeType::kCapsule)) {
-        geometry.features.push_back({pair, GapForm::kClosest, first, second, 0});
+      };
+      if (high == ShapeType::kPlane) {
+        vertices(GapForm::kVertexPlane, first, second);
+      } else if (high == ShapeType::kBox) {
+        vertices(GapForm::kVertexBox, first, second);
+        if (low == ShapeType::kCapsule) vertices(GapForm::kVertexSegment, second, first);
+        if (low == ShapeType::kBox) vertices(GapForm::kVertexBox, second, first);
+        const int crossings = low == ShapeType::kBox ? kCrossedEdgesBoxBox : kCrossedEdgesCapsuleBox;
+        for (int k = 0; low != ShapeType::kSphere && model.dimension == 3 && k < crossings; ++k) {
+          geometry.features.push_back({pair, GapForm::kCrossedEdges, first, second, k});  // k: the rank
+        }
       } else {
-        throw InputError("the shapes /shapes/" + std::to_string(first) + " (" + ShapeTypeName(low) + ") and /shapes/" +
-                         std::to_string(second) + " (" + ShapeTypeName(high) +
-                         ") may touch, and contact between a capsule or a box and a box is not simulated yet: "
-                         "exclude the pair (\"contact\": {\"exclude\": [[A, B]]}) or set \"contact\": false on one");
+        geometry.features.push_back({pair, GapForm::kClosest, first, second, 0});
       }
       geometry.pair_of[i * shapes.size() + j] = pair;
       geometry.pairs.push_back({static_cast<int>(i), static_cast<int>(j), si.label + "|" + sj.label});
@@ -219,7 +159,7 @@ void NearPairs(const Model<T>& model, const ContactGeometry& geometry, const Bod
       planes.emplace_back(static_cast<int>(k), pose);
       continue;
     }
-    double radius = Value(Radius(shape));
+    double radius = Value(CoreRadius(shape));
     if (shape.type == ShapeType::kCapsule) radius += 0.5 * Value(shape.length);
     if (shape.type == ShapeType::kBox) radius = 0.5 * shape.size.unaryExpr([](const T& x) { return Value(x); }).norm();
     spheres.push_back({pose.origin, radius + margin, static_cast<int>(k)});
@@ -270,6 +210,48 @@ T PairRestitution(const Model<T>& model, int shape_a, int shape_b) {
                 &ContactSettings<T>::restitution);
 }
 
+namespace {
+
+// The direction in its body's frame along which a witness slides as the other shape moves: a capsule's axis where
+// the witness is inside its segment, a box's free axis where it is on an edge (3D); zero at a centre or a corner.
+template <typename T>
+Vec3<T> SlideOf(const Shape<T>& shape, const Witness& w, int d) {
+  int axis = -1;
+  if (shape.type == ShapeType::kCapsule && !w.on_end[0]) axis = 0;
+  if (shape.type == ShapeType::kBox && d == 3 &&
+      std::abs(w.on_end[0]) + std::abs(w.on_end[1]) + std::abs(w.on_end[2]) == 2) {
+    for (int j = 0; j < 3; ++j) axis = w.on_end[j] ? axis : j;
+  }
+  if (axis < 0) return Zero3<T>();
+  return ShapeRotation(shape, d) * Vec3<T>::Unit(axis);
+}
+
+// The half sizes of a box shape, in double.
+template <typename T>
+BoxCore CoreOfBox(const Shape<T>& box, const WorldPose& pose, int dimension) {
+  return {pose, Vec3<double>(0.5 * box.size.unaryExpr([](const T& x) { return Value(x); })), dimension};
+}
+
+// The gap of the point x_S of shape `of` (at x_W in the world, with radius r) against box `box`.
+template <typename T>
+GapPrimitive<T> PointAgainstBox(const Shape<T>& of, const Vec3<T>& x_S, const Vec3<double>& x_W, const T& r,
+                                const Shape<T>& box, const WorldPose& box_pose, int d, int scene_index) {
+  const BoxPoint closest = ClosestOfBox(CoreOfBox(box, box_pose, d), x_W);
+  const BodyPoint<T> point = PointOfShape(of, x_S, d);
+  GapPrimitive<T> gap;
+  if (closest.face) {
+    const Vec3<T> n_S = T(closest.sign) * Vec3<T>::Unit(closest.axis);
+    gap.line = true;
+    gap.plane = AgainstPlane(box, Vec3<T>(n_S * (T(0.5) * box.size[closest.axis])), n_S, point, r, d, scene_index);
+    return gap;
+  }
+  gap.distance = {scene_index, PointOfShape(box, WitnessInShape(box, closest.witness), d), point, r};
+  gap.slide_a = SlideOf(box, closest.witness, d);
+  return gap;
+}
+
+}  // namespace
+
 template <typename T>
 GapPrimitive<T> MeasureFeature(const Model<T>& model, const ContactFeature& feature, const BodyFrames<T>& frames,
                                const VecX<T>& q) {
@@ -277,55 +259,93 @@ GapPrimitive<T> MeasureFeature(const Model<T>& model, const ContactFeature& feat
   const int scene_index = model.NumConstraints() + feature.pair;
   const Shape<T>&first = model.shapes[feature.first], &second = model.shapes[feature.second];
   GapPrimitive<T> gap;
-  const Vec3<T> normal_S = d == 3 ? Vec3<T>::UnitZ() : Vec3<T>::UnitY();
   if (feature.form == GapForm::kVertexPlane) {
+    const Vec3<T> normal_S = d == 3 ? Vec3<T>::UnitZ() : Vec3<T>::UnitY();
     gap.line = true;
-    gap.plane =
-        AgainstPlane(second, Vec3<T>(Vec3<T>::Zero()), normal_S,
-                     PointOfShape(first, VertexInShape(first, feature.vertex, d), d), Radius(first), d, scene_index);
+    gap.plane = AgainstPlane(second, Vec3<T>(Vec3<T>::Zero()), normal_S,
+                             PointOfShape(first, VertexInShape(first, feature.vertex, d), d), CoreRadius(first), d,
+                             scene_index);
     return gap;
   }
   const WorldPose pose_a = PoseOf(model, first, frames, q), pose_b = PoseOf(model, second, frames, q);
+  const auto value = [](const T& x) { return Value(x); };
+  if (feature.form == GapForm::kVertexBox) {
+    const Vec3<T> x_S = VertexInShape(first, feature.vertex, d);
+    return PointAgainstBox(first, x_S, pose_a.ToWorld(x_S.unaryExpr(value)), CoreRadius(first), second, pose_b, d,
+                           scene_index);
+  }
   Witness wa, wb;
-  if (first.type == ShapeType::kSphere && second.type == ShapeType::kBox) {
-    const Vec3<double> c = pose_b.ToShape(pose_a.origin);  // the sphere's centre in the box's frame
-    int deepest = -1;
-    double least = 0.0;  // inside: the face nearest the centre
-    for (int j = 0; j < d; ++j) {
-      const double half = 0.5 * Value(second.size[j]);
-      wb.x[j] = std::clamp(c[j], -half, half);
-      if (c[j] <= -half) wb.on_end[j] = -1;
-      if (c[j] >= half) wb.on_end[j] = 1;
-      const double depth = half - std::abs(c[j]);
-      if (depth > 0.0 && (deepest < 0 || depth < least)) {
-        deepest = j;
-        least = depth;
-      }
-    }
-    if (wb.x == c && deepest >= 0) {  // the centre is inside: measured against the nearest face
-      const T sign(c[deepest] >= 0.0 ? 1.0 : -1.0);
-      const Vec3<T> n_S = sign * Vec3<T>::Unit(deepest);
+  if (feature.form == GapForm::kCrossedEdges) {
+    const EdgeSource source{first.type == ShapeType::kBox, pose_a, Vec3<double>(0.5 * first.size.unaryExpr(value)),
+                            Value(first.length)};
+    const CrossedEdges edges = FindCrossedEdges(source, CoreOfBox(second, pose_b, d), feature.vertex);
+    if (edges.found) {
       gap.line = true;
-      gap.plane = AgainstPlane(second, Vec3<T>(n_S * (T(0.5) * second.size[deepest])), n_S,
-                               PointOfShape(first, Vec3<T>(Vec3<T>::Zero()), d), first.radius, d, scene_index);
+      gap.plane = AgainstPlane(second, WitnessInShape(second, edges.on_second), Vec3<T>(edges.normal_second.cast<T>()),
+                               PointOfShape(first, WitnessInShape(first, edges.on_first), d), CoreRadius(first), d,
+                               scene_index);
       return gap;
     }
-  } else if (first.type == ShapeType::kSphere && second.type == ShapeType::kCapsule) {
+    gap.distance = {scene_index, PointOfShape(second, Vec3<T>(Vec3<T>::Zero()), d),
+                    PointOfShape(first, Vec3<T>(Vec3<T>::Zero()), d), T(0.0)};  // apart: the origins' distance
+    return gap;
+  }
+  if (feature.form == GapForm::kVertexSegment) {  // a box's corner: every coordinate its half size
+    for (int j = 0; j < d; ++j) wa.on_end[j] = (feature.vertex >> j) & 1 ? 1 : -1;
     const auto [a, b] = SegmentOf(pose_b, Value(second.length));
-    wb = CapsuleWitness(ClosestOnSegment(a, b, pose_a.origin), Value(second.length));
-  } else if (first.type == ShapeType::kCapsule) {
+    const Vec3<double> corner = pose_a.ToWorld(VertexInShape(first, feature.vertex, d).unaryExpr(value));
+    wb = CapsuleWitness(ClosestOnSegment(a, b, corner), Value(second.length));
+  } else if (first.type == ShapeType::kCapsule) {  // two capsules
     const auto [a1, b1] = SegmentOf(pose_a, Value(first.length));
     const auto [a2, b2] = SegmentOf(pose_b, Value(second.length));
     const auto [s, t] = ClosestOfSegments(a1, b1 - a1, a2, b2 - a2);
     wa = CapsuleWitness(2.0 * s - 1.0, Value(first.length));
     wb = CapsuleWitness(2.0 * t - 1.0, Value(second.length));
-  }
+  } else if (second.type == ShapeType::kCapsule) {  // a sphere's centre and a capsule's segment
+    const auto [a, b] = SegmentOf(pose_b, Value(second.length));
+    wb = CapsuleWitness(ClosestOnSegment(a, b, pose_a.origin), Value(second.length));
+  }  // two spheres: their centres
   gap.distance.scene_index = scene_index;
-  gap.distance.a = PointOfShape(first, WitnessInShape(first, wa), d);
-  gap.distance.b = PointOfShape(second, WitnessInShape(second, wb), d);
-  gap.distance.length = Radius(first) + Radius(second);
+  gap.distance.a = PointOfShape(second, WitnessInShape(second, wb), d);
+  gap.distance.b = PointOfShape(first, WitnessInShape(first, wa), d);
+  gap.distance.length = CoreRadius(first) + CoreRadius(second);
+  gap.slide_a = SlideOf(second, wb, d);
+  gap.slide_b = SlideOf(first, wa, d);
   return gap;
 }
+
+namespace {
+
+template <typename T>
+Vec3<T> ToWorld(const Model<T>& model, const BodyFrames<T>& frames, int body, const Vec3<T>& x_B) {
+  return body == kWorld || model.bodies[body].kind == BodyKind::kParticle ? x_B : Vec3<T>(frames[body].R_WB * x_B);
+}
+
+template <typename T>
+Vec3<T> SpinOf(const Model<T>& model, const BodyFrames<T>& frames, int body) {
+  return body == kWorld || model.bodies[body].kind == BodyKind::kParticle ? Zero3<T>() : frames[body].w_W;
+}
+
+// - m^T H^-1 m of the witnesses' slide (contact_geometry.h), at (q, v) with frames updated there.
+template <typename T>
+T SlideCorrection(const Model<T>& model, const BodyFrames<T>& frames, const GapPrimitive<T>& gap, const VecX<T>& q,
+                  const VecX<T>& v) {
+  const DistancePrimitive<T>& c = gap.distance;
+  const PointMotion<T> pa = MovePoint(model, frames, c.a, q, v, true), pb = MovePoint(model, frames, c.b, q, v, true);
+  const Segment<T> segment = Between(pa, pb);
+  const Vec3<T> dv = pb.velocity - pa.velocity;
+  const bool on_a = Value(gap.slide_a.squaredNorm()) > 0.0, on_b = Value(gap.slide_b.squaredNorm()) > 0.0;
+  const Vec3<T> u = ToWorld(model, frames, c.a.body, gap.slide_a), w = ToWorld(model, frames, c.b.body, gap.slide_b);
+  const T m_a =
+      on_a ? T(-u.dot(dv) * segment.inverse_length - segment.n.dot(SpinOf(model, frames, c.a.body).cross(u))) : T(0.0);
+  const T m_b =
+      on_b ? T(w.dot(dv) * segment.inverse_length + segment.n.dot(SpinOf(model, frames, c.b.body).cross(w))) : T(0.0);
+  const T cosine = on_a && on_b ? T(u.dot(w)) : T(0.0), sine2 = T(1.0) - cosine * cosine;
+  if (Value(sine2) < kParallelEdges) return T(0.0);  // parallel segments: no unique witnesses
+  return -segment.length * (m_a * m_a + T(2.0) * cosine * m_a * m_b + m_b * m_b) / sine2;
+}
+
+}  // namespace
 
 template <typename T>
 ConstraintRow<T>* EvaluateContactRow(const Model<T>& model, const ContactFeature& feature, const BodyFrames<T>& frames,
@@ -335,6 +355,7 @@ ConstraintRow<T>* EvaluateContactRow(const Model<T>& model, const ContactFeature
     internal::EvaluateLineRows(model, frames, gap.plane, q, v, velocity_terms, row);
   } else {
     internal::EvaluateDistanceRow(model, frames, gap.distance, q, v, velocity_terms, row);
+    if (velocity_terms) row->bias += SlideCorrection(model, frames, gap, q, v);
   }
   if (!(Value(row->value) < 0.0)) row->value = T(0.0);  // pushes where they overlap, never pulls
   return row + 1;

@@ -233,6 +233,8 @@ void UnilateralEvents<T>::Impulse(const std::vector<int>& impacting, const std::
     wanted[impacting[k]] = target[k];
     kept[impacting[k]] = capture;
   }
+  std::vector<char> struck(sides_.size(), 0);
+  for (int i : impacting) struck[i] = 1;
   std::vector<char> set = active_;
   std::vector<double> drift;  // J v of the rows kept
   double work = 0.0;
@@ -246,8 +248,9 @@ void UnilateralEvents<T>::Impulse(const std::vector<int>& impacting, const std::
         const size_t first = FirstGapRow(*ws), end = first + active_order_.size();
         drift.assign(ws->rows.size(), 0.0);
         for (size_t r = 0; r < ws->rows.size(); ++r) {  // other rows keep J v; sides leave at their target rate
-          if (r < first || r >= end) drift[r] = Value(ws->kkt.rhs[r]);
-          ws->kkt.rhs[r] = r < first || r >= end ? T(0.0) : wanted[active_order_[r - first]] - ws->kkt.rhs[r];
+          const bool side = r >= first && r < end;
+          if (!side || !struck[active_order_[r - first]]) drift[r] = Value(ws->kkt.rhs[r]);  // held: its drift
+          ws->kkt.rhs[r] = side ? wanted[active_order_[r - first]] - ws->kkt.rhs[r] : T(0.0);
         }
         AssembleSchur(ws);
         if (!ws->solver->Solve(ws->kkt.schur, ws->kkt.rhs, &ws->kkt.lambda)) return false;

@@ -158,7 +158,6 @@ class SceneBuilder {
     if (const json* m = check_.Optional(doc_, "markers")) ReadMarkers(*m);
     if (const json* c = check_.Optional(doc_, "contact")) ReadContact(*c);
     if (const json* shapes = check_.Optional(doc_, "shapes")) ReadShapes(*shapes);
-    if (!model_.shapes.empty()) CheckContactPairs();
     if (const json* e = check_.Optional(doc_, "effects")) ReadEffects(*e);
     if (const json* s = check_.Optional(doc_, "simulation")) ReadSimulation(*s);
     if (const json* s = check_.Optional(doc_, "stabilization")) ReadStabilization(*s);
@@ -615,13 +614,9 @@ class SceneBuilder {
     }
   }
 
-  // Contact shapes (docs/contract.md) are not simulated yet: an empty list is the scene without them, and any shape is
-  // refused rather than silently left out of the motion.
   // "contact" (the law's defaults and the excluded body pairs) and "shapes", read by shape_reader.cc.
   void ReadContact(const json& contact);
   void ReadShapes(const json& shapes);
-  // Every pair the rules let touch has its gaps (contact_geometry.h).
-  void CheckContactPairs() const;
   ContactMode ContactModeNamed(const json& j, const std::string& at) const;
 
   void ReadMarkers(const json& markers) {

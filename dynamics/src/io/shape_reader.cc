@@ -3,7 +3,6 @@
 #include <array>
 
 #include "scene_builder.h"
-#include "tether/dynamics/constraints/contact_geometry.h"
 
 namespace tether::reading {
 namespace {
@@ -145,14 +144,6 @@ void SceneBuilder::ReadShapes(const json& shapes) {
       shape.contact = c->get<bool>();
     }
     model_.shapes.push_back(shape);
-  }
-}
-
-void SceneBuilder::CheckContactPairs() const {
-  try {
-    BuildContactGeometry(model_);
-  } catch (const InputError& e) {
-    check_.Fail("/shapes", e.what());
   }
 }
 

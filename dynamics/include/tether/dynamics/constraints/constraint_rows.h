@@ -90,7 +90,7 @@ struct LinePrimitive {
   int scene_index = 0;
   BodyPoint<T> a, b;
   int rows = 0;
-  Vec3<T> normals[2];               // unit, in A's frame
+  Vec3<T> normals[2] = {Zero3<T>(), Zero3<T>()};  // unit, in A's frame
   T offsets[2] = {T(0.0), T(0.0)};  // c_k, m
 };
 

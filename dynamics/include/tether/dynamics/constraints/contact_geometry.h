@@ -1,24 +1,42 @@
 // The narrow phase: which pairs of shapes may touch (the pair rules) and the gaps g(q) >= 0 between them
 // (docs/contact.md). A pair has a fixed list of features, each one gap that is a smooth function of the
 // configuration while the pair's shapes stay in one relative arrangement, so that an event on it (an impact, a
-// release) can be located by root finding like a joint limit's (unilateral_events.h):
+// release) can be located by root finding like a joint limit's (unilateral_events.h). A core is what a shape is
+// the points within its radius r of (core_witnesses.h: a centre, a segment, a box with r = 0):
 //
-//   vertex against plane  a sphere's centre, a capsule's two cap centres, a box's 2^d corners, each a point p of
-//                         its body with the shape's radius r (0 for a box), against a plane (o, n) of another:
-//                           g = n . (p - o) - r                                      (a line row, constraint_rows.h)
-//   closest points        sphere-sphere, sphere-capsule, capsule-capsule, sphere-box: the closest points p_A, p_B
-//                         of the two cores (centre, segment, box), each found in double and fixed in its body as a
-//                         witness, then
-//                           g = |p_B - p_A| - r_A - r_B                              (a distance row)
-//                         with a sphere's centre inside a box measured against the nearest face instead (a vertex
-//                         against that face's plane, continuous with the outside form at the face).
+//   vertex against plane    a sphere's centre, a capsule's two cap centres, a box's 2^d corners, each a point p of
+//                           its body with its shape's radius r, against a plane (o, n) of another:
+//                             g = n . (p - o) - r                                    (a line row, constraint_rows.h)
+//   vertex against box      a sphere's centre, a capsule's cap centres or a box's corners against a box: the box's
+//                           point x closest to p, found in double and fixed in the box as a witness, then
+//                             g = |p - x| - r                                        (a distance row)
+//                           and with p inside the box, against the face nearest it (a vertex against that face's
+//                           plane, continuous with the outside form at the face)
+//   vertex against segment  a box's corners against a capsule: g = |p - x| - r_capsule, x on its segment
+//   closest points          sphere-sphere, sphere-capsule, capsule-capsule: the closest points x_A, x_B of the two
+//                           cores, witnesses, then  g = |x_B - x_A| - r_A - r_B
+//   crossed edges           (3D) a capsule's segment or a box's edges against a box's: the pair of edges whose
+//                           separation along their common normal n is the contact (core_witnesses.h), a line row
+//                             g = n . (x_A - x_B) - r_A    (n and x_B fixed in the box B, x_A in A)
+//                           and, where no pair of edges touches, the distance of the two shapes' origins (a gap
+//                           that stays positive, as that feature is then apart).
+// These lists are complete: two convex cores touch at a vertex of one (a corner, a cap centre) or, in 3D, at
+// crossed edges; faces and parallel edges touch where their corners do.
 //
 // The witnesses are found in double and the gap is evaluated from them in the run's scalar (double, Jet, Rev):
 // a witness is a closest point, so the distance is stationary in it and the gap's first derivatives (its Jacobian
-// row and the derivatives with respect to the parameters) are exact. Where a witness sits on a capsule's end or a
-// box's face its coordinate is the shape's dimension itself (size / 2, length / 2), so that dimensions are
-// parameters of the gap. The second derivative misses the witness's slide along the core (the velocity product
-// of a distance row between material points): a rolling capsule's row is held by the stabilization there.
+// row and the derivatives with respect to the parameters) are exact; for crossed edges x_A - x_B is along n, which
+// is normal to both edges, so the slide of either witness and the turn of n leave the gap unchanged to first
+// order. Where a witness sits on a capsule's end or a box's face or edge its coordinate is the shape's dimension
+// itself (size / 2, length / 2), so that dimensions are parameters of the gap. The second derivative of a distance
+// row between material points misses the witnesses' slide along their segment or edge: with f(q, s) the distance
+// at slide parameters s (unit speed along the directions u_k), g = f(q, s*(q)) and f_s = 0 there, so
+//   g'' = f'' - m^T H^-1 m,   m = d/dt f_s at fixed s,   H = f_ss
+// (for one witness on the row's first body sliding along u: m = -u . d'/|d| - n . (w_a x u), H = 1/|d|; for two,
+// H = [[1, -c], [-c, 1]] / |d| with c = u_a . u_b), which EvaluateContactRow adds to the row's velocity product: a
+// ball sliding along a capsule then has the gap acceleration of a point along a line, not of two material points
+// drawing apart. Segments closer to parallel than 1e-3 (their witnesses not unique) get no correction. A crossed
+// edges' line row keeps n fixed in B, so its second derivative misses n's turn with A (held by the stabilization).
 #pragma once
 
 #include <string>
@@ -38,8 +56,7 @@ struct ContactGeometry {
 
 // The pairs the rules let touch (docs/contract.md: shapes with contact on different bodies, not two world shapes,
 // not two bodies joined directly by a constraint, not an excluded pair) and their features. A pair of two planes
-// has none (they are unbounded: only a plane of the world is a floor). Throws InputError for a pair whose gap is
-// not written yet (a capsule or a box against a box), naming both shapes.
+// has none (they are unbounded: only a plane of the world is a floor).
 template <typename T>
 ContactGeometry BuildContactGeometry(const Model<T>& model);
 
@@ -60,25 +77,31 @@ T PairFriction(const Model<T>& model, int a, int b);
 template <typename T>
 T PairRestitution(const Model<T>& model, int a, int b);
 
-// The primitive that measures a feature's gap at configuration q (frames updated there): a line row
-// (vertex against plane: `line` true) or a distance row, whose value is the gap.
+// The primitive that measures a feature's gap at configuration q (frames updated there): a line row (`line` true)
+// or a distance row, whose value is the gap. Its first body is second's, its second body first's.
+// A distance row's witnesses may slide: along a capsule's segment, or a box's edge (slide_a, slide_b: the unit
+// direction in the body frame of the row's first and second body, zero where the witness is a centre or a corner).
 template <typename T>
 struct GapPrimitive {
   bool line = false;
   LinePrimitive<T> plane;
   DistancePrimitive<T> distance;
+  Vec3<T> slide_a = Zero3<T>(), slide_b = Zero3<T>();
 };
 template <typename T>
 GapPrimitive<T> MeasureFeature(const Model<T>& model, const ContactFeature& feature, const BodyFrames<T>& frames,
                                const VecX<T>& q);
 
-// The bodies of a feature's row, as its blocks hold them: (the plane's, the vertex's) for a vertex against a
-// plane, (first's, second's) for closest points.
+// The bodies of a feature's row, as its blocks hold them: (second's, first's).
 template <typename T>
 std::pair<int, int> FeatureBodies(const Model<T>& model, const ContactFeature& feature) {
-  const int first = model.shapes[feature.first].body, second = model.shapes[feature.second].body;
-  return feature.form == GapForm::kVertexPlane ? std::pair<int, int>(second, first)
-                                               : std::pair<int, int>(first, second);
+  return {model.shapes[feature.second].body, model.shapes[feature.first].body};
+}
+
+// The radius of a shape about its core: a sphere's or capsule's, 0 for a box or a plane.
+template <typename T>
+T CoreRadius(const Shape<T>& shape) {
+  return shape.type == ShapeType::kSphere || shape.type == ShapeType::kCapsule ? shape.radius : T(0.0);
 }
 
 // The row of an active feature at (q, v), frames updated there: the gap's Jacobian and velocity product, its value
