@@ -236,10 +236,9 @@ void KktRecord::Backward(const double* a_bar_data, Tape* tape) {
 
 std::optional<bool> RecordedKktAcceleration(const Model<Rev>& model, const VecX<Rev>& v, Workspace<Rev>* ws,
                                             VecX<Rev>* a) {
-  if (!ws->sliding.empty()) {
-    throw InputError(
-        "the adjoint does not differentiate a sliding contact's friction yet (constrained_dynamics.h's sliding "
-        "solve has no recorded form): use the Jet gradient (--method jet), which does");
+  if (!ws->sliding.empty()) {              // sliding friction: solved again operation by operation on the tape
+    if (ws->kkt_log) ws->kkt_log->Take();  // the double run's solve of this evaluation, not used
+    return std::nullopt;
   }
   Tape* tape = ActiveTape();
   const std::shared_ptr<KktRecord> record = tape ? tape->Reusable<KktRecord>() : std::make_shared<KktRecord>();
