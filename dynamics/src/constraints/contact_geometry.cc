@@ -316,8 +316,9 @@ GapPrimitive<T> MeasureFeature(const Model<T>& model, const ContactFeature& feat
 
 namespace {
 
+// A body-frame direction in the world, and a body's angular velocity (a particle's and the world's: none).
 template <typename T>
-Vec3<T> ToWorld(const Model<T>& model, const BodyFrames<T>& frames, int body, const Vec3<T>& x_B) {
+Vec3<T> BodyToWorld(const Model<T>& model, const BodyFrames<T>& frames, int body, const Vec3<T>& x_B) {
   return body == kWorld || model.bodies[body].kind == BodyKind::kParticle ? x_B : Vec3<T>(frames[body].R_WB * x_B);
 }
 
@@ -330,18 +331,20 @@ Vec3<T> SpinOf(const Model<T>& model, const BodyFrames<T>& frames, int body) {
 template <typename T>
 T SlideCorrection(const Model<T>& model, const BodyFrames<T>& frames, const GapPrimitive<T>& gap, const VecX<T>& q,
                   const VecX<T>& v) {
+  const bool on_a = Value(gap.slide_a.squaredNorm()) > 0.0, on_b = Value(gap.slide_b.squaredNorm()) > 0.0;
+  if (!on_a && !on_b) return T(0.0);
   const DistancePrimitive<T>& c = gap.distance;
   const PointMotion<T> pa = MovePoint(model, frames, c.a, q, v, true), pb = MovePoint(model, frames, c.b, q, v, true);
   const Segment<T> segment = Between(pa, pb);
   const Vec3<T> dv = pb.velocity - pa.velocity;
-  const bool on_a = Value(gap.slide_a.squaredNorm()) > 0.0, on_b = Value(gap.slide_b.squaredNorm()) > 0.0;
-  const Vec3<T> u = ToWorld(model, frames, c.a.body, gap.slide_a), w = ToWorld(model, frames, c.b.body, gap.slide_b);
+  const Vec3<T> u = BodyToWorld(model, frames, c.a.body, gap.slide_a);
+  const Vec3<T> w = BodyToWorld(model, frames, c.b.body, gap.slide_b);
   const T m_a =
       on_a ? T(-u.dot(dv) * segment.inverse_length - segment.n.dot(SpinOf(model, frames, c.a.body).cross(u))) : T(0.0);
   const T m_b =
       on_b ? T(w.dot(dv) * segment.inverse_length + segment.n.dot(SpinOf(model, frames, c.b.body).cross(w))) : T(0.0);
   const T cosine = on_a && on_b ? T(u.dot(w)) : T(0.0), sine2 = T(1.0) - cosine * cosine;
-  if (Value(sine2) < kParallelEdges) return T(0.0);  // parallel segments: no unique witnesses
+  if (Value(sine2) < kParallelEdges * kParallelEdges) return T(0.0);  // parallel segments: no unique witnesses
   return -segment.length * (m_a * m_a + T(2.0) * cosine * m_a * m_b + m_b * m_b) / sine2;
 }
 
