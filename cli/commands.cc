@@ -9,6 +9,7 @@
 #include "simulate_command.h"
 #include "study_command.h"
 #include "tune_command.h"
+#include "view_command.h"
 
 namespace tether::cli {
 
@@ -24,6 +25,7 @@ std::vector<std::unique_ptr<Command>> RegisterCommands(CLI::App* app, const std:
   commands.push_back(MakeStudyCommand(app));
   commands.push_back(MakeCheckCommand(app));
   commands.push_back(MakeImportCommand(app));
+  commands.push_back(MakeViewCommand(app));
   return commands;
 }
 

@@ -47,11 +47,11 @@ std::map<std::string, TrajectoryColumn> KnownColumns(const Model<double>& model)
   return known;
 }
 
-// The observed columns a header names (obs->columns) and the position of its `t` (-1 if none);
-// fail(message) for a bad header.
+// The observed columns a header names (obs->columns) and the position of its `t` (-1 if none); a whole
+// trajectory's `constraint_error` is left out (-2). fail(message) for a bad header.
 template <typename Fail>
-std::vector<int> ReadHeader(const std::vector<std::string>& names, const Model<double>& model, Observations* obs,
-                            int* time_column, Fail fail) {
+std::vector<int> ReadHeader(const std::vector<std::string>& names, const Model<double>& model, bool trajectory,
+                            Observations* obs, int* time_column, Fail fail) {
   const std::map<std::string, TrajectoryColumn> known = KnownColumns(model);
   *time_column = -1;
   std::vector<int> column_of_cell(names.size(), -1);  // data column of each cell, -1 for t
@@ -60,6 +60,10 @@ std::vector<int> ReadHeader(const std::vector<std::string>& names, const Model<d
     if (name == "t") {
       if (*time_column >= 0) fail("the column 't' appears twice");
       *time_column = static_cast<int>(c);
+      continue;
+    }
+    if (name == "constraint_error" && trajectory) {
+      column_of_cell[c] = -2;
       continue;
     }
     if (name == "constraint_error") fail("'constraint_error' is a diagnostic and cannot be observed");
@@ -94,7 +98,7 @@ void AddRow(const std::vector<double>& cells, const std::vector<int>& column_of_
   }
   std::vector<double> row(obs->columns.size(), NAN);
   for (size_t c = 0; c < cells.size(); ++c) {
-    if (static_cast<int>(c) != time_column) row[column_of_cell[c]] = cells[c];
+    if (column_of_cell[c] >= 0) row[column_of_cell[c]] = cells[c];
   }
   obs->times.push_back(t);
   obs->values.push_back(row);
@@ -144,7 +148,9 @@ bool ObservesEnergy(const Observations& observations) {
                      [](const TrajectoryColumn& c) { return c.kind == TrajectoryColumn::Kind::kEnergy; });
 }
 
-Observations ReadObservations(const std::string& path, const Model<double>& model) {
+namespace {
+
+Observations Read(const std::string& path, const Model<double>& model, bool trajectory) {
   CheckInputFile(path, "data file", kMaxDataBytes);
   std::ifstream in(path);
   if (!in) throw InputError(path + ": cannot open the data file");
@@ -159,7 +165,7 @@ Observations ReadObservations(const std::string& path, const Model<double>& mode
   if (text.rfind("\xEF\xBB\xBF", 0) == 0) text.erase(0, 3);  // a UTF-8 byte-order mark is not part of a name
   const std::vector<std::string> header = SplitCells(text, fail);
   int time_column = -1;
-  const std::vector<int> column_of_cell = ReadHeader(header, model, &obs, &time_column, fail);
+  const std::vector<int> column_of_cell = ReadHeader(header, model, trajectory, &obs, &time_column, fail);
   for (line = 2; std::getline(in, text); ++line) {
     if (Trim(text).empty()) continue;
     const std::vector<std::string> cells = SplitCells(text, fail);
@@ -181,6 +187,12 @@ Observations ReadObservations(const std::string& path, const Model<double>& mode
   return Finished(obs, "the data file", "line");
 }
 
+}  // namespace
+
+Observations ReadObservations(const std::string& path, const Model<double>& model) { return Read(path, model, false); }
+
+Observations ReadTrajectory(const std::string& path, const Model<double>& model) { return Read(path, model, true); }
+
 Observations MakeObservations(const std::string& source, const std::vector<std::string>& names,
                               const std::vector<std::vector<double>>& rows, const Model<double>& model) {
   Observations obs;
@@ -190,7 +202,7 @@ Observations MakeObservations(const std::string& source, const std::vector<std::
     throw InputError(source + (row > 0 ? ": row " + std::to_string(row) : std::string()) + ": " + message);
   };
   int time_column = -1;
-  const std::vector<int> column_of_cell = ReadHeader(names, model, &obs, &time_column, fail);
+  const std::vector<int> column_of_cell = ReadHeader(names, model, false, &obs, &time_column, fail);
   for (row = 1; row <= static_cast<int>(rows.size()); ++row) {
     const std::vector<double>& cells = rows[row - 1];
     if (cells.size() != names.size()) {

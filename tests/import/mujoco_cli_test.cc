@@ -1,7 +1,8 @@
 // The README's humanoid, through the command line: MuJoCo's humanoid imported hanging by its torso simulates,
 // tunes, and gives back the forearm's mass from the shipped recording of its joint encoders
 // (docs/examples/humanoid/make_recording.py: the truth is 1.31146 kg); its knees and elbows swing into their
-// limits, imported active, and no limit is exceeded by more than 1e-8 rad at any output row.
+// limits, imported active, and no limit is exceeded by more than 1e-8 rad at any output row; its view over 3 s is
+// well under 2 MB (docs/view.md).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -82,6 +83,24 @@ TEST(HumanoidCli, KneesAndElbowsSwingIntoTheirLimitsAndStayWithin) {
   for (const char* joint : {"left_knee", "right_knee", "left_elbow", "right_elbow"})
     EXPECT_GT(impacts[joint], 0) << joint;
 }
+
+#ifdef TETHER_HAVE_VIEWER
+TEST(HumanoidCli, ItsViewOverThreeSecondsIsWellUnderTwoMegabytes) {
+  const TempFolder folder;
+  const std::string scene = folder.Path("humanoid.json"), page = folder.Path("humanoid.html");
+  ASSERT_EQ(RunTether("import /usr/share/mujoco/model/humanoid/humanoid.xml --fix torso --no-contact --joint-velocity "
+                      "left_elbow=2 -o " +
+                          scene,
+                      folder)
+                .status,
+            0);
+  const Outcome viewed = RunTether("view " + scene + " --duration 3 -o " + page, folder);
+  ASSERT_EQ(viewed.status, 0) << viewed.err;
+  const std::string html = ReadText(page);
+  EXPECT_LT(html.size(), 1500000u);  // three.js is 850 kB of it
+  EXPECT_NE(html.find("\"left_lower_arm\""), std::string::npos);
+}
+#endif
 
 }  // namespace
 }  // namespace tether::testing

@@ -31,6 +31,8 @@ struct Observations {
 // larger than kMaxDataBytes, refused before reading (tether holds every cell in memory).
 inline constexpr std::uintmax_t kMaxDataBytes = std::uintmax_t{1} << 30;  // 1 GiB
 Observations ReadObservations(const std::string& path, const Model<double>& model);
+// The same for a whole trajectory CSV as `tether simulate` writes it: its constraint_error column is left out.
+Observations ReadTrajectory(const std::string& path, const Model<double>& model);
 
 // The same from columns in memory (the Python module's data): `names` (one of them "t") and rows of numbers, NaN
 // where a value is missing; validated as a file is, messages naming `source` and the row (from 1).

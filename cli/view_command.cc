@@ -1,0 +1,69 @@
+#include "view_command.h"
+
+#include <filesystem>
+#include <iostream>
+
+#include "flags.h"
+#include "scene_overrides.h"
+#include "tether/dynamics/integration/simulator.h"
+#include "tether/dynamics/io/output_file.h"
+#include "tether/dynamics/io/scene_reader.h"
+#include "tether/dynamics/model/errors.h"
+#ifdef TETHER_HAVE_VIEWER
+#include "tether/viewer/view.h"
+#endif
+
+namespace tether::cli {
+namespace {
+
+class ViewCommand final : public Command {
+ public:
+  explicit ViewCommand(CLI::App* parent) {
+    app_ = parent->add_subcommand("view", "write one HTML file that plays the scene's motion (docs/view.md)");
+    app_->add_option("SCENE", scene_path_, "scene file (JSON)")->required();
+    overrides_.Register(app_);
+    app_->add_option("--data", data_path_, "a trajectory CSV of the scene to play (default: simulate it)");
+    app_->add_option("-o,--output", output_path_, "HTML file to write")->required();
+  }
+
+  CLI::App* app() const override { return app_; }
+
+  int Run() override {
+#ifndef TETHER_HAVE_VIEWER
+    throw InputError(
+        "this tether was built without the viewer (-DTETHER_VIEWER=OFF): install libjs-three and "
+        "configure with -DTETHER_VIEWER=ON");
+#else
+    CheckOutputs({{output_path_, "-o"}}, {scene_path_, data_path_});
+    Scene scene = ReadSceneFile(scene_path_);
+    overrides_.Apply(&scene.model);
+    ViewFrames frames;
+    if (data_path_.empty()) {
+      try {
+        frames = SimulatedFrames(scene.model);
+      } catch (const InputError& e) {  // the scene's initial state cannot be assembled
+        throw InputError(scene_path_ + ": " + e.what());
+      } catch (const SimulationDiverged& e) {
+        throw SimulationDiverged(scene_path_ + ": " + e.what(), e.time(), e.constraint());
+      }
+    } else {
+      frames = RecordedFrames(scene.model, data_path_);
+    }
+    AtomicOutputFile file(output_path_);
+    file.stream() << ViewHtml(scene.model, std::filesystem::path(scene_path_).filename().string(), frames);
+    file.Commit();
+    return 0;
+#endif
+  }
+
+ private:
+  CLI::App* app_;
+  std::string scene_path_, data_path_, output_path_;
+  SceneOverrides overrides_;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> MakeViewCommand(CLI::App* parent) { return std::make_unique<ViewCommand>(parent); }
+
+}  // namespace tether::cli

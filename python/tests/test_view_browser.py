@@ -1,0 +1,95 @@
+"""`tether view` in a real browser (docs/view.md): Debian's headless Chromium opens the page with the network off;
+the console stays clean, the page draws the bodies where the trajectory puts them, two times look different where a
+body moves, and the slider's last frame is the CSV's last row. Without a browser these tests fail (the README's test
+command installs chromium-headless-shell); they are skipped only when tether was built without the viewer."""
+import json
+import os
+import re
+import shutil
+import subprocess
+
+import matplotlib.image
+import pytest
+
+from conftest import EXECUTABLE, read_csv, source
+
+BROWSER = "chromium-headless-shell"
+WIDTH, HEIGHT = 900, 600
+
+
+def view(tmp_path, scene, *flags):
+    """Writes the page of `scene`; returns its path (skips when the build has no viewer)."""
+    page = tmp_path / "view.html"
+    done = subprocess.run([EXECUTABLE, "view", scene, "-o", page, *flags], capture_output=True, text=True)
+    if done.returncode == 2 and "built without the viewer" in done.stderr:
+        pytest.skip("this build has no viewer (-DTETHER_VIEWER=OFF)")
+    assert done.returncode == 0, done.stderr
+    return page
+
+
+def browse(page, seconds, *how):
+    """Opens page#t=SECONDS in headless Chromium with no network; returns (stdout, the console's lines)."""
+    assert shutil.which(BROWSER), f"{BROWSER} is missing: apt-get install chromium-headless-shell (scripts/dev does)"
+    done = subprocess.run(
+        [BROWSER, "--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
+         f"--window-size={WIDTH},{HEIGHT}", "--virtual-time-budget=3000", "--enable-logging=stderr", "--v=0",
+         "--proxy-server=127.0.0.1:9", "--proxy-bypass-list=<-loopback>", "--host-resolver-rules=MAP * ~NOTFOUND",
+         *how, f"file://{page}#t={seconds}"],
+        capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    console = [line for line in done.stderr.splitlines() if ":CONSOLE(" in line]
+    return done.stdout, console
+
+
+def probe(page, seconds):
+    """The page's own report at time SECONDS: the frame shown and the bodies' origins in pixels."""
+    dom, console = browse(page, seconds, "--dump-dom")
+    assert console == [], console
+    found = re.search(r'<pre id="tether-probe" hidden="">(.*?)</pre>', dom, re.S)
+    assert found, "the page wrote no probe: its script did not run"
+    return json.loads(found.group(1).replace("&quot;", '"'))
+
+
+def screenshot(page, seconds, tmp_path):
+    shot = tmp_path / f"shot_{seconds}.png"
+    _, console = browse(page, seconds, f"--screenshot={shot}")
+    assert console == [], console
+    return matplotlib.image.imread(shot)[:, :, :3]
+
+
+BACKGROUND = [0xF4 / 255, 0xF4 / 255, 0xF4 / 255]
+
+
+def test_the_robot_arm_plays_where_its_trajectory_puts_it(tmp_path):
+    page = view(tmp_path, source("scenes", "robot_arm.json"))
+    early, late = probe(page, 0.2), probe(page, 0.9)
+    assert early["frame"] < late["frame"] and abs(early["time"] - 0.2) <= 1 / 60 and abs(late["time"] - 0.9) <= 1 / 60
+    first, second = screenshot(page, 0.2, tmp_path), screenshot(page, 0.9, tmp_path)
+    moved = 0
+    for at in (early, late):
+        image = first if at is early else second
+        for x, y in at["bodies"]:
+            pixel = image[int(round(y)), int(round(x))]
+            assert abs(pixel - BACKGROUND).max() > 0.05, f"nothing drawn at a body's origin ({x:.0f}, {y:.0f})"
+    for (x0, y0), (x1, y1) in zip(early["bodies"], late["bodies"]):
+        moved += abs(x1 - x0) + abs(y1 - y0) > 5
+    assert moved > 0, "no body moved on the screen between 0.2 s and 0.9 s"
+    assert abs(first - second).max() > 0.2, "the two times look the same"
+
+
+def test_the_last_frame_is_the_data_s_last_row(tmp_path):
+    csv = tmp_path / "arm.csv"
+    subprocess.run([EXECUTABLE, "simulate", source("scenes", "robot_arm.json"), "-o", csv], check=True)
+    _, rows = read_csv(csv)
+    page = view(tmp_path, source("scenes", "robot_arm.json"), "--data", csv)
+    end = probe(page, 1e9)
+    assert end["frame"] == end["frames"] - 1 and end["time"] == rows[-1][0]
+
+
+def test_a_planar_scene_is_drawn_in_its_plane(tmp_path):
+    page = view(tmp_path, source("scenes", "four_bar.json"))
+    at = probe(page, 0.5)
+    image = screenshot(page, 0.5, tmp_path)
+    for x, y in at["bodies"]:
+        assert 0 <= x < WIDTH and 0 <= y < HEIGHT
+        assert abs(image[int(round(y)), int(round(x))] - BACKGROUND).max() > 0.05

@@ -1,0 +1,252 @@
+// tether's motion player (docs/view.md): draws the run described by the JSON in #tether-data with three.js and
+// plays its frames. Bodies are groups posed frame by frame; their shapes (or glyphs), joint anchors and axes and
+// markers are children in body coordinates; distance constraints are rods redrawn each frame. The page starts
+// playing, looping; VIEW.html#t=SECONDS opens it paused at that time. #tether-probe holds, after each drawing, the
+// time, the frame and every body's origin in canvas pixels (for the browser tests).
+(function() {
+'use strict';
+var data = JSON.parse(document.getElementById('tether-data').textContent);
+var drawing = data.drawing, frames = data.frames;
+var view = document.getElementById('tether-view');
+var scale = drawing.scale > 0 ? drawing.scale : 1;
+var planar = drawing.dimension === 2;
+
+var renderer = new THREE.WebGLRenderer({antialias: true, preserveDrawingBuffer: true});
+renderer.setPixelRatio(window.devicePixelRatio || 1);
+renderer.setClearColor(0xf4f4f4);
+view.appendChild(renderer.domElement);
+var scene = new THREE.Scene();
+var camera = new THREE.PerspectiveCamera(40, 1, scale / 1000, scale * 1000);
+camera.up.set(0, planar ? 1 : 0, planar ? 0 : 1);  // z up in 3D; the xy plane faces the camera in 2D
+scene.add(new THREE.HemisphereLight(0xffffff, 0x888888, 0.9));
+var sun = new THREE.DirectionalLight(0xffffff, 0.5);
+sun.position.set(1, -2, 3);
+scene.add(sun);
+
+// the world frame and a floor grid in the xy plane
+var axes = new THREE.AxesHelper(scale / 2);
+scene.add(axes);
+var grid = new THREE.GridHelper(scale * 10, 20, 0xbbbbbb, 0xdddddd);
+grid.rotation.x = Math.PI / 2;
+scene.add(grid);
+
+var palette = [0x4e79a7, 0xf28e2b, 0xe15759, 0x76b7b2, 0x59a14f, 0xedc948, 0xb07aa1, 0xff9da7, 0x9c755f];
+function material(color, opacity) {
+  var m = new THREE.MeshLambertMaterial({color: color});
+  if (opacity < 1) {
+    m.transparent = true;
+    m.opacity = opacity;
+  }
+  return m;
+}
+function quaternion(q) {
+  return new THREE.Quaternion(q[1], q[2], q[3], q[0]);
+}
+function vector(x) {
+  return new THREE.Vector3(x[0], x[1], x[2]);
+}
+
+// A solid in its shape frame: sphere, capsule (along x), box, or a plane (normal z in 3D, y in 2D).
+function solid(shape, color) {
+  var opacity = shape.contact === false ? 0.5 : 1;
+  if (shape.type === 'sphere')
+    return new THREE.Mesh(new THREE.SphereGeometry(shape.radius, 24, 16), material(color, opacity));
+  if (shape.type === 'box') {
+    return new THREE.Mesh(new THREE.BoxGeometry(shape.size[0], shape.size[1], shape.size[2]), material(color, opacity));
+  }
+  if (shape.type === 'capsule') {
+    var capsule = new THREE.Group();
+    var tube = new THREE.Mesh(
+        new THREE.CylinderGeometry(shape.radius, shape.radius, shape.length, 24), material(color, opacity));
+    tube.rotation.z = Math.PI / 2;  // three's cylinder runs along y, tether's capsule along x
+    capsule.add(tube);
+    [-1, 1].forEach(function(side) {
+      var cap = new THREE.Mesh(new THREE.SphereGeometry(shape.radius, 24, 16), material(color, opacity));
+      cap.position.x = side * shape.length / 2;
+      capsule.add(cap);
+    });
+    return capsule;
+  }
+  var plane = planar ? new THREE.BoxGeometry(scale * 10, scale / 100, scale / 100) :
+                       new THREE.PlaneGeometry(scale * 10, scale * 10);
+  var floor = new THREE.Mesh(plane, material(0xcccccc, 0.6));
+  floor.material.side = THREE.DoubleSide;
+  return floor;
+}
+function placed(object, shape) {
+  object.position.copy(vector(shape.position));
+  object.quaternion.copy(quaternion(shape.rotation));
+  return object;
+}
+
+var world = new THREE.Group();
+scene.add(world);
+var bodies = drawing.bodies.map(function(body, i) {
+  var group = new THREE.Group();
+  group.name = body.name;
+  if (body.glyph) {  // translucent: a glyph is the body's inertia, not its outline, and hides no joint
+    var glyph = solid(Object.assign({contact: false}, body.glyph), palette[i % palette.length]);
+    group.add(placed(glyph, {position: [0, 0, 0], rotation: body.glyph.rotation || [1, 0, 0, 0]}));
+  }
+  scene.add(group);
+  return group;
+});
+function holder(index) {
+  return index >= 0 ? bodies[index] : world;
+}
+drawing.shapes.forEach(function(shape) {
+  var color = shape.body >= 0 ? palette[shape.body % palette.length] : 0xaaaaaa;
+  holder(shape.body).add(placed(solid(shape, color), shape));
+});
+function dot(radius, color) {
+  return new THREE.Mesh(new THREE.SphereGeometry(radius, 12, 8), material(color, 1));
+}
+function line(from, to, color) {
+  var geometry = new THREE.BufferGeometry().setFromPoints([from, to]);
+  return new THREE.Line(geometry, new THREE.LineBasicMaterial({color: color}));
+}
+var rods = [];
+drawing.joints.forEach(function(joint) {
+  if (joint.type === 'distance') {
+    var rod = line(new THREE.Vector3(), new THREE.Vector3(), 0x333333);
+    rod.userData = joint;
+    scene.add(rod);
+    rods.push(rod);
+    return;
+  }
+  [joint.a, joint.b].forEach(function(end) {
+    var anchor = dot(scale / 60, 0x222222);
+    anchor.position.copy(vector(end.point));
+    holder(end.body).add(anchor);
+    if (end.body >= 0) holder(end.body).add(line(new THREE.Vector3(), vector(end.point), 0x666666));  // a bone
+  });
+  if (joint.axis) {
+    var a = vector(joint.a.point), axis = vector(joint.axis).multiplyScalar(scale / 8);
+    holder(joint.a.body).add(line(a.clone().sub(axis), a.clone().add(axis), 0xd62728));
+  }
+});
+drawing.markers.forEach(function(marker) {
+  var point = dot(scale / 80, 0x2ca02c);
+  point.position.copy(vector(marker.point));
+  holder(marker.body).add(point);
+});
+
+// the frames
+var count = frames.times.length;
+function pose(frame) {
+  var p = frames.poses[frame];
+  bodies.forEach(function(group, b) {
+    group.position.set(p[7 * b], p[7 * b + 1], p[7 * b + 2]);
+    group.quaternion.set(p[7 * b + 4], p[7 * b + 5], p[7 * b + 6], p[7 * b + 3]);
+    group.updateMatrixWorld(true);
+  });
+  rods.forEach(function(rod) {
+    var ends = [rod.userData.a, rod.userData.b].map(function(end) {
+      return holder(end.body).localToWorld(vector(end.point));
+    });
+    rod.geometry.setFromPoints(ends);
+  });
+}
+// the frame shown at time t: the last at or before it
+function frameAt(t) {
+  var low = 0, high = count - 1;
+  while (low < high) {
+    var middle = (low + high + 1) >> 1;
+    if (frames.times[middle] <= t)
+      low = middle;
+    else
+      high = middle - 1;
+  }
+  return low;
+}
+
+// the camera looks at everything the bodies sweep, from the side (3D) or the front (2D)
+var box = new THREE.Box3();
+frames.poses.forEach(function(p) {
+  for (var b = 0; b < bodies.length; ++b) box.expandByPoint(new THREE.Vector3(p[7 * b], p[7 * b + 1], p[7 * b + 2]));
+});
+if (box.isEmpty()) box.expandByPoint(new THREE.Vector3());
+box.expandByScalar(scale / 4);
+var controls = new THREE.OrbitControls(camera, renderer.domElement);
+controls.enableRotate = !planar;
+function resetView() {
+  var centre = box.getCenter(new THREE.Vector3()), radius = box.getSize(new THREE.Vector3()).length() / 2;
+  var distance = radius / Math.sin(camera.fov * Math.PI / 360);
+  controls.target.copy(centre);
+  camera.position.copy(centre).add(
+      planar ? new THREE.Vector3(0, 0, distance) : new THREE.Vector3(distance * 0.6, -distance * 0.75, distance * 0.3));
+  camera.lookAt(centre);
+  controls.update();
+}
+
+// the controls
+var slider = document.getElementById('tether-time'), clock = document.getElementById('tether-clock');
+var play = document.getElementById('tether-play'), speed = document.getElementById('tether-speed');
+var probe = document.getElementById('tether-probe');
+slider.max = String(count - 1);
+var t0 = frames.times[0], t1 = frames.times[count - 1];
+var time = t0, playing = true, frame = 0, clockStart = null;
+var hash = /#t=([-+0-9.eE]+)/.exec(window.location.hash);
+if (hash) {
+  time = Math.min(Math.max(parseFloat(hash[1]), t0), t1);
+  playing = false;
+}
+function show() {
+  frame = frameAt(time);
+  pose(frame);
+  slider.value = String(frame);
+  clock.textContent = 't = ' + frames.times[frame].toFixed(3) + ' s';
+  play.textContent = playing ? 'Pause' : 'Play';
+  renderer.render(scene, camera);
+  var width = renderer.domElement.clientWidth, height = renderer.domElement.clientHeight;
+  probe.textContent = JSON.stringify({
+    time: frames.times[frame],
+    frame: frame,
+    frames: count,
+    bodies: bodies.map(function(group) {
+      var p = group.getWorldPosition(new THREE.Vector3()).project(camera);
+      return [(p.x + 1) / 2 * width, (1 - p.y) / 2 * height];
+    })
+  });
+}
+function resize() {
+  var width = view.clientWidth, height = view.clientHeight;
+  renderer.setSize(width, height);
+  camera.aspect = width / height;
+  camera.updateProjectionMatrix();
+  show();
+}
+slider.addEventListener('input', function() {
+  playing = false;
+  time = frames.times[parseInt(slider.value, 10)];
+  show();
+});
+play.addEventListener('click', function() {
+  playing = !playing;
+  if (playing && frame === count - 1) time = t0;
+  clockStart = null;
+  show();
+});
+document.getElementById('tether-reset').addEventListener('click', function() {
+  resetView();
+  show();
+});
+controls.addEventListener('change', function() {
+  if (!playing) renderer.render(scene, camera);
+});
+window.addEventListener('resize', resize);
+function tick(now) {
+  if (playing) {
+    if (clockStart !== null) time += (now - clockStart) / 1000 * parseFloat(speed.value);
+    clockStart = now;
+    if (time > t1) time = t0;  // loops
+    show();
+  } else {
+    clockStart = null;
+  }
+  window.requestAnimationFrame(tick);
+}
+resetView();
+resize();
+window.requestAnimationFrame(tick);
+})();

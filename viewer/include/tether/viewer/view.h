@@ -1,0 +1,44 @@
+// `tether view` (docs/view.md): one self-contained HTML file that plays a motion. The page carries three.js (Debian's
+// libjs-three, inlined), its OrbitControls, tether's player (viewer/assets/player.js) and the run as JSON: what to
+// draw (bodies from their shapes, else a glyph from mass and inertia; joints at their anchors with their axes;
+// distance constraints as rods; markers; the world's shapes) and the poses of the bodies frame by frame.
+//
+// A glyph is the body as a uniform solid of its mass and inertia: a particle is a sphere of a twentieth of the
+// scene's length scale; a 3D rigid body the box whose principal moments are its own, edges
+//   a_k = sqrt(6 (I_1 + I_2 + I_3 - 2 I_k) / m)   (I_k = m (a_i^2 + a_j^2) / 12),
+// along its principal axes; a planar one the square plate of its moment, side sqrt(6 I / m).
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "tether/dynamics/model/model.h"
+
+namespace tether {
+
+// The poses of a run's bodies at the frames to draw: per frame, each body's position and orientation
+// [x, y, z, qw, qx, qy, qz] (a planar body turns about z; a particle's orientation is the identity).
+struct ViewFrames {
+  std::vector<double> times;
+  std::vector<std::vector<double>> poses;  // poses[frame]: 7 numbers per body, in body order
+};
+
+// Frames are kept at most this often (the page interpolates nothing: it shows the frame at or before the time).
+inline constexpr double kViewFramesPerSecond = 60.0;
+
+// The scene simulated, a frame every 1 / kViewFramesPerSecond s (and the last state). Throws what Simulate throws.
+ViewFrames SimulatedFrames(const Model<double>& model);
+
+// The frames of a trajectory CSV (docs/contract.md) recorded or simulated for the scene: every body's position
+// and orientation columns must be there; rows at most kViewFramesPerSecond apart in time are skipped, the last
+// row is always kept. Throws InputError naming the file and the column or line.
+ViewFrames RecordedFrames(const Model<double>& model, const std::string& csv_path);
+
+// What the page draws, as JSON (view.h's header; docs/view.md lists the fields).
+nlohmann::json ViewDrawing(const Model<double>& model);
+
+// The HTML page: `title` in its title bar, the drawing and the frames.
+std::string ViewHtml(const Model<double>& model, const std::string& title, const ViewFrames& frames);
+
+}  // namespace tether

@@ -1,0 +1,96 @@
+#include <cmath>
+#include <map>
+#include <string>
+
+#include "tether/autodiff/observations.h"
+#include "tether/dynamics/integration/simulator.h"
+#include "tether/dynamics/model/errors.h"
+#include "tether/viewer/view.h"
+
+namespace tether {
+namespace {
+
+// Body b's pose [x, y, z, qw, qx, qy, qz] at configuration q.
+void AppendPose(const Model<double>& model, const VecX<double>& q, int b, std::vector<double>* pose) {
+  const Body<double>& body = model.bodies[b];
+  for (int k = 0; k < 3; ++k) pose->push_back(k < model.dimension ? q[body.q_offset + k] : 0.0);
+  if (body.kind == BodyKind::kRigid3d) {  // normalised: a recording's quaternion may not be
+    const Vec4<double> r = q.segment<4>(body.q_offset + 3).normalized();
+    pose->insert(pose->end(), {r[0], r[1], r[2], r[3]});
+  } else if (body.kind == BodyKind::kPlanar) {
+    const double half = 0.5 * q[body.q_offset + 2];
+    pose->insert(pose->end(), {std::cos(half), 0.0, 0.0, std::sin(half)});
+  } else {
+    pose->insert(pose->end(), {1.0, 0.0, 0.0, 0.0});
+  }
+}
+
+std::vector<double> Poses(const Model<double>& model, const VecX<double>& q) {
+  std::vector<double> pose;
+  for (size_t b = 0; b < model.bodies.size(); ++b) AppendPose(model, q, static_cast<int>(b), &pose);
+  return pose;
+}
+
+// Whether a state at time t is the next frame to keep after `kept` frames (on the grid k / kViewFramesPerSecond,
+// within round-off).
+bool Due(double t, size_t kept) { return t >= (static_cast<double>(kept) - 1e-9) / kViewFramesPerSecond; }
+
+}  // namespace
+
+ViewFrames SimulatedFrames(const Model<double>& model) {
+  ViewFrames frames;
+  double last_t = 0.0;  // the last state's
+  std::vector<double> last_pose;
+  RunOptions options;
+  options.energy = false;
+  Simulate<double>(model, options, [&](const Sample<double>& s) {
+    if (Due(s.t, frames.times.size())) {
+      frames.times.push_back(s.t);
+      frames.poses.push_back(Poses(model, s.q));
+    }
+    last_t = s.t;
+    last_pose = Poses(model, s.q);
+  });
+  if (frames.times.back() != last_t) {  // the last state, always
+    frames.times.push_back(last_t);
+    frames.poses.push_back(last_pose);
+  }
+  return frames;
+}
+
+ViewFrames RecordedFrames(const Model<double>& model, const std::string& csv_path) {
+  const Observations data = ReadTrajectory(csv_path, model);
+  std::map<int, int> column_of;  // q index -> column
+  for (size_t c = 0; c < data.columns.size(); ++c) {
+    if (data.columns[c].kind == TrajectoryColumn::Kind::kConfiguration) column_of[data.columns[c].index] = c;
+  }
+  for (const Body<double>& body : model.bodies) {
+    for (int k = 0; k < body.q_size; ++k) {
+      if (!column_of.count(body.q_offset + k)) {
+        throw InputError(csv_path + ": no column for body '" + body.name +
+                         "''s position or orientation: the view draws every body from its pose (the columns of "
+                         "tether simulate's CSV: " +
+                         body.name + ".x, ...)");
+      }
+    }
+  }
+  ViewFrames frames;
+  VecX<double> q = VecX<double>::Zero(model.NumCoordinates());
+  for (size_t row = 0; row < data.times.size(); ++row) {
+    const bool last = row + 1 == data.times.size();
+    if (!last && !Due(data.times[row], frames.times.size())) continue;
+    for (const auto& [index, column] : column_of) {
+      const double x = data.values[row][column];
+      if (std::isnan(x)) {
+        throw InputError(csv_path + ": line " + std::to_string(data.lines[row]) + ": the cell of column " +
+                         data.columns[column].name + " is empty, and the view draws every pose it shows");
+      }
+      q[index] = x;
+    }
+    frames.times.push_back(data.times[row]);
+    frames.poses.push_back(Poses(model, q));
+  }
+  return frames;
+}
+
+}  // namespace tether
