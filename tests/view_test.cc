@@ -80,6 +80,9 @@ TEST(View, FramesAreAtMostSixtyASecondAndTheLastStateIsOne) {
     EXPECT_LT(frames.times[k] - frames.times[k - 1], 1.0 / kViewFramesPerSecond + 1e-3) << k;
   }
   EXPECT_EQ(frames.poses.back().size(), 7u);
+  ASSERT_EQ(frames.series_names, (std::vector<std::string>{"constraint_error", "energy"}));
+  ASSERT_EQ(frames.series.size(), frames.times.size());
+  EXPECT_NEAR(frames.series.back()[1], frames.series.front()[1], 1e-6);  // rk4 keeps the pendulum's energy
   EXPECT_NEAR(std::hypot(frames.poses.back()[0], frames.poses.back()[1]), 1.0, 1e-6);  // on its circle
 }
 

@@ -63,6 +63,7 @@ BACKGROUND = [0xF4 / 255, 0xF4 / 255, 0xF4 / 255]
 def test_the_robot_arm_plays_where_its_trajectory_puts_it(tmp_path):
     page = view(tmp_path, source("scenes", "robot_arm.json"))
     early, late = probe(page, 0.2), probe(page, 0.9)
+    assert early["plotted"] == "a1.angle"  # a joint's coordinate beside the view
     assert early["frame"] < late["frame"] and abs(early["time"] - 0.2) <= 1 / 60 and abs(late["time"] - 0.9) <= 1 / 60
     first, second = screenshot(page, 0.2, tmp_path), screenshot(page, 0.9, tmp_path)
     moved = 0
@@ -93,3 +94,20 @@ def test_a_planar_scene_is_drawn_in_its_plane(tmp_path):
     for x, y in at["bodies"]:
         assert 0 <= x < WIDTH and 0 <= y < HEIGHT
         assert abs(image[int(round(y)), int(round(x))] - BACKGROUND).max() > 0.05
+
+
+def test_a_bouncing_ball_s_impacts_are_listed_and_marked(tmp_path):
+    scene = source("docs", "examples", "contact", "ball.json")
+    events = tmp_path / "events.csv"
+    subprocess.run([EXECUTABLE, "simulate", scene, "-o", tmp_path / "ball.csv", "--events", events], check=True)
+    with open(events) as f:
+        impacts = [line for line in f.read().splitlines()[1:] if ",impact," in line]
+    assert len(impacts) >= 3
+    page = view(tmp_path, scene)
+    dom, console = browse(page, 0.5, "--dump-dom")
+    assert console == [], console
+    listed = re.search(r'<ol id="tether-events">(.*?)</ol>', dom, re.S).group(1)
+    assert listed.count("<li>") == len(impacts) and listed.count("impact  ball_surface|floor") == len(impacts)
+    marks = re.search(r'<datalist id="tether-marks">(.*?)</datalist>', dom, re.S).group(1)
+    assert marks.count("<option") == len(impacts)
+    assert probe(page, 0.5)["plotted"] == "energy"  # no joint: the energy, which each impact lowers

@@ -1,8 +1,9 @@
 // tether's motion player (docs/view.md): draws the run described by the JSON in #tether-data with three.js and
-// plays its frames. Bodies are groups posed frame by frame; their shapes (or glyphs), joint anchors and axes and
-// markers are children in body coordinates; distance constraints are rods redrawn each frame. The page starts
-// playing, looping; VIEW.html#t=SECONDS opens it paused at that time. #tether-probe holds, after each drawing, the
-// time, the frame and every body's origin in canvas pixels (for the browser tests).
+// plays its frames, with a plot of one of its series and its events beside. Bodies are groups posed frame by frame;
+// their shapes (or glyphs), joint anchors and axes and markers are children in body coordinates; distance constraints
+// are rods redrawn each frame. The page starts playing, looping; VIEW.html#t=SECONDS opens it paused at that time.
+// #tether-probe holds, after each drawing, the time, the frame, the series plotted and every body's origin in canvas
+// pixels (for the browser tests).
 (function() {
 'use strict';
 var data = JSON.parse(document.getElementById('tether-data').textContent);
@@ -191,6 +192,110 @@ if (hash) {
   time = Math.min(Math.max(parseFloat(hash[1]), t0), t1);
   playing = false;
 }
+// the plot beside the view: one series against time, the events as dashed lines, a cursor at the time shown
+var series = data.series, events = data.events;
+var side = document.getElementById('tether-side'), chooser = document.getElementById('tether-series');
+var plot = document.getElementById('tether-plot'), list = document.getElementById('tether-events');
+var marks = document.getElementById('tether-marks');
+side.hidden = series.names.length === 0 && events.length === 0;
+series.names.forEach(function(name, k) {
+  var option = document.createElement('option');
+  option.value = String(k);
+  option.textContent = name;
+  chooser.appendChild(option);
+});
+// a joint's coordinate first, else the energy, else the first series
+var preferred = series.names.findIndex(function(name) {
+  return /\.(angle|displacement)$/.test(name);
+});
+if (preferred < 0) preferred = series.names.indexOf('energy');
+chooser.value = String(Math.max(preferred, 0));
+document.getElementById('tether-events-title').hidden = events.length === 0;
+events.forEach(function(event) {
+  var item = document.createElement('li');
+  item.textContent = event.t.toFixed(4) + ' s  ' + event.kind + '  ' + event.constraint;
+  item.addEventListener('click', function() {
+    playing = false;
+    time = event.t;
+    show();
+  });
+  list.appendChild(item);
+  var mark = document.createElement('option');
+  mark.value = String(frameAt(event.t));
+  marks.appendChild(mark);
+});
+function drawPlot() {
+  if (side.hidden) return;
+  var width = plot.clientWidth, height = plot.clientHeight, ratio = window.devicePixelRatio || 1;
+  if (plot.width !== width * ratio || plot.height !== height * ratio) {
+    plot.width = width * ratio;
+    plot.height = height * ratio;
+  }
+  var g = plot.getContext('2d');
+  g.setTransform(ratio, 0, 0, ratio, 0, 0);
+  g.clearRect(0, 0, width, height);
+  var k = series.names.length ? parseInt(chooser.value || '0', 10) : -1;
+  var low = Infinity, high = -Infinity;
+  if (k >= 0) {
+    series.values.forEach(function(row) {
+      if (row[k] !== null) {
+        low = Math.min(low, row[k]);
+        high = Math.max(high, row[k]);
+      }
+    });
+  }
+  if (!(high > low)) {
+    low = (isFinite(low) ? low : 0) - 1;
+    high = low + 2;
+  }
+  var left = 56, right = width - 8, top = 8, bottom = height - 22;
+  function x(t) {
+    return left + (t - t0) / Math.max(t1 - t0, 1e-12) * (right - left);
+  }
+  function y(v) {
+    return bottom - (v - low) / (high - low) * (bottom - top);
+  }
+  g.strokeStyle = '#999';
+  g.strokeRect(left, top, right - left, bottom - top);
+  g.fillStyle = '#333';
+  g.font = '11px sans-serif';
+  g.fillText(high.toPrecision(4), 2, top + 10);
+  g.fillText(low.toPrecision(4), 2, bottom);
+  g.fillText(t0.toFixed(2) + ' s', left, height - 6);
+  g.fillText(t1.toFixed(2) + ' s', right - 40, height - 6);
+  g.setLineDash([4, 3]);
+  g.strokeStyle = '#aaa';
+  events.forEach(function(event) {
+    g.beginPath();
+    g.moveTo(x(event.t), top);
+    g.lineTo(x(event.t), bottom);
+    g.stroke();
+  });
+  g.setLineDash([]);
+  if (k >= 0) {
+    g.strokeStyle = '#4e79a7';
+    g.beginPath();
+    var pen = false;
+    series.values.forEach(function(row, f) {
+      if (row[k] === null) return;
+      if (pen)
+        g.lineTo(x(frames.times[f]), y(row[k]));
+      else
+        g.moveTo(x(frames.times[f]), y(row[k]));
+      pen = true;
+    });
+    g.stroke();
+  }
+  g.strokeStyle = '#d62728';
+  g.beginPath();
+  g.moveTo(x(frames.times[frame]), top);
+  g.lineTo(x(frames.times[frame]), bottom);
+  g.stroke();
+}
+chooser.addEventListener('change', function() {
+  drawPlot();
+});
+
 function show() {
   frame = frameAt(time);
   pose(frame);
@@ -198,11 +303,13 @@ function show() {
   clock.textContent = 't = ' + frames.times[frame].toFixed(3) + ' s';
   play.textContent = playing ? 'Pause' : 'Play';
   renderer.render(scene, camera);
+  drawPlot();
   var width = renderer.domElement.clientWidth, height = renderer.domElement.clientHeight;
   probe.textContent = JSON.stringify({
     time: frames.times[frame],
     frame: frame,
     frames: count,
+    plotted: series.names[parseInt(chooser.value, 10)] || null,
     bodies: bodies.map(function(group) {
       var p = group.getWorldPosition(new THREE.Vector3()).project(camera);
       return [(p.x + 1) / 2 * width, (1 - p.y) / 2 * height];

@@ -4,6 +4,7 @@
 
 #include "tether/autodiff/observations.h"
 #include "tether/dynamics/integration/simulator.h"
+#include "tether/dynamics/io/trajectory_columns.h"
 #include "tether/dynamics/model/errors.h"
 #include "tether/viewer/view.h"
 
@@ -37,24 +38,40 @@ bool Due(double t, size_t kept) { return t >= (static_cast<double>(kept) - 1e-9)
 
 }  // namespace
 
+// The series a simulated run plots: joint coordinates, markers, the constraint error and the energy.
+bool Plotted(const TrajectoryColumn& column) {
+  using Kind = TrajectoryColumn::Kind;
+  return column.kind == Kind::kJointCoordinate || column.kind == Kind::kMarker ||
+         column.kind == Kind::kConstraintError || column.kind == Kind::kEnergy;
+}
+
 ViewFrames SimulatedFrames(const Model<double>& model) {
   ViewFrames frames;
+  std::vector<TrajectoryColumn> plotted;
+  for (const TrajectoryColumn& column : TrajectoryColumns(model)) {
+    if (!Plotted(column)) continue;
+    plotted.push_back(column);
+    frames.series_names.push_back(column.name);
+  }
   double last_t = 0.0;  // the last state's
-  std::vector<double> last_pose;
-  RunOptions options;
-  options.energy = false;
-  Simulate<double>(model, options, [&](const Sample<double>& s) {
-    if (Due(s.t, frames.times.size())) {
-      frames.times.push_back(s.t);
-      frames.poses.push_back(Poses(model, s.q));
-    }
+  std::vector<double> last_pose, last_series;
+  const RunReport report = Simulate<double>(model, RunOptions{}, [&](const Sample<double>& s) {
     last_t = s.t;
     last_pose = Poses(model, s.q);
+    last_series.clear();
+    for (const TrajectoryColumn& column : plotted) last_series.push_back(ColumnValue(model, column, s));
+    if (Due(s.t, frames.times.size())) {
+      frames.times.push_back(s.t);
+      frames.poses.push_back(last_pose);
+      frames.series.push_back(last_series);
+    }
   });
   if (frames.times.back() != last_t) {  // the last state, always
     frames.times.push_back(last_t);
     frames.poses.push_back(last_pose);
+    frames.series.push_back(last_series);
   }
+  for (const RunEvent& e : report.events) frames.events.push_back({e.t, e.kind, e.constraint});
   return frames;
 }
 
@@ -75,6 +92,12 @@ ViewFrames RecordedFrames(const Model<double>& model, const std::string& csv_pat
     }
   }
   ViewFrames frames;
+  std::vector<int> plotted;  // the columns besides the poses
+  for (size_t c = 0; c < data.columns.size(); ++c) {
+    if (data.columns[c].kind == TrajectoryColumn::Kind::kConfiguration) continue;
+    plotted.push_back(static_cast<int>(c));
+    frames.series_names.push_back(data.columns[c].name);
+  }
   VecX<double> q = VecX<double>::Zero(model.NumCoordinates());
   for (size_t row = 0; row < data.times.size(); ++row) {
     const bool last = row + 1 == data.times.size();
@@ -89,6 +112,9 @@ ViewFrames RecordedFrames(const Model<double>& model, const std::string& csv_pat
     }
     frames.times.push_back(data.times[row]);
     frames.poses.push_back(Poses(model, q));
+    std::vector<double> values;
+    for (int c : plotted) values.push_back(data.values[row][c]);
+    frames.series.push_back(values);
   }
   return frames;
 }

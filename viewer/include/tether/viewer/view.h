@@ -17,11 +17,20 @@
 
 namespace tether {
 
-// The poses of a run's bodies at the frames to draw: per frame, each body's position and orientation
-// [x, y, z, qw, qx, qy, qz] (a planar body turns about z; a particle's orientation is the identity).
+// A run at the frames to draw: each body's position and orientation [x, y, z, qw, qx, qy, qz] (a planar body turns
+// about z; a particle's orientation is the identity), the series the page can plot beside the motion (a simulated
+// run's joint coordinates, markers, constraint error and energy; a CSV's columns other than the poses) and the
+// run's events (a simulated run's impacts, releases, stick and slip).
+struct ViewEvent {
+  double t = 0.0;
+  std::string kind, constraint;
+};
 struct ViewFrames {
   std::vector<double> times;
   std::vector<std::vector<double>> poses;  // poses[frame]: 7 numbers per body, in body order
+  std::vector<std::string> series_names;
+  std::vector<std::vector<double>> series;  // series[frame][k]: series_names[k]'s value, NaN where not recorded
+  std::vector<ViewEvent> events;
 };
 
 // Frames are kept at most this often (the page interpolates nothing: it shows the frame at or before the time).
