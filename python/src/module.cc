@@ -11,6 +11,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <memory>
 #include <string>
@@ -30,6 +31,9 @@
 #include "tether/tuning/identify.h"
 #include "tether/tuning/optimizer.h"
 #include "tether/tuning/reports.h"
+#ifdef TETHER_HAVE_VIEWER
+#include "tether/viewer/view.h"
+#endif
 
 namespace py = pybind11;
 
@@ -120,6 +124,52 @@ Recorded SimulateScene(const Scene& scene, const SettingsOverrides& overrides, i
   for (const RunEvent& e : report.events)
     out.events.emplace_back(e.t, e.kind, e.constraint, e.speed_before, e.speed_after);
   return out;
+}
+
+// The page of tether view for a recorded run of the scene (Trajectory.view(), docs/view.md): its table (the
+// trajectory's columns), configurations and events.
+std::string ViewOf(const Scene& scene, const py::array_t<double, py::array::c_style | py::array::forcecast>& table,
+                   const py::array_t<double, py::array::c_style | py::array::forcecast>& q,
+                   const std::vector<std::tuple<double, std::string, std::string, double, double>>& events) {
+#ifndef TETHER_HAVE_VIEWER
+  throw InputError(
+      "this tether was built without the viewer (-DTETHER_VIEWER=OFF): install libjs-three and "
+      "configure with -DTETHER_VIEWER=ON");
+#else
+  const Model<double>& model = scene.model;
+  const std::vector<TrajectoryColumn> columns = TrajectoryColumns(model);
+  const py::ssize_t nq = model.NumCoordinates();
+  if (table.ndim() != 2 || table.shape(1) != static_cast<py::ssize_t>(columns.size()) || q.ndim() != 2 ||
+      q.shape(1) != nq || q.shape(0) != table.shape(0) || table.shape(0) == 0) {
+    throw InputError(scene.path + ": the trajectory is not a run of this scene (its columns or its rows differ)");
+  }
+  const auto rows = table.unchecked<2>();
+  const auto configurations = q.unchecked<2>();
+  std::vector<double> times(table.shape(0));
+  for (py::ssize_t r = 0; r < table.shape(0); ++r) times[r] = rows(r, 0);
+  std::vector<int> plotted;
+  std::vector<std::string> names;
+  for (size_t c = 0; c < columns.size(); ++c) {
+    if (!PlottedColumn(columns[c])) continue;
+    plotted.push_back(static_cast<int>(c));
+    names.push_back(columns[c].name);
+  }
+  ViewFrames frames = SampledFrames(
+      model, times,
+      [&](size_t r) {
+        VecX<double> x(nq);
+        for (py::ssize_t k = 0; k < nq; ++k) x[k] = configurations(r, k);
+        return x;
+      },
+      names,
+      [&](size_t r) {
+        std::vector<double> values;
+        for (int c : plotted) values.push_back(rows(r, c));
+        return values;
+      });
+  for (const auto& [t, kind, constraint, before, after] : events) frames.events.push_back({t, kind, constraint});
+  return ViewHtml(model, std::filesystem::path(scene.path).filename().string(), frames);
+#endif
 }
 
 // A table of observations: column names and a rows x columns array (NaN: missing).
@@ -292,4 +342,5 @@ PYBIND11_MODULE(_tether, m) {
   m.def("identify", &IdentifyParameters);
   m.def("check", [](const Scene& scene) { return SceneCheckJson(CheckScene(scene.model)).dump(); });
   m.def("study", &RunStudyFile);
+  m.def("view_html", &ViewOf);
 }

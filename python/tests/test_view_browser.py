@@ -111,3 +111,18 @@ def test_a_bouncing_ball_s_impacts_are_listed_and_marked(tmp_path):
     marks = re.search(r'<datalist id="tether-marks">(.*?)</datalist>', dom, re.S).group(1)
     assert marks.count("<option") == len(impacts)
     assert probe(page, 0.5)["plotted"] == "energy"  # no joint: the energy, which each impact lowers
+
+
+def test_python_s_view_is_the_command_s_page_and_shows_inline(tmp_path):
+    import tether
+    scene = source("scenes", "robot_arm.json")
+    page = view(tmp_path, scene)
+    shown = tether.Scene.load(scene).simulate().view()
+    with open(page, encoding="utf-8") as f:
+        assert shown.html == f.read()  # the same frames, series and events as the command's
+    assert tether.view(scene).html == shown.html
+    assert shown._repr_html_().startswith('<iframe srcdoc="&lt;!doctype html&gt;')
+    saved = shown.save(tmp_path / "saved.html")
+    assert probe(saved, 0.5)["frame"] == 30
+    with pytest.raises(tether.InputError, match="not a run of this scene"):
+        tether.view(source("scenes", "pendulum.json"), tether.Scene.load(scene).simulate())

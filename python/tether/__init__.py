@@ -45,7 +45,7 @@ except ImportError as _missing:
 from ._tether import InputError, OutputError, SimulationDiverged
 from ._tether import __version__  # the project's (CMakeLists.txt), as `tether --version` names it
 
-__all__ = ["Scene", "Trajectory", "Event", "gradient", "tune", "identify", "fit", "check", "study", "InputError",
+__all__ = ["Scene", "Trajectory", "Event", "View", "view", "gradient", "tune", "identify", "fit", "check", "study", "InputError",
            "SimulationDiverged", "OutputError", "EstimateFailed"]
 for _error in (InputError, OutputError, SimulationDiverged):
     _error.__module__ = __name__  # shown as tether.InputError
@@ -147,7 +147,7 @@ class Scene:
         for name, value in (("duration", duration), ("step", step), ("integrator", integrator), ("alpha", alpha),
                             ("beta", beta), ("stabilization", stabilization), ("solver", solver)):
             setattr(overrides, name, value)
-        return Trajectory(_tether.simulate(self._core, overrides, _whole(every, "every")))
+        return Trajectory(_tether.simulate(self._core, overrides, _whole(every, "every")), self)
 
     def __repr__(self):
         return f"tether.Scene({self.path!r})"
@@ -165,7 +165,8 @@ class Trajectory:
     the memory the run filled. `events` is the table of the joint limits' and contacts' events (a list of Event rows,
     in time order; events_to_pandas() as a DataFrame)."""
 
-    def __init__(self, recorded):
+    def __init__(self, recorded, scene=None):
+        self._scene = scene
         self.events = [Event(*row) for row in recorded.events]
         self.table = recorded.table
         self.q = recorded.q
@@ -187,6 +188,12 @@ class Trajectory:
         except KeyError:
             raise KeyError(f"no column {name!r} (the columns are {', '.join(self._names)})") from None
 
+    def view(self):
+        """The page of `tether view` that plays this run (a View: Jupyter shows it inline, save(path) writes it)."""
+        if self._scene is None:
+            raise InputError("this trajectory has no scene to draw: use tether.view(scene, trajectory)")
+        return view(self._scene, self)
+
     def columns(self):
         """Every column by its CSV name, as views."""
         return {name: self.table[:, k] for k, name in enumerate(self._names)}
@@ -203,6 +210,37 @@ class Trajectory:
 
     def __len__(self):
         return self.table.shape[0]
+
+
+class View:
+    """A page of `tether view` (docs/view.md): one self-contained HTML file that plays a run. Jupyter shows it
+    inline (in a frame of its own); save(path) writes it; `html` is its text."""
+
+    def __init__(self, html):
+        self.html = html
+
+    def _repr_html_(self):
+        import html as _html
+        return (f'<iframe srcdoc="{_html.escape(self.html, quote=True)}" '
+                'style="width: 100%; height: 540px; border: 0"></iframe>')
+
+    def save(self, path):
+        """Writes the page to `path` (as `tether view -o` does); returns the path."""
+        with open(path, "w", encoding="utf-8") as f:
+            f.write(self.html)
+        return path
+
+
+def view(scene, trajectory=None):
+    """The page that plays `trajectory`, a Trajectory of `scene` (a Scene, a path or a dict), or the scene's own
+    run when it is None, as `tether view` writes it."""
+    if trajectory is None:
+        trajectory = (scene if isinstance(scene, Scene) else
+                      Scene.from_dict(scene) if isinstance(scene, _Mapping) else Scene.load(scene)).simulate()
+    if not isinstance(trajectory, Trajectory):
+        raise InputError("view: the trajectory must be a tether.Trajectory (Scene.simulate's)")
+    events = [tuple(event) for event in trajectory.events]
+    return View(_tether.view_html(_scene(scene), trajectory.table, trajectory.q, events))
 
 
 def _scene(scene):

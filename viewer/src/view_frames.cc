@@ -38,18 +38,32 @@ bool Due(double t, size_t kept) { return t >= (static_cast<double>(kept) - 1e-9)
 
 }  // namespace
 
-// The series a simulated run plots: joint coordinates, markers, the constraint error and the energy.
-bool Plotted(const TrajectoryColumn& column) {
+bool PlottedColumn(const TrajectoryColumn& column) {
   using Kind = TrajectoryColumn::Kind;
   return column.kind == Kind::kJointCoordinate || column.kind == Kind::kMarker ||
          column.kind == Kind::kConstraintError || column.kind == Kind::kEnergy;
+}
+
+ViewFrames SampledFrames(const Model<double>& model, const std::vector<double>& times,
+                         const std::function<VecX<double>(size_t)>& q_of_row,
+                         const std::vector<std::string>& series_names,
+                         const std::function<std::vector<double>(size_t)>& series_of_row) {
+  ViewFrames frames;
+  frames.series_names = series_names;
+  for (size_t row = 0; row < times.size(); ++row) {
+    if (row + 1 < times.size() && !Due(times[row], frames.times.size())) continue;
+    frames.times.push_back(times[row]);
+    frames.poses.push_back(Poses(model, q_of_row(row)));
+    frames.series.push_back(series_of_row(row));
+  }
+  return frames;
 }
 
 ViewFrames SimulatedFrames(const Model<double>& model) {
   ViewFrames frames;
   std::vector<TrajectoryColumn> plotted;
   for (const TrajectoryColumn& column : TrajectoryColumns(model)) {
-    if (!Plotted(column)) continue;
+    if (!PlottedColumn(column)) continue;
     plotted.push_back(column);
     frames.series_names.push_back(column.name);
   }
@@ -91,32 +105,30 @@ ViewFrames RecordedFrames(const Model<double>& model, const std::string& csv_pat
       }
     }
   }
-  ViewFrames frames;
   std::vector<int> plotted;  // the columns besides the poses
+  std::vector<std::string> names;
   for (size_t c = 0; c < data.columns.size(); ++c) {
     if (data.columns[c].kind == TrajectoryColumn::Kind::kConfiguration) continue;
     plotted.push_back(static_cast<int>(c));
-    frames.series_names.push_back(data.columns[c].name);
+    names.push_back(data.columns[c].name);
   }
-  VecX<double> q = VecX<double>::Zero(model.NumCoordinates());
-  for (size_t row = 0; row < data.times.size(); ++row) {
-    const bool last = row + 1 == data.times.size();
-    if (!last && !Due(data.times[row], frames.times.size())) continue;
+  const auto q_of_row = [&](size_t row) {
+    VecX<double> q = VecX<double>::Zero(model.NumCoordinates());
     for (const auto& [index, column] : column_of) {
-      const double x = data.values[row][column];
-      if (std::isnan(x)) {
+      q[index] = data.values[row][column];
+      if (std::isnan(q[index])) {
         throw InputError(csv_path + ": line " + std::to_string(data.lines[row]) + ": the cell of column " +
                          data.columns[column].name + " is empty, and the view draws every pose it shows");
       }
-      q[index] = x;
     }
-    frames.times.push_back(data.times[row]);
-    frames.poses.push_back(Poses(model, q));
+    return q;
+  };
+  const auto series_of_row = [&](size_t row) {
     std::vector<double> values;
     for (int c : plotted) values.push_back(data.values[row][c]);
-    frames.series.push_back(values);
-  }
-  return frames;
+    return values;
+  };
+  return SampledFrames(model, data.times, q_of_row, names, series_of_row);
 }
 
 }  // namespace tether

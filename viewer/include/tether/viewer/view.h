@@ -9,10 +9,12 @@
 // along its principal axes; a planar one the square plate of its moment, side sqrt(6 I / m).
 #pragma once
 
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
+#include "tether/dynamics/io/trajectory_columns.h"
 #include "tether/dynamics/model/model.h"
 
 namespace tether {
@@ -38,6 +40,18 @@ inline constexpr double kViewFramesPerSecond = 60.0;
 
 // The scene simulated, a frame every 1 / kViewFramesPerSecond s (and the last state). Throws what Simulate throws.
 ViewFrames SimulatedFrames(const Model<double>& model);
+
+// The frames of a run's rows: row r at times[r] with configuration q_of_row(r) and the series' values
+// series_of_row(r) (names `series_names`); rows less than 1 / kViewFramesPerSecond after the last frame kept are
+// skipped, the last row is always kept.
+ViewFrames SampledFrames(const Model<double>& model, const std::vector<double>& times,
+                         const std::function<VecX<double>(size_t)>& q_of_row,
+                         const std::vector<std::string>& series_names,
+                         const std::function<std::vector<double>(size_t)>& series_of_row);
+
+// Whether a trajectory column is a series the page plots for a simulated run: joint coordinates, markers, the
+// constraint error and the energy.
+bool PlottedColumn(const TrajectoryColumn& column);
 
 // The frames of a trajectory CSV (docs/contract.md) recorded or simulated for the scene: every body's position
 // and orientation columns must be there; rows at most kViewFramesPerSecond apart in time are skipped, the last
