@@ -23,6 +23,8 @@ class ViewCommand final : public Command {
     app_->add_option("SCENE", scene_path_, "scene file (JSON)")->required();
     overrides_.Register(app_);
     app_->add_option("--data", data_path_, "a trajectory CSV of the scene to play (default: simulate it)");
+    app_->add_option("--compare", compare_path_,
+                     "a simulated trajectory CSV of the scene to play, with --data's recording drawn as ghosts");
     app_->add_option("-o,--output", output_path_, "HTML file to write")->required();
   }
 
@@ -34,7 +36,10 @@ class ViewCommand final : public Command {
         "this tether was built without the viewer (-DTETHER_VIEWER=OFF): install libjs-three and "
         "configure with -DTETHER_VIEWER=ON");
 #else
-    CheckOutputs({{output_path_, "-o"}}, {scene_path_, data_path_});
+    if (!compare_path_.empty() && data_path_.empty()) {
+      throw InputError("--compare: draws a simulation beside the recording --data gives: give --data too");
+    }
+    CheckOutputs({{output_path_, "-o"}}, {scene_path_, data_path_, compare_path_});
     Scene scene = ReadSceneFile(scene_path_);
     overrides_.Apply(&scene.model);
     ViewFrames frames;
@@ -47,10 +52,13 @@ class ViewCommand final : public Command {
         throw SimulationDiverged(scene_path_ + ": " + e.what(), e.time(), e.constraint());
       }
     } else {
-      frames = RecordedFrames(scene.model, data_path_);
+      frames = RecordedFrames(scene.model, compare_path_.empty() ? data_path_ : compare_path_);
     }
+    ViewFrames recording;
+    if (!compare_path_.empty()) recording = RecordedFrames(scene.model, data_path_);
     AtomicOutputFile file(output_path_);
-    file.stream() << ViewHtml(scene.model, std::filesystem::path(scene_path_).filename().string(), frames);
+    file.stream() << ViewHtml(scene.model, std::filesystem::path(scene_path_).filename().string(), frames,
+                              compare_path_.empty() ? nullptr : &recording);
     file.Commit();
     return 0;
 #endif
@@ -58,7 +66,7 @@ class ViewCommand final : public Command {
 
  private:
   CLI::App* app_;
-  std::string scene_path_, data_path_, output_path_;
+  std::string scene_path_, data_path_, compare_path_, output_path_;
   SceneOverrides overrides_;
 };
 

@@ -117,6 +117,7 @@ TEST(ViewCli, BadInputIsRefusedWithStatus2AndNoFile) {
       {"view " + scene + " -o " + page + " --data " + folder.Write("gap.csv", "t,bob.x,bob.y\n0,1,0\n0.1,,0\n"),
        "gap.csv: line 3: the cell of column bob.x is empty"},
       {"view " + scene + " -o " + scene, "-o"},
+      {"view " + scene + " -o " + page + " --compare " + scene, "--compare: draws a simulation beside the recording"},
   };
   for (const auto& c : cases) {
     const testing::Outcome outcome = testing::RunTether(c.args, folder);

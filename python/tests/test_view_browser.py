@@ -126,3 +126,17 @@ def test_python_s_view_is_the_command_s_page_and_shows_inline(tmp_path):
     assert probe(saved, 0.5)["frame"] == 30
     with pytest.raises(tether.InputError, match="not a run of this scene"):
         tether.view(source("scenes", "pendulum.json"), tether.Scene.load(scene).simulate())
+
+
+def test_a_recording_is_drawn_as_ghosts_beside_the_simulation(tmp_path):
+    scene = source("scenes", "robot_arm.json")
+    simulated, recorded = tmp_path / "sim.csv", tmp_path / "rec.csv"
+    subprocess.run([EXECUTABLE, "simulate", scene, "-o", simulated], check=True)
+    subprocess.run([EXECUTABLE, "simulate", scene, "--integrator", "euler", "--step", "0.004", "-o", recorded],
+                   check=True)
+    page = view(tmp_path, scene, "--data", recorded, "--compare", simulated)
+    at = probe(page, 1.5)
+    assert len(at["ghosts"]) == len(at["bodies"]) == 7  # the arm's links
+    apart = max(abs(gx - bx) + abs(gy - by) for (gx, gy), (bx, by) in zip(at["ghosts"], at["bodies"]))
+    assert 0 < apart < 50, "the ghosts should follow the run closely, not sit on it"
+    assert probe(view(tmp_path, scene), 1.5)["ghosts"] == []

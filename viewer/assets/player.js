@@ -99,6 +99,21 @@ drawing.shapes.forEach(function(shape) {
   var color = shape.body >= 0 ? palette[shape.body % palette.length] : 0xaaaaaa;
   holder(shape.body).add(placed(solid(shape, color), shape));
 });
+// a recording beside the run (tether view --compare): every body again, grey and translucent, posed by its frames
+var ghost = data.ghost;
+var ghosts = !ghost ? [] : drawing.bodies.map(function(body) {
+  var group = new THREE.Group();
+  if (body.glyph) {
+    var glyph = solid(Object.assign({contact: false}, body.glyph), 0x777777);
+    group.add(placed(glyph, {position: [0, 0, 0], rotation: body.glyph.rotation || [1, 0, 0, 0]}));
+  }
+  scene.add(group);
+  return group;
+});
+drawing.shapes.forEach(function(shape) {
+  if (ghost && shape.body >= 0)
+    ghosts[shape.body].add(placed(solid(Object.assign({}, shape, {contact: false}), 0x777777), shape));
+});
 function dot(radius, color) {
   return new THREE.Mesh(new THREE.SphereGeometry(radius, 12, 8), material(color, 1));
 }
@@ -134,13 +149,16 @@ drawing.markers.forEach(function(marker) {
 
 // the frames
 var count = frames.times.length;
-function pose(frame) {
-  var p = frames.poses[frame];
-  bodies.forEach(function(group, b) {
+function place(groups, p) {
+  groups.forEach(function(group, b) {
     group.position.set(p[7 * b], p[7 * b + 1], p[7 * b + 2]);
     group.quaternion.set(p[7 * b + 4], p[7 * b + 5], p[7 * b + 6], p[7 * b + 3]);
     group.updateMatrixWorld(true);
   });
+}
+function pose(frame) {
+  place(bodies, frames.poses[frame]);
+  if (ghost) place(ghosts, ghost.frames.poses[frameIn(ghost.frames.times, frames.times[frame])]);
   rods.forEach(function(rod) {
     var ends = [rod.userData.a, rod.userData.b].map(function(end) {
       return holder(end.body).localToWorld(vector(end.point));
@@ -148,17 +166,20 @@ function pose(frame) {
     rod.geometry.setFromPoints(ends);
   });
 }
-// the frame shown at time t: the last at or before it
-function frameAt(t) {
-  var low = 0, high = count - 1;
+// the frame shown at time t: the last at or before it (the first if there is none)
+function frameIn(times, t) {
+  var low = 0, high = times.length - 1;
   while (low < high) {
     var middle = (low + high + 1) >> 1;
-    if (frames.times[middle] <= t)
+    if (times[middle] <= t)
       low = middle;
     else
       high = middle - 1;
   }
   return low;
+}
+function frameAt(t) {
+  return frameIn(frames.times, t);
 }
 
 // the camera looks at everything the bodies sweep, from the side (3D) or the front (2D)
@@ -286,6 +307,23 @@ function drawPlot() {
     });
     g.stroke();
   }
+  var twin = ghost && k >= 0 ? ghost.series.names.indexOf(series.names[k]) : -1;  // the recording's same column
+  if (twin >= 0) {
+    g.strokeStyle = '#777';
+    g.setLineDash([5, 3]);
+    g.beginPath();
+    var drawn = false;
+    ghost.series.values.forEach(function(row, f) {
+      if (row[twin] === null) return;
+      if (drawn)
+        g.lineTo(x(ghost.frames.times[f]), y(row[twin]));
+      else
+        g.moveTo(x(ghost.frames.times[f]), y(row[twin]));
+      drawn = true;
+    });
+    g.stroke();
+    g.setLineDash([]);
+  }
   g.strokeStyle = '#d62728';
   g.beginPath();
   g.moveTo(x(frames.times[frame]), top);
@@ -310,6 +348,10 @@ function show() {
     frame: frame,
     frames: count,
     plotted: series.names[parseInt(chooser.value, 10)] || null,
+    ghosts: ghosts.map(function(group) {
+      var p = group.getWorldPosition(new THREE.Vector3()).project(camera);
+      return [(p.x + 1) / 2 * width, (1 - p.y) / 2 * height];
+    }),
     bodies: bodies.map(function(group) {
       var p = group.getWorldPosition(new THREE.Vector3()).project(camera);
       return [(p.x + 1) / 2 * width, (1 - p.y) / 2 * height];

@@ -43,22 +43,30 @@ void Replace(std::string* page, const std::string& marker, std::string_view text
   *from = at + text.size();
 }
 
-}  // namespace
-
-std::string ViewHtml(const Model<double>& model, const std::string& title, const ViewFrames& frames) {
-  nlohmann::json events = nlohmann::json::array();
-  for (const ViewEvent& e : frames.events)
-    events.push_back({{"t", e.t}, {"kind", e.kind}, {"constraint", e.constraint}});
+// A run's frames and series as the player reads them.
+nlohmann::json RunJson(const ViewFrames& frames) {
   nlohmann::json series = nlohmann::json::array();  // NaN (not in JSON) as null
   for (const std::vector<double>& row : frames.series) {
     nlohmann::json values = nlohmann::json::array();
     for (const double x : row) values.push_back(std::isfinite(x) ? nlohmann::json(x) : nlohmann::json());
     series.push_back(values);
   }
-  const nlohmann::json data = {{"drawing", ViewDrawing(model)},
-                               {"frames", {{"times", frames.times}, {"poses", frames.poses}}},
-                               {"series", {{"names", frames.series_names}, {"values", series}}},
-                               {"events", events}};
+  return {{"frames", {{"times", frames.times}, {"poses", frames.poses}}},
+          {"series", {{"names", frames.series_names}, {"values", series}}}};
+}
+
+}  // namespace
+
+std::string ViewHtml(const Model<double>& model, const std::string& title, const ViewFrames& frames,
+                     const ViewFrames* ghost) {
+  nlohmann::json events = nlohmann::json::array();
+  for (const ViewEvent& e : frames.events) {
+    events.push_back({{"t", e.t}, {"kind", e.kind}, {"constraint", e.constraint}});
+  }
+  nlohmann::json data = RunJson(frames);
+  data["drawing"] = ViewDrawing(model);
+  data["events"] = events;
+  data["ghost"] = ghost ? RunJson(*ghost) : nlohmann::json();
   std::string page(viewer_assets::Page());
   size_t from = 0;  // the markers in the order they appear
   Replace(&page, "@TITLE@", Escaped(title), &from);

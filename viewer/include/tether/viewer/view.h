@@ -61,7 +61,9 @@ ViewFrames RecordedFrames(const Model<double>& model, const std::string& csv_pat
 // What the page draws, as JSON (view.h's header; docs/view.md lists the fields).
 nlohmann::json ViewDrawing(const Model<double>& model);
 
-// The HTML page: `title` in its title bar, the drawing and the frames.
-std::string ViewHtml(const Model<double>& model, const std::string& title, const ViewFrames& frames);
+// The HTML page: `title` in its title bar, the drawing and the frames; with `ghost`, a second run of the scene (a
+// recording beside the simulation) drawn translucent and grey, its series plotted dashed beside the run's.
+std::string ViewHtml(const Model<double>& model, const std::string& title, const ViewFrames& frames,
+                     const ViewFrames* ghost = nullptr);
 
 }  // namespace tether
