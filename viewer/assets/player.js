@@ -293,37 +293,26 @@ function drawPlot() {
     g.stroke();
   });
   g.setLineDash([]);
-  if (k >= 0) {
-    g.strokeStyle = '#4e79a7';
+  // one run's column c against its frames' times, skipping the frames that do not record it
+  function polyline(run, c, color, dash) {
+    g.strokeStyle = color;
+    g.setLineDash(dash);
     g.beginPath();
     var pen = false;
-    series.values.forEach(function(row, f) {
-      if (row[k] === null) return;
+    run.series.values.forEach(function(row, f) {
+      if (row[c] === null) return;
       if (pen)
-        g.lineTo(x(frames.times[f]), y(row[k]));
+        g.lineTo(x(run.frames.times[f]), y(row[c]));
       else
-        g.moveTo(x(frames.times[f]), y(row[k]));
+        g.moveTo(x(run.frames.times[f]), y(row[c]));
       pen = true;
-    });
-    g.stroke();
-  }
-  var twin = ghost && k >= 0 ? ghost.series.names.indexOf(series.names[k]) : -1;  // the recording's same column
-  if (twin >= 0) {
-    g.strokeStyle = '#777';
-    g.setLineDash([5, 3]);
-    g.beginPath();
-    var drawn = false;
-    ghost.series.values.forEach(function(row, f) {
-      if (row[twin] === null) return;
-      if (drawn)
-        g.lineTo(x(ghost.frames.times[f]), y(row[twin]));
-      else
-        g.moveTo(x(ghost.frames.times[f]), y(row[twin]));
-      drawn = true;
     });
     g.stroke();
     g.setLineDash([]);
   }
+  if (k >= 0) polyline(data, k, '#4e79a7', []);
+  var twin = ghost && k >= 0 ? ghost.series.names.indexOf(series.names[k]) : -1;  // the recording's same column
+  if (twin >= 0) polyline(ghost, twin, '#777', [5, 3]);
   g.strokeStyle = '#d62728';
   g.beginPath();
   g.moveTo(x(frames.times[frame]), top);
