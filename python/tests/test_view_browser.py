@@ -2,6 +2,7 @@
 the console stays clean, the page draws the bodies where the trajectory puts them, two times look different where a
 body moves, and the slider's last frame is the CSV's last row. Without a browser these tests fail (the README's test
 command installs chromium-headless-shell); they are skipped only when tether was built without the viewer."""
+import glob
 import json
 import os
 import re
@@ -140,3 +141,9 @@ def test_a_recording_is_drawn_as_ghosts_beside_the_simulation(tmp_path):
     apart = max(abs(gx - bx) + abs(gy - by) for (gx, gy), (bx, by) in zip(at["ghosts"], at["bodies"]))
     assert 0 < apart < 50, "the ghosts should follow the run closely, not sit on it"
     assert probe(view(tmp_path, scene), 1.5)["ghosts"] == []
+
+
+@pytest.mark.parametrize("scene", sorted(glob.glob(source("scenes", "*.json"))), ids=os.path.basename)
+def test_every_shipped_scene_plays_with_a_clean_console(tmp_path, scene):
+    at = probe(view(tmp_path, scene), 0.3)  # probe asserts the clean console
+    assert at["frames"] > 1 and len(at["bodies"]) > 0

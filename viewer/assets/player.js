@@ -51,25 +51,26 @@ function vector(x) {
 function solid(shape, color) {
   var opacity = shape.contact === false ? 0.5 : 1;
   if (shape.type === 'sphere')
-    return new THREE.Mesh(new THREE.SphereGeometry(shape.radius, 24, 16), material(color, opacity));
+    return new THREE.Mesh(new THREE.SphereBufferGeometry(shape.radius, 24, 16), material(color, opacity));
   if (shape.type === 'box') {
-    return new THREE.Mesh(new THREE.BoxGeometry(shape.size[0], shape.size[1], shape.size[2]), material(color, opacity));
+    return new THREE.Mesh(
+        new THREE.BoxBufferGeometry(shape.size[0], shape.size[1], shape.size[2]), material(color, opacity));
   }
   if (shape.type === 'capsule') {
     var capsule = new THREE.Group();
     var tube = new THREE.Mesh(
-        new THREE.CylinderGeometry(shape.radius, shape.radius, shape.length, 24), material(color, opacity));
+        new THREE.CylinderBufferGeometry(shape.radius, shape.radius, shape.length, 24), material(color, opacity));
     tube.rotation.z = Math.PI / 2;  // three's cylinder runs along y, tether's capsule along x
     capsule.add(tube);
     [-1, 1].forEach(function(side) {
-      var cap = new THREE.Mesh(new THREE.SphereGeometry(shape.radius, 24, 16), material(color, opacity));
+      var cap = new THREE.Mesh(new THREE.SphereBufferGeometry(shape.radius, 24, 16), material(color, opacity));
       cap.position.x = side * shape.length / 2;
       capsule.add(cap);
     });
     return capsule;
   }
-  var plane = planar ? new THREE.BoxGeometry(scale * 10, scale / 100, scale / 100) :
-                       new THREE.PlaneGeometry(scale * 10, scale * 10);
+  var plane = planar ? new THREE.BoxBufferGeometry(scale * 10, scale / 100, scale / 100) :
+                       new THREE.PlaneBufferGeometry(scale * 10, scale * 10);
   var floor = new THREE.Mesh(plane, material(0xcccccc, 0.6));
   floor.material.side = THREE.DoubleSide;
   return floor;
@@ -115,7 +116,7 @@ drawing.shapes.forEach(function(shape) {
     ghosts[shape.body].add(placed(solid(Object.assign({}, shape, {contact: false}), 0x777777), shape));
 });
 function dot(radius, color) {
-  return new THREE.Mesh(new THREE.SphereGeometry(radius, 12, 8), material(color, 1));
+  return new THREE.Mesh(new THREE.SphereBufferGeometry(radius, 12, 8), material(color, 1));
 }
 function line(from, to, color) {
   var geometry = new THREE.BufferGeometry().setFromPoints([from, to]);
@@ -134,7 +135,9 @@ drawing.joints.forEach(function(joint) {
     var anchor = dot(scale / 60, 0x222222);
     anchor.position.copy(vector(end.point));
     holder(end.body).add(anchor);
-    if (end.body >= 0) holder(end.body).add(line(new THREE.Vector3(), vector(end.point), 0x666666));  // a bone
+    if (end.body >= 0 && vector(end.point).lengthSq() > 0) {  // a bone (none where the anchor is the centre)
+      holder(end.body).add(line(new THREE.Vector3(), vector(end.point), 0x666666));
+    }
   });
   if (joint.axis) {
     var a = vector(joint.a.point), axis = vector(joint.axis).multiplyScalar(scale / 8);
@@ -188,7 +191,7 @@ frames.poses.forEach(function(p) {
   for (var b = 0; b < bodies.length; ++b) box.expandByPoint(new THREE.Vector3(p[7 * b], p[7 * b + 1], p[7 * b + 2]));
 });
 if (box.isEmpty()) box.expandByPoint(new THREE.Vector3());
-box.expandByScalar(scale / 4);
+box.expandByScalar(scale / 2);  // and the bodies themselves, up to the view's scale
 var controls = new THREE.OrbitControls(camera, renderer.domElement);
 controls.enableRotate = !planar;
 function resetView() {

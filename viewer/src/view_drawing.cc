@@ -66,6 +66,12 @@ json ViewDrawing(const Model<double>& model) {
     bodies.push_back(entry);
   }
   drawing["bodies"] = bodies;
+  double largest = scale;  // the view's scale: the scene's length scale, or a larger body (a cardan at the origin)
+  for (const json& body : bodies) {
+    if (body.contains("glyph") && body["glyph"].contains("size")) {
+      for (const json& edge : body["glyph"]["size"]) largest = std::max(largest, edge.get<double>());
+    }
+  }
   json shapes = json::array();
   for (const Shape<double>& shape : model.shapes) shapes.push_back(ShapeOf(model, shape, scale));
   drawing["shapes"] = shapes;
@@ -87,6 +93,11 @@ json ViewDrawing(const Model<double>& model) {
     markers.push_back(m);
   }
   drawing["markers"] = markers;
+  for (const Shape<double>& shape : model.shapes) {
+    if (shape.type == ShapeType::kPlane) continue;
+    largest = std::max({largest, 2 * shape.radius + shape.length, shape.size.maxCoeff()});
+  }
+  drawing["scale"] = largest;
   return drawing;
 }
 
