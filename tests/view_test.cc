@@ -118,6 +118,7 @@ TEST(ViewCli, BadInputIsRefusedWithStatus2AndNoFile) {
        "gap.csv: line 3: the cell of column bob.x is empty"},
       {"view " + scene + " -o " + scene, "-o"},
       {"view " + scene + " -o " + page + " --compare " + scene, "--compare: draws a simulation beside the recording"},
+      {"view " + scene + " -o " + page + " --duration 1e6", "the page would hold 60000002 frames of 1 bodies"},
   };
   for (const auto& c : cases) {
     const testing::Outcome outcome = testing::RunTether(c.args, folder);

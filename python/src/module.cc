@@ -155,7 +155,7 @@ std::string ViewOf(const Scene& scene, const py::array_t<double, py::array::c_st
     names.push_back(columns[c].name);
   }
   ViewFrames frames = SampledFrames(
-      model, times,
+      scene.path, model, times,
       [&](size_t r) {
         VecX<double> x(nq);
         for (py::ssize_t k = 0; k < nq; ++k) x[k] = configurations(r, k);

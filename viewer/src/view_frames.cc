@@ -38,18 +38,31 @@ bool Due(double t, size_t kept) { return t >= (static_cast<double>(kept) - 1e-9)
 
 }  // namespace
 
+void CheckViewSize(const Model<double>& model, double frames, size_t series, const std::string& source) {
+  const double numbers = frames * (7.0 * static_cast<double>(model.bodies.size()) + static_cast<double>(series));
+  if (numbers > kMostViewNumbers) {
+    throw InputError(source + ": the page would hold " + std::to_string(static_cast<long long>(frames)) +
+                     " frames of " + std::to_string(model.bodies.size()) + " bodies, more than a browser opens (" +
+                     std::to_string(static_cast<long long>(kMostViewNumbers)) +
+                     " numbers at most): view a shorter run (--duration)");
+  }
+}
+
 bool PlottedColumn(const TrajectoryColumn& column) {
   using Kind = TrajectoryColumn::Kind;
   return column.kind == Kind::kJointCoordinate || column.kind == Kind::kMarker ||
          column.kind == Kind::kConstraintError || column.kind == Kind::kEnergy;
 }
 
-ViewFrames SampledFrames(const Model<double>& model, const std::vector<double>& times,
+ViewFrames SampledFrames(const std::string& source, const Model<double>& model, const std::vector<double>& times,
                          const std::function<VecX<double>(size_t)>& q_of_row,
                          const std::vector<std::string>& series_names,
                          const std::function<std::vector<double>(size_t)>& series_of_row) {
   ViewFrames frames;
   frames.series_names = series_names;
+  size_t kept = 0;  // the frames to keep, counted first: a page too large is refused before it is made
+  for (size_t row = 0; row < times.size(); ++row) kept += row + 1 == times.size() || Due(times[row], kept);
+  CheckViewSize(model, static_cast<double>(kept), series_names.size(), source);
   for (size_t row = 0; row < times.size(); ++row) {
     if (row + 1 < times.size() && !Due(times[row], frames.times.size())) continue;
     frames.times.push_back(times[row]);
@@ -67,6 +80,8 @@ ViewFrames SimulatedFrames(const Model<double>& model) {
     plotted.push_back(column);
     frames.series_names.push_back(column.name);
   }
+  CheckViewSize(model, std::ceil(model.simulation.duration * kViewFramesPerSecond) + 2, plotted.size(),
+                "the scene's duration");
   double last_t = 0.0;  // the last state's
   std::vector<double> last_pose, last_series;
   const RunReport report = Simulate<double>(model, RunOptions{}, [&](const Sample<double>& s) {
@@ -128,7 +143,7 @@ ViewFrames RecordedFrames(const Model<double>& model, const std::string& csv_pat
     for (int c : plotted) values.push_back(data.values[row][c]);
     return values;
   };
-  return SampledFrames(model, data.times, q_of_row, names, series_of_row);
+  return SampledFrames(csv_path, model, data.times, q_of_row, names, series_of_row);
 }
 
 }  // namespace tether

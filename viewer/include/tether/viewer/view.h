@@ -38,13 +38,20 @@ struct ViewFrames {
 // Frames are kept at most this often (the page interpolates nothing: it shows the frame at or before the time).
 inline constexpr double kViewFramesPerSecond = 60.0;
 
+// A page holds at most this many numbers (about 20 bytes each in its JSON: 400 MB, which browsers still open).
+inline constexpr double kMostViewNumbers = 2e7;
+
+// Throws InputError, naming `source`, when `frames` frames of the model's bodies and `series` series would pass
+// kMostViewNumbers: checked before a run (its planned frames) and before a page is written.
+void CheckViewSize(const Model<double>& model, double frames, size_t series, const std::string& source);
+
 // The scene simulated, a frame every 1 / kViewFramesPerSecond s (and the last state). Throws what Simulate throws.
 ViewFrames SimulatedFrames(const Model<double>& model);
 
 // The frames of a run's rows: row r at times[r] with configuration q_of_row(r) and the series' values
 // series_of_row(r) (names `series_names`); rows less than 1 / kViewFramesPerSecond after the last frame kept are
-// skipped, the last row is always kept.
-ViewFrames SampledFrames(const Model<double>& model, const std::vector<double>& times,
+// skipped, the last row is always kept. `source` names the run in messages.
+ViewFrames SampledFrames(const std::string& source, const Model<double>& model, const std::vector<double>& times,
                          const std::function<VecX<double>(size_t)>& q_of_row,
                          const std::vector<std::string>& series_names,
                          const std::function<std::vector<double>(size_t)>& series_of_row);
