@@ -54,6 +54,9 @@ class ViewCommand final : public Command {
     } else {
       frames = RecordedFrames(scene.model, compare_path_.empty() ? data_path_ : compare_path_);
     }
+    for (const std::string& warning : frames.warnings) {
+      std::cerr << "tether: warning: " << scene_path_ << ": " << warning << "\n";  // as tether simulate says them
+    }
     ViewFrames recording;
     if (!compare_path_.empty()) recording = RecordedFrames(scene.model, data_path_);
     AtomicOutputFile file(output_path_);

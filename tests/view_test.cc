@@ -127,6 +127,17 @@ TEST(ViewCli, BadInputIsRefusedWithStatus2AndNoFile) {
   }
   for (const std::string& entry : folder.Entries()) EXPECT_NE(entry, "view.html");
   EXPECT_EQ(testing::RunTether("view " + scene + " -o " + page, folder).status, 0);
+  // a run's warnings are said as tether simulate says them
+  json drifting = Pendulum(2.0);  // explicit Euler at 10 ms without stabilization: past 1% of its length by 0.33 s
+  drifting["simulation"] = {{"integrator", "euler"}, {"step", 0.01}, {"duration", 2.0}};
+  drifting["stabilization"] = {{"method", "none"}};
+  const std::string drift = folder.Write("drift.json", drifting.dump());
+  const testing::Outcome simulated = testing::RunTether("simulate " + drift + " -o " + folder.Path("d.csv"), folder);
+  const testing::Outcome viewed = testing::RunTether("view " + drift + " -o " + folder.Path("d.html"), folder);
+  EXPECT_EQ(viewed.status, 0) << viewed.err;
+  EXPECT_NE(simulated.err.find("warning: " + drift + ": t = 0.33: the constraints have drifted"), std::string::npos)
+      << simulated.err;
+  EXPECT_EQ(viewed.err, simulated.err);
   EXPECT_NE(testing::ReadText(page).find("tether-data"), std::string::npos);
 }
 

@@ -101,6 +101,7 @@ ViewFrames SimulatedFrames(const Model<double>& model) {
     frames.series.push_back(last_series);
   }
   for (const RunEvent& e : report.events) frames.events.push_back({e.t, e.kind, e.constraint});
+  frames.warnings = report.warnings;
   return frames;
 }
 

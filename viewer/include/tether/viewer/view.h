@@ -33,6 +33,7 @@ struct ViewFrames {
   std::vector<std::string> series_names;
   std::vector<std::vector<double>> series;  // series[frame][k]: series_names[k]'s value, NaN where not recorded
   std::vector<ViewEvent> events;
+  std::vector<std::string> warnings;  // a simulated run's (RunReport::warnings), for the caller to show
 };
 
 // Frames are kept at most this often (the page interpolates nothing: it shows the frame at or before the time).
