@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "scene_overrides.h"
+#include "scene_run.h"
 #include "tether/autodiff/gradient_method.h"
 #include "tether/dynamics/model/errors.h"
 
@@ -38,15 +39,9 @@ class GradientCommand final : public Command {
 
     const auto start = std::chrono::steady_clock::now();
     const GradientMethod method = ResolveGradientMethod(requested, parameters.size());
-    LossGradient result;
     AdjointReport adjoint;
-    try {
-      result = LossGradientBy(method, scene.model, parameters, observations, &adjoint);
-    } catch (const InputError& e) {
-      throw InputError(scene_path_ + ": " + e.what());
-    } catch (const SimulationDiverged& e) {
-      throw SimulationDiverged(scene_path_ + ": " + e.what(), e.time(), e.constraint());
-    }
+    const LossGradient result = NamingScene(
+        scene_path_, [&] { return LossGradientBy(method, scene.model, parameters, observations, &adjoint); });
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     // a loss or gradient that is not finite would print as null: a failure, never a result
     bool finite = std::isfinite(result.loss);

@@ -6,6 +6,7 @@
 
 #include "flags.h"
 #include "scene_overrides.h"
+#include "scene_run.h"
 #include "tether/dynamics/integration/simulator.h"
 #include "tether/dynamics/io/scene_reader.h"
 #include "tether/dynamics/io/trajectory_csv.h"
@@ -41,16 +42,11 @@ class SimulateCommand final : public Command {
     if (!events_path_.empty()) events = std::make_unique<AtomicOutputFile>(events_path_);
     std::ostream& out = file ? file->stream() : buffer;
     TrajectoryCsvWriter writer(scene.model, &out);
-    RunReport report;
-    try {
-      RunOptions options;
-      options.every = every_;
-      report = Simulate<double>(scene.model, options, [&writer](const Sample<double>& s) { writer.Write(s); });
-    } catch (const InputError& e) {  // the scene's initial state cannot be assembled
-      throw InputError(scene_path_ + ": " + e.what());
-    } catch (const SimulationDiverged& e) {
-      throw SimulationDiverged(scene_path_ + ": " + e.what(), e.time(), e.constraint());
-    }
+    RunOptions options;
+    options.every = every_;
+    const RunReport report = NamingScene(scene_path_, [&] {
+      return Simulate<double>(scene.model, options, [&writer](const Sample<double>& s) { writer.Write(s); });
+    });
     for (const std::string& warning : report.warnings) std::cerr << "tether: warning: " << scene_path_ << ": " << warning << "\n";
     if (events) {
       WriteEventsCsv(report.events, &events->stream());

@@ -5,6 +5,7 @@
 
 #include "flags.h"
 #include "scene_overrides.h"
+#include "scene_run.h"
 #include "tether/dynamics/integration/simulator.h"
 #include "tether/dynamics/io/output_file.h"
 #include "tether/dynamics/io/scene_reader.h"
@@ -44,13 +45,7 @@ class ViewCommand final : public Command {
     overrides_.Apply(&scene.model);
     ViewFrames frames;
     if (data_path_.empty()) {
-      try {
-        frames = SimulatedFrames(scene.model);
-      } catch (const InputError& e) {  // the scene's initial state cannot be assembled
-        throw InputError(scene_path_ + ": " + e.what());
-      } catch (const SimulationDiverged& e) {
-        throw SimulationDiverged(scene_path_ + ": " + e.what(), e.time(), e.constraint());
-      }
+      frames = NamingScene(scene_path_, [&] { return SimulatedFrames(scene.model); });
     } else {
       frames = RecordedFrames(scene.model, compare_path_.empty() ? data_path_ : compare_path_);
     }
