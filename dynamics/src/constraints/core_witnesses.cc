@@ -159,11 +159,14 @@ struct Crossings {
   };
   std::array<Candidate, 12 * 12> candidate;
   int count = 0;
+  Edges edges_a, edges_b;  // the edges the candidates index
 };
 
 Crossings FindCrossings(const EdgeSource& first, const EdgeSource& box) {
-  const Edges edges_a = EdgesOf(first), edges_b = EdgesOf(box);
   Crossings found;
+  found.edges_a = EdgesOf(first);
+  found.edges_b = EdgesOf(box);
+  const Edges &edges_a = found.edges_a, &edges_b = found.edges_b;
   for (int ia = 0; ia < edges_a.count; ++ia) {
     const Edge& ea = edges_a.edge[ia];
     for (int ib = 0; ib < edges_b.count; ++ib) {
@@ -214,7 +217,7 @@ CrossedEdges FindCrossedEdges(const EdgeSource& first, const BoxCore& second, in
   }
   if (rank >= last.count) return {};
   const Crossings::Candidate& c = last.candidate[rank];
-  return {true, EdgeWitness(first, EdgesOf(first).edge[c.a], c.s), EdgeWitness(box, EdgesOf(box).edge[c.b], c.t),
+  return {true, EdgeWitness(first, last.edges_a.edge[c.a], c.s), EdgeWitness(box, last.edges_b.edge[c.b], c.t),
           second.pose.rotation.transpose() * c.n};
 }
 
