@@ -449,6 +449,10 @@ TEST(ContactFriction, ASlidingBallRollsFromTheClosedFormTime) {
     ASSERT_EQ(report.events.size(), 1u) << dimension;
     EXPECT_EQ(report.events[0].kind, "stick");
     EXPECT_NEAR(report.events[0].t, ts, 1e-10) << dimension;
+    const Vec3<double> up = dimension == 3 ? Vec3<double>::UnitZ() : Vec3<double>::UnitY();  // under the ball
+    EXPECT_LT((report.events[0].point - (v0 * ts - mu * kG * ts * ts / 2) * Vec3<double>::UnitX()).norm(), 1e-10);
+    EXPECT_LT((report.events[0].normal - up).norm(), 1e-12) << dimension;
+    EXPECT_EQ(report.events[0].impulse, 0.0);
     EXPECT_NEAR(vx, vs, 1e-10) << dimension;
     EXPECT_NEAR(x, v0 * ts - mu * kG * ts * ts / 2 + vs * (1.0 - ts), 1e-10) << dimension;
     EXPECT_LT(height, 1e-12) << dimension;

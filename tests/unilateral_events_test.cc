@@ -451,7 +451,12 @@ TEST(JointLimitScenes, AnUnnamedLimitedJointIsLimitedAndNamedByItsPointer) {
   scene["constraints"][0].erase("name");
   const RunReport report = Simulate<double>(Parse(scene), RunOptions{}, [](const Sample<double>&) {});
   ASSERT_FALSE(Events(report.events, "impact").empty());
-  EXPECT_EQ(report.events[0].constraint, "/constraints/0");
+  const RunEvent& impact = report.events[0];
+  EXPECT_EQ(impact.constraint, "/constraints/0");
+  // where: the joint, at the pivot; the impulse: the angular momentum about it, I (g'+ - g'-) with I = m L^2 / 3
+  EXPECT_LT(impact.point.norm(), 1e-9);
+  EXPECT_EQ(impact.normal.norm(), 0.0);
+  EXPECT_NEAR(impact.impulse, (impact.speed_after - impact.speed_before) / 3.0, 1e-9);
 }
 
 TEST(JointLimitScenes, AnEmptyShapesListIsTheSceneWithoutThem) {

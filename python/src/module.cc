@@ -9,6 +9,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -79,10 +80,14 @@ auto OnScene(const Scene& scene, Work work) {
 // The most a run's arrays may hold, refused up front rather than running out of memory at the end.
 constexpr double kMaxRecordingBytes = 4.0 * (1 << 30);
 
+// An event as Python's tether.Event: t, kind, constraint, g'-, g'+, point, normal, impulse (RunEvent).
+using EventRow =
+    std::tuple<double, std::string, std::string, double, double, std::array<double, 3>, std::array<double, 3>, double>;
+
 struct Recorded {
   std::vector<std::string> columns;
   py::array_t<double> table, q, v;
-  std::vector<std::tuple<double, std::string, std::string, double, double>> events;  // t, kind, constraint, g'-, g'+
+  std::vector<EventRow> events;
 };
 
 // A run of the scene with `overrides` in place of its settings, every `every`-th step recorded.
@@ -121,8 +126,11 @@ Recorded SimulateScene(const Scene& scene, const SettingsOverrides& overrides, i
   out.table = TakeMatrix(std::move(table), rows, columns.size());
   out.q = TakeMatrix(std::move(q), rows, nq);
   out.v = TakeMatrix(std::move(v), rows, nv);
-  for (const RunEvent& e : report.events)
-    out.events.emplace_back(e.t, e.kind, e.constraint, e.speed_before, e.speed_after);
+  const auto array = [](const Vec3<double>& x) { return std::array<double, 3>{x.x(), x.y(), x.z()}; };
+  for (const RunEvent& e : report.events) {
+    out.events.emplace_back(e.t, e.kind, e.constraint, e.speed_before, e.speed_after, array(e.point), array(e.normal),
+                            e.impulse);
+  }
   return out;
 }
 
@@ -130,7 +138,7 @@ Recorded SimulateScene(const Scene& scene, const SettingsOverrides& overrides, i
 // trajectory's columns), configurations and events.
 std::string ViewOf(const Scene& scene, const py::array_t<double, py::array::c_style | py::array::forcecast>& table,
                    const py::array_t<double, py::array::c_style | py::array::forcecast>& q,
-                   const std::vector<std::tuple<double, std::string, std::string, double, double>>& events) {
+                   const std::vector<EventRow>& events) {
 #ifndef TETHER_HAVE_VIEWER
   throw InputError(
       "this tether was built without the viewer (-DTETHER_VIEWER=OFF): install libjs-three and "
@@ -167,7 +175,9 @@ std::string ViewOf(const Scene& scene, const py::array_t<double, py::array::c_st
         for (int c : plotted) values.push_back(rows(r, c));
         return values;
       });
-  for (const auto& [t, kind, constraint, before, after] : events) frames.events.push_back({t, kind, constraint});
+  for (const auto& [t, kind, constraint, before, after, point, normal, impulse] : events) {
+    frames.events.push_back({t, kind, constraint, Vec3<double>(point.data()), Vec3<double>(normal.data()), impulse});
+  }
   return ViewHtml(model, std::filesystem::path(scene.path).filename().string(), frames);
 #endif
 }

@@ -99,8 +99,8 @@ def test_events_are_the_cli_events_file(tmp_path):
     with open(tmp_path / "events.csv", newline="") as f:
         rows = list(csv.reader(f))
     run = tether.Scene.load(str(path)).simulate()
-    assert rows[0] == list(tether.Event._fields)
-    assert [(float(r[0]), r[1], r[2], float(r[3]), float(r[4])) for r in rows[1:]] == [tuple(e) for e in run.events]
+    assert rows[0] == list(tether.Event._fields[:5])  # the file's columns, then where and the impulse
+    assert [(float(r[0]), r[1], r[2], float(r[3]), float(r[4])) for r in rows[1:]] == [tuple(e)[:5] for e in run.events]
     assert len(run.events) == 2 and run.events[0].kind == "impact" and run.events[0].constraint == "hinge"
     assert run.events[0].speed_after == pytest.approx(-0.5 * run.events[0].speed_before, rel=1e-9)
     assert list(run.events_to_pandas().columns) == list(tether.Event._fields)
@@ -122,3 +122,7 @@ def test_a_ball_bounces_on_a_floor_in_both_contact_modes(mode):
     assert impact.kind == "impact" and impact.constraint == "surface|floor"
     assert impact.t == pytest.approx(math.sqrt(2 / 9.81), abs=1e-12 if mode == "events" else 1e-3)
     assert impact.speed_after == pytest.approx(-0.8 * impact.speed_before, rel=1e-9 if mode == "events" else 1e-4)
+    # where: under the ball on the floor, the normal up; the impulse the ball's change of momentum, m (1 + e) v
+    assert impact.point == pytest.approx((0.0, 0.0, 0.0), abs=1e-9 if mode == "events" else 5e-3)
+    assert impact.normal == pytest.approx((0.0, 0.0, 1.0), abs=1e-12)
+    assert impact.impulse == pytest.approx(1.8 * -impact.speed_before, rel=1e-9 if mode == "events" else 1e-4)

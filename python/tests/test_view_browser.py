@@ -112,6 +112,16 @@ def test_a_bouncing_ball_s_impacts_are_listed_and_marked(tmp_path):
     marks = re.search(r'<datalist id="tether-marks">(.*?)</datalist>', dom, re.S).group(1)
     assert marks.count("<option") == len(impacts)
     assert probe(page, 0.5)["plotted"] == "energy"  # no joint: the energy, which each impact lowers
+    # the first impact's place: shown from its frame for a quarter of a second, under the ball, drawn
+    first = float(impacts[0].split(",")[0])
+    at = probe(page, first + 0.05)
+    assert len(at["places"]) == 1
+    (x, y), (ball_x, ball_y) = at["places"][0], at["bodies"][0]
+    assert abs(x - ball_x) < 2 and y > ball_y + 5  # z is up on the screen
+    image = screenshot(page, first + 0.05, tmp_path)
+    assert abs(image[int(round(y)), int(round(x))] - BACKGROUND).max() > 0.05
+    assert probe(page, first + 0.3)["places"] == []
+    assert f"P = " in listed  # each impact's impulse
 
 
 def test_python_s_view_is_the_command_s_page_and_shows_inline(tmp_path):

@@ -153,10 +153,14 @@ class Scene:
         return f"tether.Scene({self.path!r})"
 
 
-Event = _namedtuple("Event", ["t", "kind", "constraint", "speed_before", "speed_after"])
-Event.__doc__ = """An event of a joint limit or a contact, as a row of `tether simulate --events`: time (s), "impact",
-"release", "stick" or "slip", the joint's name (or /constraints/K) or the contact's "SHAPE_A|SHAPE_B", and the gap's
-rate just before and after (rad/s or m/s, positive opening)."""
+Event = _namedtuple("Event", ["t", "kind", "constraint", "speed_before", "speed_after", "point", "normal", "impulse"])
+Event.__doc__ = """An event of a joint limit or a contact. Its first five fields are a row of `tether simulate
+--events`: time (s), "impact", "release", "stick" or "slip", the joint's name (or /constraints/K) or the contact's
+"SHAPE_A|SHAPE_B", and the gap's rate just before and after (rad/s or m/s, positive opening). Then where it
+happened, in the world frame: `point` (a contact's point; a limit's joint point on its second body) and `normal`
+(a contact's unit normal, from the second shape named towards the first, whose body the impulse pushes; zero for a
+limit), and an impact's `impulse` along it (N s; for a limit N m s or N s along its coordinate; 0 for the other
+kinds)."""
 
 
 class Trajectory:
@@ -204,7 +208,7 @@ class Trajectory:
         return pandas.DataFrame(self.table, columns=self._names, copy=False)
 
     def events_to_pandas(self):
-        """The events as a pandas DataFrame with the columns of `tether simulate --events` (needs pandas)."""
+        """The events as a pandas DataFrame, a column per Event field (needs pandas)."""
         import pandas
         return pandas.DataFrame(self.events, columns=Event._fields)
 

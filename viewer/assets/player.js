@@ -2,8 +2,8 @@
 // plays its frames, with a plot of one of its series and its events beside. Bodies are groups posed frame by frame;
 // their shapes (or glyphs), joint anchors and axes and markers are children in body coordinates; distance constraints
 // are rods redrawn each frame. The page starts playing, looping; VIEW.html#t=SECONDS opens it paused at that time.
-// #tether-probe holds, after each drawing, the time, the frame, the series plotted and every body's origin in canvas
-// pixels (for the browser tests).
+// #tether-probe holds, after each drawing, the time, the frame, the series plotted and every body's origin and every
+// event's place shown in canvas pixels (for the browser tests).
 (function() {
 'use strict';
 var data = JSON.parse(document.getElementById('tether-data').textContent);
@@ -185,6 +185,30 @@ function frameAt(t) {
   return frameIn(frames.times, t);
 }
 
+// the events' places, each shown for a quarter of a second of frames from its own: a dot where it happened (an
+// impact's red, a release's blue, stick green, slip orange) and an impact's impulse as an arrow along the contact's
+// normal, into the body it pushes (the largest impulse half the view's scale long)
+var events = data.events;
+var eventColors = {impact: 0xd62728, release: 0x1f77b4, stick: 0x2ca02c, slip: 0xff7f0e};
+var largestImpulse = events.reduce(function(largest, event) {
+  return Math.max(largest, event.impulse);
+}, 0);
+var places = events.map(function(event) {
+  var place = new THREE.Group(), color = eventColors[event.kind] || 0x333333;
+  place.add(dot(scale / 40, color));
+  var normal = vector(event.normal);
+  if (event.impulse > 0 && normal.lengthSq() > 0) {
+    var length = scale / 2 * event.impulse / largestImpulse;
+    place.add(new THREE.ArrowHelper(normal.normalize(), new THREE.Vector3(), length, color, length / 4, length / 8));
+  }
+  place.position.copy(vector(event.point));
+  place.visible = false;
+  place.userData.frame = frameAt(event.t);
+  scene.add(place);
+  return place;
+});
+var placeFrames = 15;
+
 // the camera looks at everything the bodies sweep, from the side (3D) or the front (2D)
 var box = new THREE.Box3();
 frames.poses.forEach(function(p) {
@@ -217,7 +241,7 @@ if (hash) {
   playing = false;
 }
 // the plot beside the view: one series against time, the events as dashed lines, a cursor at the time shown
-var series = data.series, events = data.events;
+var series = data.series;
 var side = document.getElementById('tether-side'), chooser = document.getElementById('tether-series');
 var plot = document.getElementById('tether-plot'), list = document.getElementById('tether-events');
 var marks = document.getElementById('tether-marks');
@@ -237,7 +261,8 @@ chooser.value = String(Math.max(preferred, 0));
 document.getElementById('tether-events-title').hidden = events.length === 0;
 events.forEach(function(event) {
   var item = document.createElement('li');
-  item.textContent = event.t.toFixed(4) + ' s  ' + event.kind + '  ' + event.constraint;
+  item.textContent = event.t.toFixed(4) + ' s  ' + event.kind + '  ' + event.constraint +
+      (event.impulse > 0 ? '  P = ' + event.impulse.toPrecision(3) + ' N s' : '');
   item.addEventListener('click', function() {
     playing = false;
     time = event.t;
@@ -326,28 +351,37 @@ chooser.addEventListener('change', function() {
   drawPlot();
 });
 
+// a point of the world in canvas pixels
+function pixel(point) {
+  var p = point.clone().project(camera);
+  return [(p.x + 1) / 2 * renderer.domElement.clientWidth, (1 - p.y) / 2 * renderer.domElement.clientHeight];
+}
 function show() {
   frame = frameAt(time);
   pose(frame);
+  places.forEach(function(place) {
+    place.visible = frame >= place.userData.frame && frame < place.userData.frame + placeFrames;
+  });
   slider.value = String(frame);
   clock.textContent = 't = ' + frames.times[frame].toFixed(3) + ' s';
   play.textContent = playing ? 'Pause' : 'Play';
   renderer.render(scene, camera);
   drawPlot();
-  var width = renderer.domElement.clientWidth, height = renderer.domElement.clientHeight;
+  function origin(group) {
+    return pixel(group.getWorldPosition(new THREE.Vector3()));
+  }
   probe.textContent = JSON.stringify({
     time: frames.times[frame],
     frame: frame,
     frames: count,
     plotted: series.names[parseInt(chooser.value, 10)] || null,
-    ghosts: ghosts.map(function(group) {
-      var p = group.getWorldPosition(new THREE.Vector3()).project(camera);
-      return [(p.x + 1) / 2 * width, (1 - p.y) / 2 * height];
-    }),
-    bodies: bodies.map(function(group) {
-      var p = group.getWorldPosition(new THREE.Vector3()).project(camera);
-      return [(p.x + 1) / 2 * width, (1 - p.y) / 2 * height];
-    })
+    ghosts: ghosts.map(origin),
+    bodies: bodies.map(origin),
+    places: places
+                .filter(function(place) {
+                  return place.visible;
+                })
+                .map(origin)
   });
 }
 function resize() {

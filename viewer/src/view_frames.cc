@@ -100,7 +100,9 @@ ViewFrames SimulatedFrames(const Model<double>& model) {
     frames.poses.push_back(last_pose);
     frames.series.push_back(last_series);
   }
-  for (const RunEvent& e : report.events) frames.events.push_back({e.t, e.kind, e.constraint});
+  for (const RunEvent& e : report.events) {
+    frames.events.push_back({e.t, e.kind, e.constraint, e.point, e.normal, e.impulse});
+  }
   frames.warnings = report.warnings;
   return frames;
 }

@@ -61,7 +61,12 @@ std::string ViewHtml(const Model<double>& model, const std::string& title, const
                      const ViewFrames* ghost) {
   nlohmann::json events = nlohmann::json::array();
   for (const ViewEvent& e : frames.events) {
-    events.push_back({{"t", e.t}, {"kind", e.kind}, {"constraint", e.constraint}});
+    events.push_back({{"t", e.t},
+                      {"kind", e.kind},
+                      {"constraint", e.constraint},
+                      {"point", {e.point.x(), e.point.y(), e.point.z()}},
+                      {"normal", {e.normal.x(), e.normal.y(), e.normal.z()}},
+                      {"impulse", e.impulse}});
   }
   nlohmann::json data = RunJson(frames);
   data["drawing"] = ViewDrawing(model);

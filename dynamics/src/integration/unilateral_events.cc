@@ -6,6 +6,7 @@
 #include <type_traits>
 
 #include "tether/dynamics/constraints/active_set.h"
+#include "tether/dynamics/constraints/contact_friction.h"
 #include "tether/dynamics/effects/effects.h"
 #include "tether/dynamics/model/configuration_space.h"
 #include "tether/dynamics/model/errors.h"
@@ -223,8 +224,8 @@ T UnilateralEvents<T>::EventTimeSensitivity(double t, int i, VecX<T>* q, VecX<T>
 }
 
 template <typename T>
-void UnilateralEvents<T>::Impulse(const std::vector<int>& impacting, const std::vector<T>& target, bool capture,
-                                  const VecX<T>& q, VecX<T>* v, Workspace<T>* ws) {
+std::vector<double> UnilateralEvents<T>::Impulse(const std::vector<int>& impacting, const std::vector<T>& target,
+                                                 bool capture, const VecX<T>& q, VecX<T>* v, Workspace<T>* ws) {
   const std::vector<char> held = active_;
   std::vector<T> wanted(sides_.size(), T(0.0));  // g'+ of every side in the solve
   std::vector<char> kept(sides_.size(), 0);      // a capture's sides hold whatever their impulse
@@ -238,6 +239,7 @@ void UnilateralEvents<T>::Impulse(const std::vector<int>& impacting, const std::
   std::vector<char> set = active_;
   std::vector<double> drift;  // J v of the rows kept
   double work = 0.0;
+  std::vector<double> of_side(sides_.size(), 0.0);
   const bool solved = SolveActiveSet(
       &set, kept, false,
       [&](const std::vector<char>& candidate, std::vector<int>* sides, std::vector<double>* impulses) {
@@ -258,7 +260,11 @@ void UnilateralEvents<T>::Impulse(const std::vector<int>& impacting, const std::
         for (size_t r = 0; r < drift.size(); ++r) work += std::abs(Value(ws->kkt.lambda[r]) * drift[r]);
         *sides = active_order_;
         impulses->clear();
-        for (size_t j = 0; j < active_order_.size(); ++j) impulses->push_back(Value(ws->kkt.lambda[first + j]));
+        std::fill(of_side.begin(), of_side.end(), 0.0);
+        for (size_t j = 0; j < active_order_.size(); ++j) {
+          impulses->push_back(Value(ws->kkt.lambda[first + j]));
+          of_side[active_order_[j]] = impulses->back();
+        }
         return true;
       });
   drift_work_ += work;
@@ -268,6 +274,27 @@ void UnilateralEvents<T>::Impulse(const std::vector<int>& impacting, const std::
   }
   active_ = held;
   Apply(ws);
+  return of_side;
+}
+
+template <typename T>
+RunEvent UnilateralEvents<T>::EventAt(double t, const char* kind, int i, double before, double after, double impulse,
+                                      const VecX<T>& q, const Workspace<T>& ws) const {
+  RunEvent event{t, kind, sides_[i].label, before, after};
+  event.impulse = impulse;
+  const Side& side = sides_[i];
+  if (side.feature >= 0) {
+    const ContactPoint<T> contact = ContactPointOf(model_, contacts_.features[side.feature], ws.frames, q, q, false);
+    event.point = contact.on_a.position.unaryExpr([](const T& x) { return Value(x); });
+    event.normal = contact.normal.unaryExpr([](const T& x) { return Value(x); });
+  } else {
+    const VecX<T> none;  // not read without velocities
+    event.point =
+        MovePoint(model_, ws.frames, model_.joints[side.joint].b, q, none, false).position.unaryExpr([](const T& x) {
+          return Value(x);
+        });
+  }
+  return event;
 }
 
 template <typename T>
@@ -283,9 +310,9 @@ void UnilateralEvents<T>::Resolve(double t, double step, int capture, int event,
   }
   std::vector<GapState> gaps = Measure(*q, *v, ws);
   if (capture >= 0) {  // held where it touches, at rest
-    Impulse({capture}, {T(0.0)}, true, *q, v, ws);
-    report->events.push_back({t, "impact", sides_[capture].label, gaps[capture].rate, 0.0});
+    const double impulse = Impulse({capture}, {T(0.0)}, true, *q, v, ws)[capture];
     gaps = Measure(*q, *v, ws);
+    report->events.push_back(EventAt(t, "impact", capture, gaps[capture].rate, 0.0, impulse, *q, *ws));
   }
   std::vector<int> impacting;
   for (int i = 0; i < size(); ++i) {
@@ -307,7 +334,7 @@ void UnilateralEvents<T>::Resolve(double t, double step, int capture, int event,
   }
   for (int i = 0; i < size(); ++i) {
     if (was_active[i] && !active_[i]) {
-      report->events.push_back({t, "release", sides_[i].label, gaps[i].rate, gaps[i].rate});
+      report->events.push_back(EventAt(t, "release", i, gaps[i].rate, gaps[i].rate, 0.0, *q, *ws));
     }
   }
 }
@@ -322,12 +349,15 @@ std::vector<typename UnilateralEvents<T>::GapState> UnilateralEvents<T>::Impacts
   for (int i : impacting) target.push_back(-Restitution(sides_[i]) * GapOf(i, q, *v, ws).rate);
   const double energy = Value(KineticEnergy(model_, *v));
   drift_work_ = 0.0;
-  Impulse(impacting, target, false, q, v, ws);
+  std::vector<double> impulses = Impulse(impacting, target, false, q, v, ws);
   std::vector<GapState> after = Measure(q, *v, ws);
   for (int i : impacting) {  // a rebound that would land again within a sliver of the step is captured
     if (!(after[i].rate > kRestingSpeed)) continue;
     const double fall = GapAcceleration(i, t, q, *v, ws);
-    if (fall < 0.0 && 2.0 * after[i].rate / -fall < kCaptureFlight * step) Impulse({i}, {T(0.0)}, true, q, v, ws);
+    if (fall < 0.0 && 2.0 * after[i].rate / -fall < kCaptureFlight * step) {
+      const std::vector<double> capture = Impulse({i}, {T(0.0)}, true, q, v, ws);
+      for (size_t k = 0; k < impulses.size(); ++k) impulses[k] += capture[k];
+    }
   }
   after = Measure(q, *v, ws);
   // no impact gains energy (e <= 1, pushing impulses): a gain beyond round-off is a defect, reported as such
@@ -338,7 +368,9 @@ std::vector<typename UnilateralEvents<T>::GapState> UnilateralEvents<T>::Impacts
         << " J of kinetic energy (a defect of the impact's solve: please report the scene)";
     throw SimulationDiverged(out.str(), t, -1);
   }
-  for (int i : impacting) report->events.push_back({t, "impact", sides_[i].label, before[i].rate, after[i].rate});
+  for (int i : impacting) {
+    report->events.push_back(EventAt(t, "impact", i, before[i].rate, after[i].rate, impulses[i], q, *ws));
+  }
   return after;
 }
 

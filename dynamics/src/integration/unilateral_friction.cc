@@ -242,8 +242,8 @@ void UnilateralEvents<T>::ChooseFriction(double t, int located, const VecX<T>& q
     const Friction was = before[i] ? static_cast<Friction>(before[i] - 1) : Friction::kNone;
     if (!before[i] || was == Friction::kNone || was == friction(i)) continue;
     const Gap gap = GapOf(i, q, v, ws);
-    report->events.push_back(
-        {t, friction(i) == Friction::kStick ? "stick" : "slip", sides_[i].label, Value(gap.rate), Value(gap.rate)});
+    report->events.push_back(EventAt(t, friction(i) == Friction::kStick ? "stick" : "slip", i, Value(gap.rate),
+                                     Value(gap.rate), 0.0, q, *ws));
   }
 }
 

@@ -360,7 +360,7 @@ void UnilateralEvents<T>::StepContacts(double t, double step, const VecX<T>& v_s
     if (!touching_[i]) continue;
     touching_[i] = 0;
     const double rate = Value(GapAt(i, *q, *v, *ws).rate);
-    report->events.push_back({t, "release", sides_[i].label, rate, rate});
+    report->events.push_back(EventAt(t, "release", i, rate, rate, 0.0, *q, *ws));
   }
   if (step_sides_.empty()) return;
   CheckEnergy(t, dv);
@@ -368,6 +368,7 @@ void UnilateralEvents<T>::StepContacts(double t, double step, const VecX<T>& v_s
   VecX<T> moved(q->size());
   Integrate(model_, *q, held, Describe(model_.simulation.integrator).force_position_weight * step, &moved);
   q->swap(moved);
+  const VecX<T>& measured = moved;               // the step's configuration, where the frames are
   for (size_t b = 0; b < blocks_.size(); ++b) {  // a side touches where it overlaps or its impulse pushes
     const StepBlock& block = blocks_[b];
     const int i = block.side;
@@ -376,9 +377,10 @@ void UnilateralEvents<T>::StepContacts(double t, double step, const VecX<T>& v_s
     for (int r = 0; r < block.rows; ++r) last_impulses_[kImpulseStride * i + r] = Value(impulses_[block.first_row + r]);
     const bool touches = Value(step_gaps_[b].g) < 0.0 || Value(impulses_[block.first_row]) > 0.0;
     if (touches && !touching_[i] && rate < -kRestingSpeed) {
-      report->events.push_back({t, "impact", sides_[i].label, rate, after});
+      const double impulse = Value(impulses_[block.first_row]);
+      report->events.push_back(EventAt(t, "impact", i, rate, after, impulse, measured, *ws));
     } else if (!touches && touching_[i]) {
-      report->events.push_back({t, "release", sides_[i].label, rate, rate});
+      report->events.push_back(EventAt(t, "release", i, rate, rate, 0.0, measured, *ws));
     }
     touching_[i] = touches;
   }

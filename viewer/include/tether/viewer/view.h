@@ -22,10 +22,12 @@ namespace tether {
 // A run at the frames to draw: each body's position and orientation [x, y, z, qw, qx, qy, qz] (a planar body turns
 // about z; a particle's orientation is the identity), the series the page can plot beside the motion (a simulated
 // run's joint coordinates, markers, constraint error and energy; a CSV's columns other than the poses) and the
-// run's events (a simulated run's impacts, releases, stick and slip).
+// run's events (a simulated run's impacts, releases, stick and slip: where, and an impact's impulse, as RunEvent).
 struct ViewEvent {
   double t = 0.0;
   std::string kind, constraint;
+  Vec3<double> point = Vec3<double>::Zero(), normal = Vec3<double>::Zero();
+  double impulse = 0.0;
 };
 struct ViewFrames {
   std::vector<double> times;

@@ -59,6 +59,11 @@ struct RunEvent {
   std::string kind;                              // "impact" or "release"
   std::string constraint;                        // the joint's name (or its pointer, /constraints/K, when it has none)
   double speed_before = 0.0, speed_after = 0.0;  // the gap's rate g' just before and after
+  // Where, in the world: a contact's point and its normal n (unit, from the label's second shape towards its first,
+  // on whose body the impulse pushes along n); a limit's joint point on its second body and n zero. An impact's
+  // impulse (N s along n; a limit's N m s or N s along its coordinate), else 0.
+  Vec3<double> point = Vec3<double>::Zero(), normal = Vec3<double>::Zero();
+  double impulse = 0.0;
 };
 
 struct RunReport {

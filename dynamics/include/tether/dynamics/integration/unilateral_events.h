@@ -170,8 +170,12 @@ class UnilateralEvents {
   // Impulses on the equality rows, the active sides and the sides in `impacting` so that each impacting side
   // leaves at its target rate; a side whose impulse would pull is left out, unless `capture` (the sides in
   // `impacting` are then held at their target, a capture's last, tiny pull).
-  void Impulse(const std::vector<int>& impacting, const std::vector<T>& target, bool capture, const VecX<T>& q,
-               VecX<T>* v, Workspace<T>* ws);
+  // Returns every side's impulse (zero for those not in the solve).
+  std::vector<double> Impulse(const std::vector<int>& impacting, const std::vector<T>& target, bool capture,
+                              const VecX<T>& q, VecX<T>* v, Workspace<T>* ws);
+  // The event `kind` on side i at (t, q) (frames updated at q), with its place and `impulse` (RunEvent).
+  RunEvent EventAt(double t, const char* kind, int i, double before, double after, double impulse, const VecX<T>& q,
+                   const Workspace<T>& ws) const;
   // Newton's law on the sides in `impacting` (their gaps `before`), rebounds too slow to follow captured, the
   // events reported; returns the gaps after.
   std::vector<GapState> Impacts(double t, double step, const std::vector<int>& impacting,
