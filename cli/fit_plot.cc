@@ -79,18 +79,6 @@ fig.tight_layout()
 fig.savefig(out, dpi=110)
 )PY";
 
-// The unit of a trajectory column, by the suffix tether gives it (docs/contract.md's columns).
-std::string ColumnUnit(const std::string& name) {
-  if (name == "constraint_error") return "m";
-  if (name == "energy") return "J";
-  const std::string suffix = name.substr(name.rfind('.') + 1);
-  if (suffix == "x" || suffix == "y" || suffix == "z" || suffix == "displacement") return "m";
-  if (suffix == "vx" || suffix == "vy" || suffix == "vz" || suffix == "speed") return "m/s";
-  if (suffix == "angle") return "rad";
-  if (suffix == "omega" || suffix == "wx" || suffix == "wy" || suffix == "wz") return "rad/s";
-  return "";  // a quaternion's components
-}
-
 std::string Joined(const std::vector<double>& numbers) {
   std::ostringstream text;
   text.precision(17);
@@ -127,6 +115,17 @@ std::vector<std::string> ScheduleArguments(const Model<double>& model) {
 }
 
 }  // namespace
+
+std::string ColumnUnit(const std::string& name) {
+  if (name == "constraint_error") return "m";
+  if (name == "energy") return "J";
+  const std::string suffix = name.substr(name.rfind('.') + 1);
+  if (suffix == "x" || suffix == "y" || suffix == "z" || suffix == "displacement") return "m";
+  if (suffix == "vx" || suffix == "vy" || suffix == "vz" || suffix == "speed") return "m/s";
+  if (suffix == "angle") return "rad";
+  if (suffix == "omega" || suffix == "wx" || suffix == "wy" || suffix == "wz") return "rad/s";
+  return "";  // a quaternion's components
+}
 
 void PlotFit(const Model<double>& fitted, const std::vector<Observations>& recordings,
              const std::vector<InequalityTarget>& constraints, const std::string& path) {

@@ -12,6 +12,10 @@
 
 namespace tether::cli {
 
+// The unit of a trajectory column, by the suffix tether gives it (docs/contract.md's columns); empty for a
+// quaternion's components.
+std::string ColumnUnit(const std::string& name);
+
 // Writes the PNG (or SVG, by the file name) at `path`, or throws InputError saying what is missing; nothing is
 // left at `path` on failure.
 void PlotFit(const Model<double>& fitted, const std::vector<Observations>& recordings,

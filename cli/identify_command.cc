@@ -6,9 +6,13 @@
 #include <limits>
 
 #include "fit_plot.h"
+#ifdef TETHER_HAVE_VIEWER
+#include "fit_report.h"
+#endif
 #include "flags.h"
 #include "progress_line.h"
 #include "scene_overrides.h"
+#include "scene_run.h"
 #include "tether/dynamics/io/scene_reader.h"
 #include "tether/dynamics/io/trajectory_csv.h"
 #include "tether/dynamics/model/errors.h"
@@ -60,6 +64,8 @@ class IdentifyCommand final : public Command {
     app_->add_option("--max-evaluations", max_evaluations_, "budget of residual evaluations for NLopt; Ceres gets half as many iterations (default 200; 1000 for a fit with constraints or starts)");
     app_->add_option("-o,--output", output_path_, "write the scene with the estimates in place");
     app_->add_option("--plot", plot_path_, "draw the data against the motion with the estimates (PNG or SVG)");
+    app_->add_option("--report", report_path_,
+                     "write an HTML report: the fit per column, residuals, parameters, correlations, the motion");
     app_->add_flag("--quiet", quiet_, "no progress on stderr");
     if (fit) {
       app_->add_option("--smooth", smooth_, "weight W of the penalty on changes between schedule values");
@@ -98,7 +104,14 @@ class IdentifyCommand final : public Command {
     CheckCount(max_evaluations_, 2, kMaxEvaluations, "--max-evaluations");
     std::vector<std::string> inputs = data_paths_;
     inputs.push_back(scene_path_);
-    CheckOutputs({{output_path_, "-o"}, {plot_path_, "--plot", true}}, inputs);
+    CheckOutputs({{output_path_, "-o"}, {plot_path_, "--plot", true}, {report_path_, "--report"}}, inputs);
+#ifndef TETHER_HAVE_VIEWER
+    if (!report_path_.empty()) {
+      throw InputError(
+          "--report: this tether was built without the viewer (-DTETHER_VIEWER=OFF): install libjs-three and "
+          "configure with -DTETHER_VIEWER=ON");
+    }
+#endif
     if (!(smooth_ >= 0) || !std::isfinite(smooth_)) throw InputError("--smooth: must be >= 0");
     settings.segments = fit_ && app_->count("--segments") == 0 ? 0 : segments_;
     settings.smooth = smooth_;
@@ -145,9 +158,10 @@ class IdentifyCommand final : public Command {
       std::cerr << "tether: the " << (fit_ ? "fit" : "identification") << " failed (warnings above)"
                 << (out ? "; no scene was written" : "") << "\n";
     }
-    if (!plot_path_.empty()) {  // last: a plot that fails loses nothing computed
-      Model<double> fitted = scene.model;
-      parameters.Assign(result.estimate, &fitted);
+    // last: a plot or a report that fails loses nothing computed
+    Model<double> fitted = scene.model;
+    parameters.Assign(result.estimate, &fitted);
+    if (!plot_path_.empty()) {
       try {
         PlotFit(fitted, recordings, settings.inequalities, plot_path_);
       } catch (const InputError& e) {
@@ -155,6 +169,22 @@ class IdentifyCommand final : public Command {
         return 1;
       }
     }
+#ifdef TETHER_HAVE_VIEWER
+    if (!report_path_.empty()) {
+      try {
+        AtomicOutputFile report(report_path_);
+        report.stream() << NamingScene(scene_path_, [&] {
+          return FitReportHtml(
+              {fit_, scene_path_, optimizer_, &fitted, &parameters, &result, &recordings, &settings.inequalities});
+        });
+        report.Commit();
+      } catch (const std::exception& e) {
+        std::cerr << "tether: error: --report: " << e.what()
+                  << "\ntether: the results above are complete; only the report is missing\n";
+        return 1;
+      }
+    }
+#endif
     return result.failed ? 1 : 0;
   }
 
@@ -162,7 +192,7 @@ class IdentifyCommand final : public Command {
   bool fit_;
   bool quiet_ = false;
   CLI::App* app_;
-  std::string scene_path_, output_path_, plot_path_, loss_, optimizer_ = "ceres", method_ = "auto";
+  std::string scene_path_, output_path_, plot_path_, report_path_, loss_, optimizer_ = "ceres", method_ = "auto";
   std::vector<std::string> data_paths_, pointers_, bounds_, ties_;
   std::vector<std::string> at_least_, at_most_;
   int segments_ = 1, max_evaluations_ = 200, starts_ = 1;

@@ -3,19 +3,14 @@ the console stays clean, the page draws the bodies where the trajectory puts the
 body moves, and the slider's last frame is the CSV's last row. Without a browser these tests fail (the README's test
 command installs chromium-headless-shell); they are skipped only when tether was built without the viewer."""
 import glob
-import json
 import os
 import re
-import shutil
 import subprocess
 
-import matplotlib.image
 import pytest
 
+from browser import BACKGROUND, HEIGHT, WIDTH, browse, browser_screenshot, page_probe
 from conftest import EXECUTABLE, read_csv, source
-
-BROWSER = "chromium-headless-shell"
-WIDTH, HEIGHT = 900, 600
 
 
 def view(tmp_path, scene, *flags):
@@ -28,37 +23,13 @@ def view(tmp_path, scene, *flags):
     return page
 
 
-def browse(page, seconds, *how):
-    """Opens page#t=SECONDS in headless Chromium with no network; returns (stdout, the console's lines)."""
-    assert shutil.which(BROWSER), f"{BROWSER} is missing: apt-get install chromium-headless-shell (scripts/dev does)"
-    done = subprocess.run(
-        [BROWSER, "--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
-         f"--window-size={WIDTH},{HEIGHT}", "--virtual-time-budget=3000", "--enable-logging=stderr", "--v=0",
-         "--proxy-server=127.0.0.1:9", "--proxy-bypass-list=<-loopback>", "--host-resolver-rules=MAP * ~NOTFOUND",
-         *how, f"file://{page}#t={seconds}"],
-        capture_output=True, text=True, timeout=120)
-    assert done.returncode == 0, done.stderr
-    console = [line for line in done.stderr.splitlines() if ":CONSOLE(" in line]
-    return done.stdout, console
-
-
 def probe(page, seconds):
     """The page's own report at time SECONDS: the frame shown and the bodies' origins in pixels."""
-    dom, console = browse(page, seconds, "--dump-dom")
-    assert console == [], console
-    found = re.search(r'<pre id="tether-probe" hidden="">(.*?)</pre>', dom, re.S)
-    assert found, "the page wrote no probe: its script did not run"
-    return json.loads(found.group(1).replace("&quot;", '"'))
+    return page_probe(page, "tether-probe", f"#t={seconds}")
 
 
 def screenshot(page, seconds, tmp_path):
-    shot = tmp_path / f"shot_{seconds}.png"
-    _, console = browse(page, seconds, f"--screenshot={shot}")
-    assert console == [], console
-    return matplotlib.image.imread(shot)[:, :, :3]
-
-
-BACKGROUND = [0xF4 / 255, 0xF4 / 255, 0xF4 / 255]
+    return browser_screenshot(page, f"#t={seconds}", tmp_path / f"shot_{seconds}.png")
 
 
 def test_the_robot_arm_plays_where_its_trajectory_puts_it(tmp_path):
@@ -105,7 +76,7 @@ def test_a_bouncing_ball_s_impacts_are_listed_and_marked(tmp_path):
         impacts = [line for line in f.read().splitlines()[1:] if ",impact," in line]
     assert len(impacts) >= 3
     page = view(tmp_path, scene)
-    dom, console = browse(page, 0.5, "--dump-dom")
+    dom, console = browse(page, "#t=0.5", "--dump-dom")
     assert console == [], console
     listed = re.search(r'<ol id="tether-events">(.*?)</ol>', dom, re.S).group(1)
     assert listed.count("<li>") == len(impacts) and listed.count("impact  ball_surface|floor") == len(impacts)

@@ -32,11 +32,23 @@ TEST(HumanoidCli, ImportsSimulatesTunesAndIdentifiesAsTheReadmeShows) {
   EXPECT_EQ(simulated.status, 0) << simulated.err;
   const Outcome tuned = RunTether("tune " + scene + " --max-evaluations 20", folder);
   EXPECT_EQ(tuned.status, 0) << tuned.err;
-  const Outcome identified =
-      RunTether("identify " + scene + " --duration 3 --data " + std::string(TETHER_SOURCE_DIR) +
-                    "/docs/examples/humanoid/joint_angles.csv --param /bodies/14/mass",
-                folder);
+#ifdef TETHER_HAVE_VIEWER
+  const std::string report = " --report " + folder.Path("report.html");  // as docs/reports.md says it is written
+#else
+  const std::string report;
+#endif
+  const Outcome identified = RunTether("identify " + scene + " --duration 3 --data " + std::string(TETHER_SOURCE_DIR) +
+                                           "/docs/examples/humanoid/joint_angles.csv --param /bodies/14/mass" + report,
+                                       folder);
   ASSERT_EQ(identified.status, 0) << identified.err;
+#ifdef TETHER_HAVE_VIEWER
+  const std::string html = ReadText(folder.Path("report.html"));
+  EXPECT_LT(html.size(), 2000000u);
+  for (const char* column :
+       {"abdomen_x.angle", "right_knee.angle", "left_knee.angle", "right_elbow.angle", "left_elbow.angle"}) {
+    EXPECT_NE(html.find("\"column\":\"" + std::string(column) + "\""), std::string::npos) << column;
+  }
+#endif
   const nlohmann::json result = nlohmann::json::parse(identified.out);
   const double mass = result["parameters"]["/bodies/14/mass"], deviation = result["standard_deviation"]["/bodies/14/mass"];
   EXPECT_FALSE(result["failed"].get<bool>());
@@ -100,6 +112,7 @@ TEST(HumanoidCli, ItsViewOverThreeSecondsIsWellUnderTwoMegabytes) {
   EXPECT_LT(html.size(), 1500000u);  // three.js is 850 kB of it
   EXPECT_NE(html.find("\"left_lower_arm\""), std::string::npos);
 }
+
 #endif
 
 }  // namespace

@@ -101,8 +101,9 @@ drawing.shapes.forEach(function(shape) {
   holder(shape.body).add(placed(solid(shape, color), shape));
 });
 // a recording beside the run (tether view --compare): every body again, grey and translucent, posed by its frames
-var ghost = data.ghost;
-var ghosts = !ghost ? [] : drawing.bodies.map(function(body) {
+// (a recording of some columns only has no poses: its series are plotted, no ghost is drawn)
+var ghost = data.ghost, posedGhost = ghost && ghost.frames.poses.length > 0;
+var ghosts = !posedGhost ? [] : drawing.bodies.map(function(body) {
   var group = new THREE.Group();
   if (body.glyph) {
     var glyph = solid(Object.assign({contact: false}, body.glyph), 0x777777);
@@ -112,7 +113,7 @@ var ghosts = !ghost ? [] : drawing.bodies.map(function(body) {
   return group;
 });
 drawing.shapes.forEach(function(shape) {
-  if (ghost && shape.body >= 0)
+  if (posedGhost && shape.body >= 0)
     ghosts[shape.body].add(placed(solid(Object.assign({}, shape, {contact: false}), 0x777777), shape));
 });
 function dot(radius, color) {
@@ -161,7 +162,7 @@ function place(groups, p) {
 }
 function pose(frame) {
   place(bodies, frames.poses[frame]);
-  if (ghost) place(ghosts, ghost.frames.poses[frameIn(ghost.frames.times, frames.times[frame])]);
+  if (posedGhost) place(ghosts, ghost.frames.poses[frameIn(ghost.frames.times, frames.times[frame])]);
   rods.forEach(function(rod) {
     var ends = [rod.userData.a, rod.userData.b].map(function(end) {
       return holder(end.body).localToWorld(vector(end.point));
@@ -262,7 +263,7 @@ document.getElementById('tether-events-title').hidden = events.length === 0;
 events.forEach(function(event) {
   var item = document.createElement('li');
   item.textContent = event.t.toFixed(4) + ' s  ' + event.kind + '  ' + event.constraint +
-      (event.impulse > 0 ? '  P = ' + event.impulse.toPrecision(3) + ' N s' : '');
+      (event.impulse > 0 ? '  P = ' + event.impulse.toPrecision(3) + ' ' + event.unit : '');
   item.addEventListener('click', function() {
     playing = false;
     time = event.t;
@@ -308,8 +309,11 @@ function drawPlot() {
   g.strokeRect(left, top, right - left, bottom - top);
   g.fillStyle = '#333';
   g.font = '11px sans-serif';
-  g.fillText(high.toPrecision(4), 2, top + 10);
-  g.fillText(low.toPrecision(4), 2, bottom);
+  function label(v) {  // round-off about zero is zero
+    return Math.abs(v) < 1e-9 * (high - low) ? '0' : v.toPrecision(4);
+  }
+  g.fillText(label(high), 2, top + 10);
+  g.fillText(label(low), 2, bottom);
   g.fillText(t0.toFixed(2) + ' s', left, height - 6);
   g.fillText(t1.toFixed(2) + ' s', right - 40, height - 6);
   g.setLineDash([4, 3]);

@@ -11,6 +11,8 @@ TETHER_INCBIN(tether_view_three, TETHER_VIEW_THREE_JS)
 TETHER_INCBIN(tether_view_orbit_controls, TETHER_VIEW_ORBIT_CONTROLS_JS)
 TETHER_INCBIN(tether_view_page, TETHER_VIEW_PAGE_HTML)
 TETHER_INCBIN(tether_view_player, TETHER_VIEW_PLAYER_JS)
+TETHER_INCBIN(tether_report_page, TETHER_REPORT_PAGE_HTML)
+TETHER_INCBIN(tether_report_script, TETHER_REPORT_JS)
 
 namespace tether::viewer_assets {
 
@@ -21,6 +23,12 @@ std::string_view OrbitControls() {
 std::string_view Page() { return {tether_view_page, static_cast<size_t>(tether_view_page_end - tether_view_page)}; }
 std::string_view Player() {
   return {tether_view_player, static_cast<size_t>(tether_view_player_end - tether_view_player)};
+}
+std::string_view ReportPage() {
+  return {tether_report_page, static_cast<size_t>(tether_report_page_end - tether_report_page)};
+}
+std::string_view ReportScript() {
+  return {tether_report_script, static_cast<size_t>(tether_report_script_end - tether_report_script)};
 }
 
 }  // namespace tether::viewer_assets

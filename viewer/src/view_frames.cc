@@ -108,21 +108,30 @@ ViewFrames SimulatedFrames(const Model<double>& model) {
 }
 
 ViewFrames RecordedFrames(const Model<double>& model, const std::string& csv_path) {
-  const Observations data = ReadTrajectory(csv_path, model);
+  return ObservedFrames(model, ReadTrajectory(csv_path, model), true);
+}
+
+ViewFrames ObservedFrames(const Model<double>& model, const Observations& data, bool poses_required) {
+  const std::string& csv_path = data.path;
   std::map<int, int> column_of;  // q index -> column
   for (size_t c = 0; c < data.columns.size(); ++c) {
     if (data.columns[c].kind == TrajectoryColumn::Kind::kConfiguration) column_of[data.columns[c].index] = c;
   }
+  bool posed = true;
   for (const Body<double>& body : model.bodies) {
     for (int k = 0; k < body.q_size; ++k) {
-      if (!column_of.count(body.q_offset + k)) {
-        throw InputError(csv_path + ": no column for body '" + body.name +
-                         "''s position or orientation: the view draws every body from its pose (the columns of "
-                         "tether simulate's CSV: " +
-                         body.name + ".x, ...)");
+      if (column_of.count(body.q_offset + k)) continue;
+      if (!poses_required) {
+        posed = false;
+        continue;
       }
+      throw InputError(csv_path + ": no column for body '" + body.name +
+                       "''s position or orientation: the view draws every body from its pose (the columns of "
+                       "tether simulate's CSV: " +
+                       body.name + ".x, ...)");
     }
   }
+  if (!posed) column_of.clear();  // the series alone
   std::vector<int> plotted;  // the columns besides the poses
   std::vector<std::string> names;
   for (size_t c = 0; c < data.columns.size(); ++c) {
@@ -146,7 +155,9 @@ ViewFrames RecordedFrames(const Model<double>& model, const std::string& csv_pat
     for (int c : plotted) values.push_back(data.values[row][c]);
     return values;
   };
-  return SampledFrames(csv_path, model, data.times, q_of_row, names, series_of_row);
+  ViewFrames frames = SampledFrames(csv_path, model, data.times, q_of_row, names, series_of_row);
+  if (!posed) frames.poses.clear();
+  return frames;
 }
 
 }  // namespace tether

@@ -1,47 +1,12 @@
 #include <cmath>
 #include <string>
 
+#include "html_text.h"
 #include "tether/viewer/view.h"
 #include "view_assets.h"
 
 namespace tether {
 namespace {
-
-// Text for an HTML element's content.
-std::string Escaped(const std::string& text) {
-  std::string out;
-  for (const char c : text) {
-    if (c == '<') {
-      out += "&lt;";
-    } else if (c == '>') {
-      out += "&gt;";
-    } else if (c == '&') {
-      out += "&amp;";
-    } else {
-      out += c;
-    }
-  }
-  return out;
-}
-
-// A script's text never holds "</" (which could end its element early): JSON may write "<\/", JavaScript
-// libraries are inlined as they are (three.js holds none).
-std::string InScript(const std::string& json_text) {
-  std::string out;
-  for (size_t i = 0; i < json_text.size(); ++i) {
-    out += json_text[i];
-    if (json_text[i] == '<' && i + 1 < json_text.size() && json_text[i + 1] == '/') out += '\\';
-  }
-  return out;
-}
-
-// Replaces the first `marker` at or after *from, and moves *from past the text put in: no inlined text (a body
-// named @PLAYER@) is searched again.
-void Replace(std::string* page, const std::string& marker, std::string_view text, size_t* from) {
-  const size_t at = page->find(marker, *from);
-  page->replace(at, marker.size(), text);
-  *from = at + text.size();
-}
 
 // A run's frames and series as the player reads them.
 nlohmann::json RunJson(const ViewFrames& frames) {
@@ -55,6 +20,17 @@ nlohmann::json RunJson(const ViewFrames& frames) {
           {"series", {{"names", frames.series_names}, {"values", series}}}};
 }
 
+// An impact's impulse's unit: a contact's N s; a limit's N m s on an angle, N s on a displacement.
+std::string ImpulseUnit(const Model<double>& model, const ViewEvent& event) {
+  if (event.normal.squaredNorm() > 0.0) return "N s";
+  for (const Joint<double>& joint : model.joints) {
+    if (joint.name == event.constraint || "/constraints/" + std::to_string(joint.scene_index) == event.constraint) {
+      return joint.type == JointType::kSlider || joint.type == JointType::kPrismatic ? "N s" : "N m s";
+    }
+  }
+  return "N s";
+}
+
 }  // namespace
 
 std::string ViewHtml(const Model<double>& model, const std::string& title, const ViewFrames& frames,
@@ -66,7 +42,8 @@ std::string ViewHtml(const Model<double>& model, const std::string& title, const
                       {"constraint", e.constraint},
                       {"point", {e.point.x(), e.point.y(), e.point.z()}},
                       {"normal", {e.normal.x(), e.normal.y(), e.normal.z()}},
-                      {"impulse", e.impulse}});
+                      {"impulse", e.impulse},
+                      {"unit", ImpulseUnit(model, e)}});
   }
   nlohmann::json data = RunJson(frames);
   data["drawing"] = ViewDrawing(model);
@@ -74,11 +51,11 @@ std::string ViewHtml(const Model<double>& model, const std::string& title, const
   data["ghost"] = ghost ? RunJson(*ghost) : nlohmann::json();
   std::string page(viewer_assets::Page());
   size_t from = 0;  // the markers in the order they appear
-  Replace(&page, "@TITLE@", Escaped(title), &from);
-  Replace(&page, "@DATA@", InScript(data.dump()), &from);
-  Replace(&page, "@THREE@", viewer_assets::Three(), &from);
-  Replace(&page, "@ORBIT_CONTROLS@", viewer_assets::OrbitControls(), &from);
-  Replace(&page, "@PLAYER@", viewer_assets::Player(), &from);
+  html::Replace(&page, "@TITLE@", html::Escaped(title), &from);
+  html::Replace(&page, "@DATA@", html::InScript(data.dump()), &from);
+  html::Replace(&page, "@THREE@", viewer_assets::Three(), &from);
+  html::Replace(&page, "@ORBIT_CONTROLS@", viewer_assets::OrbitControls(), &from);
+  html::Replace(&page, "@PLAYER@", viewer_assets::Player(), &from);
   return page;
 }
 

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "tether/autodiff/observations.h"
 #include "tether/dynamics/io/trajectory_columns.h"
 #include "tether/dynamics/model/model.h"
 
@@ -31,7 +32,7 @@ struct ViewEvent {
 };
 struct ViewFrames {
   std::vector<double> times;
-  std::vector<std::vector<double>> poses;  // poses[frame]: 7 numbers per body, in body order
+  std::vector<std::vector<double>> poses;  // poses[frame]: 7 numbers per body, in body order (none: not posed)
   std::vector<std::string> series_names;
   std::vector<std::vector<double>> series;  // series[frame][k]: series_names[k]'s value, NaN where not recorded
   std::vector<ViewEvent> events;
@@ -67,6 +68,11 @@ bool PlottedColumn(const TrajectoryColumn& column);
 // and orientation columns must be there; rows at most kViewFramesPerSecond apart in time are skipped, the last
 // row is always kept. Throws InputError naming the file and the column or line.
 ViewFrames RecordedFrames(const Model<double>& model, const std::string& csv_path);
+
+// The same from observations read already (`data.path` names them in messages). Without `poses_required`, a
+// recording that lacks some body's pose columns gives its series alone: frames with no poses, which the page draws
+// no ghost for.
+ViewFrames ObservedFrames(const Model<double>& model, const Observations& data, bool poses_required);
 
 // What the page draws, as JSON (view.h's header; docs/view.md lists the fields).
 nlohmann::json ViewDrawing(const Model<double>& model);

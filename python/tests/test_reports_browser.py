@@ -1,0 +1,73 @@
+"""`identify --report` and `fit --report` (docs/reports.md) in headless Chromium: the page draws every column, its
+residuals and their histogram, the parameters and their correlations, and plays the estimate's motion, with a clean
+console; its residual statistics are those of the estimate's own run, computed here from `tether simulate`."""
+import json
+import re
+import subprocess
+
+import numpy
+import pytest
+
+from browser import page_probe
+from conftest import EXECUTABLE, read_csv, source
+
+ARM = ["identify", source("docs", "examples", "arm", "guess.json"), "--data",
+       source("docs", "examples", "arm", "encoders.csv"), "--param", "/bodies/1/mass", "--param",
+       "/bodies/1/inertia/1", "--param", "/bodies/1/inertia/2", "--param", "/effects/1/damping"]
+
+
+def report_of(tmp_path, args):
+    """Runs tether ARGS --report; returns (the page's path, the JSON the page draws)."""
+    page = tmp_path / "report.html"
+    done = subprocess.run([EXECUTABLE, *args, "--quiet", "--report", page], capture_output=True, text=True)
+    if done.returncode == 2 and "built without the viewer" in done.stderr:
+        pytest.skip("this build has no viewer (-DTETHER_VIEWER=OFF)")
+    assert done.returncode == 0, done.stderr
+    text = page.read_text(encoding="utf-8")
+    data = re.search(r'<script type="application/json" id="tether-report">(.*?)</script>', text, re.S).group(1)
+    return page, json.loads(data.replace("<\\/", "</"))
+
+
+def test_an_identification_s_report_draws_every_column_and_its_residuals(tmp_path):
+    page, report = report_of(tmp_path, ARM + ["-o", tmp_path / "estimate.json"])
+    drawn = page_probe(page, "tether-report-probe")
+    assert drawn["parameters"] == 4 and drawn["correlations"] == 16
+    assert drawn["columns"] == 2 and drawn["histograms"] == [150, 150]  # every residual in a bin
+    assert drawn["warnings"] == 0 and drawn["constraints"] == 0
+    # the statistics are those of one run of the estimate: tether simulate of the scene it wrote, at the data's times
+    subprocess.run([EXECUTABLE, "simulate", tmp_path / "estimate.json", "-o", tmp_path / "run.csv"], check=True)
+    header, rows = read_csv(tmp_path / "run.csv")
+    run = numpy.array(rows)
+    data_header, data_rows = read_csv(source("docs", "examples", "arm", "encoders.csv"))
+    data = numpy.array(data_rows)
+    for column in report["columns"]:
+        simulated = numpy.interp(data[:, 0], run[:, 0], run[:, header.index(column["column"])])
+        r = simulated - data[:, data_header.index(column["column"])]
+        s = column["statistics"]
+        lag_one = numpy.sum((r[:-1] - r.mean()) * (r[1:] - r.mean())) / numpy.sum((r - r.mean()) ** 2)
+        assert s["count"] == len(r)
+        assert s["rms"] == pytest.approx(numpy.sqrt(numpy.mean(r ** 2)), rel=1e-6)
+        assert s["bias"] == pytest.approx(r.mean(), abs=1e-6 * s["rms"])
+        assert s["lag_one"] == pytest.approx(lag_one, abs=1e-5)
+        assert column["fit_rms"] == pytest.approx(s["rms"], rel=1e-6)  # single shooting: the fit's own run
+        assert abs(s["lag_one"]) < 0.5  # the encoders' noise is white: the model is right
+    assert report["pointers"] == ["/bodies/1/mass", "/bodies/1/inertia/1", "/bodies/1/inertia/2", "/effects/1/damping"]
+    assert 'srcdoc="&lt;!doctype html&gt;' in page.read_text(encoding="utf-8")  # the motion, in its frame
+
+
+def test_a_trajectory_fit_s_report_draws_its_constraints(tmp_path):
+    page, report = report_of(tmp_path, [
+        "fit", source("docs", "examples", "swing_up", "pendulum.json"), "--param", "/effects/1/schedule/values/*",
+        "--bound", "/effects/1/schedule/values/*=-2:2", "--effort", "0.1", "--at-least", "axle.angle=3@3",
+        "--at-most", "axle.angle=3.3@3", "--at-least", "axle.omega=-0.2@3", "--at-most", "axle.omega=0.2@3",
+        "--starts", "2"])
+    drawn = page_probe(page, "tether-report-probe")
+    assert drawn["columns"] == 0 and drawn["constraints"] == 4 and drawn["constrained"] == 2
+    assert drawn["parameters"] == 13 and drawn["correlations"] == 0  # a fit to constraints has no uncertainty
+    assert [c["met"] for c in report["constraints"]] == [True] * 4
+
+
+def test_a_report_that_cannot_be_written_is_refused_before_the_work(tmp_path):
+    done = subprocess.run([EXECUTABLE, *ARM, "--report", tmp_path / "missing" / "report.html"], capture_output=True,
+                          text=True)
+    assert done.returncode == 2 and "--report" in done.stderr and done.stdout == ""
