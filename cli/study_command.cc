@@ -19,6 +19,9 @@
 #include "tether/studies/gain_map.h"
 #include "tether/studies/study.h"
 #include "tether/studies/study_mpi.h"
+#ifdef TETHER_HAVE_VIEWER
+#include "study_index.h"
+#endif
 
 namespace tether::cli {
 namespace {
@@ -136,7 +139,8 @@ class StudyCommand final : public Command {
     std::vector<StudyRow> rows;
     try {
       const CatchInterrupts catching;  // Ctrl-C stops between rows and keeps what is done
-      rows = RunStudy(spec, folder_, threads_option_->count() > 0 ? threads_ : AllCores(), restart_, Progress());
+      rows = RunStudy(spec, folder_, threads_option_->count() > 0 ? threads_ : AllCores(), restart_, Progress(),
+                      RowViews());
     } catch (const StudyInterrupted& e) {
       std::cerr << "\ntether: study interrupted (signal " << e.signal() << "); the finished rows are in "
                 << (std::filesystem::path(folder_) / "results.partial.csv").string()
@@ -163,25 +167,46 @@ class StudyCommand final : public Command {
       return 2;
     }
     const int threads = threads_option_->count() > 0 ? threads_ : session.threads_per_rank();
-    const std::vector<StudyRow> rows = RunStudyOverMpi(session, spec, folder_, threads, restart_, Progress());
+    const std::vector<StudyRow> rows =
+        RunStudyOverMpi(session, spec, folder_, threads, restart_, Progress(), RowViews());
     return session.rank() == 0 ? Finish(spec, rows) : 0;
   }
 
   StudyProgress Progress() const { return quiet_ ? StudyProgress(NoProgress) : StudyProgress(ShowProgress); }
+
+  // Each row's motion for index.html (none without the viewer).
+  RowMotion RowViews() const {
+#ifdef TETHER_HAVE_VIEWER
+    return RowViewWriter(folder_);
+#else
+    return {};
+#endif
+  }
 
   // results.csv is complete by now: the summary and the figures follow, and a failure to draw (no matplotlib)
   // is reported (exit status 1) without losing anything computed.
   int Finish(const StudySpec& spec, const std::vector<StudyRow>& rows) const {
     const std::string results = (std::filesystem::path(folder_) / "results.csv").string();
     WriteSummary(spec, rows, folder_);
+    std::string drawing_failed;
     try {
       DrawFigures(spec, folder_);
     } catch (const InputError& e) {
-      std::cerr << "tether: error: " << e.what() << "\ntether: " << results << " and summary.md are complete; "
-                << "only the figures are missing (run the same command again to draw them)\n";
+      drawing_failed = e.what();
+    }
+#ifdef TETHER_HAVE_VIEWER
+    WriteStudyIndex(spec, rows, folder_);  // with the figures there are
+    const char* index = ", index.html";
+#else
+    const char* index = "";
+#endif
+    if (!drawing_failed.empty()) {
+      std::cerr << "tether: error: " << drawing_failed << "\ntether: " << results << index
+                << " and summary.md are complete; only the figures are missing (run the same command again to draw "
+                   "them)\n";
       return 1;
     }
-    std::cerr << "tether: wrote " << results << ", the figures and summary.md in " << folder_ << "\n";
+    std::cerr << "tether: wrote " << results << ", the figures" << index << " and summary.md in " << folder_ << "\n";
     return 0;
   }
 

@@ -1,10 +1,12 @@
 // `tether study STUDY.json --out DIR [--threads N]` through the real binary: results.csv, summary.md and a PNG
-// and an SVG figure per metric, a progress bar on stderr and exit status 0; the same results (the wall time
+// and an SVG figure per metric, index.html and a view of each finished run, a progress bar on stderr and exit
+// status 0; the same results (the wall time
 // aside) on one thread and on two; a diverged row does not fail the study; exit status 2 with the file and the
 // JSON Pointer or flag named for bad input, and then no results.
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -154,6 +156,23 @@ TEST_F(StudyCliTest, DivergedAndDriftedRowsAreReportedAndTheStudyStillSucceeds) 
   for (const char* status : {"| ok |", "| drifted |", "| diverged |"})
     EXPECT_TRUE(Contains(summary, status)) << summary;
   ExpectFigure(out_.Path("max_constraint_error.png"));
+#ifdef TETHER_HAVE_VIEWER
+  // index.html, and a view of each run that finished: the ok and the drifted one, to their last state
+  const std::string index = ReadText(out_.Path("index.html"));
+  EXPECT_TRUE(Contains(index, R"("figures":["max_constraint_error.png"])")) << "the study's figure";
+  EXPECT_TRUE(Contains(index, R"("status":"ok","values":[400.0,"euler"],"view":true)"));
+  EXPECT_TRUE(Contains(index, R"("values":[100000000.0,"euler"],"view":false)"));
+  for (const int row : {0, 1}) {
+    const std::string view = ReadText(out_.Path("views/" + std::to_string(row) + ".js"));
+    ASSERT_EQ(view.rfind("tetherStudyRow(", 0), 0u);
+    const nlohmann::json data = nlohmann::json::parse(view.substr(15, view.size() - 15 - 3));
+    EXPECT_EQ(data["row"], row);
+    EXPECT_EQ(data["values"][1], "euler");
+    EXPECT_DOUBLE_EQ(data["frames"]["times"].back().get<double>(), 0.5);  // the run's last state
+    EXPECT_EQ(data["series"]["names"], nlohmann::json({"constraint_error", "energy"}));
+  }
+  EXPECT_FALSE(std::filesystem::exists(out_.Path("views/2.js")));  // a diverged run keeps no motion
+#endif
 }
 
 TEST_F(StudyCliTest, ZeroThreadsExitsTwoNamingTheFlag) {

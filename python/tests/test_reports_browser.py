@@ -1,6 +1,8 @@
-"""`identify --report` and `fit --report` (docs/reports.md) in headless Chromium: the page draws every column, its
-residuals and their histogram, the parameters and their correlations, and plays the estimate's motion, with a clean
-console; its residual statistics are those of the estimate's own run, computed here from `tether simulate`."""
+"""`identify --report`, `fit --report` and a study's index.html (docs/reports.md) in headless Chromium: a report draws
+every column, its residuals and their histogram, the parameters and their correlations, and plays the estimate's
+motion, with a clean console; its residual statistics are those of the estimate's own run, computed here from
+`tether simulate`. A study's index sorts its rows and plays any run that finished."""
+import csv
 import json
 import re
 import subprocess
@@ -71,3 +73,32 @@ def test_a_report_that_cannot_be_written_is_refused_before_the_work(tmp_path):
     done = subprocess.run([EXECUTABLE, *ARM, "--report", tmp_path / "missing" / "report.html"], capture_output=True,
                           text=True)
     assert done.returncode == 2 and "--report" in done.stderr and done.stdout == ""
+
+
+def test_a_study_s_index_sorts_its_rows_and_plays_any_of_them(tmp_path):
+    """A study of the pendulum over step and stabilization (two runs diverge): index.html sorted by a metric, with
+    the diverged runs last, plays the row it is asked for; a diverged row has no view."""
+    study = tmp_path / "study.json"
+    study.write_text(json.dumps({
+        "scene": source("scenes", "pendulum.json"),
+        "sweep": {"/simulation/integrator": ["euler"], "/simulation/step": [0.01, 0.002],
+                  "/stabilization/beta": [400.0, 1.0e8], "/stabilization/alpha": [20.0],
+                  "/simulation/duration": [1.0]},
+        "metrics": ["max_constraint_error"]}))
+    out = tmp_path / "out"
+    done = subprocess.run([EXECUTABLE, "study", study, "--out", out, "--quiet"], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    if not (out / "index.html").exists():
+        pytest.skip("this build has no viewer (-DTETHER_VIEWER=OFF)")
+    with open(out / "results.csv", newline="") as f:
+        lines = list(csv.reader(f))[1:]
+    errors = [float(line[5]) for line in lines]  # nan for a diverged run
+    finished = [k for k, e in enumerate(errors) if e == e]
+    assert finished == [0, 2], lines  # beta = 1e8 runs away with euler
+    shown = page_probe(out / "index.html", "tether-study-probe", f"#sort=-max_constraint_error&row={finished[0]}")
+    assert shown["rows"] == shown["shown"] == 4 and shown["figures"] == 1
+    by_error = sorted(finished, key=lambda k: -errors[k]) + [k for k in range(4) if k not in finished]
+    assert shown["order"] == by_error
+    assert shown["viewing"] == finished[0] and shown["loaded"] == {"row": finished[0], "frames": 31}  # 30 a second
+    diverged = next(k for k in range(4) if k not in finished)
+    assert page_probe(out / "index.html", "tether-study-probe", f"#row={diverged}")["viewing"] == -1

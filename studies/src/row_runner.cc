@@ -67,7 +67,7 @@ class ReferenceCache {
   std::map<std::string, std::shared_future<ReferenceMotion>> motions_;
 };
 
-StudyRow MeasureRow(const StudySpec& spec, int index, ReferenceCache* references) {
+StudyRow MeasureRow(const StudySpec& spec, int index, ReferenceCache* references, const RowMotion& motion) {
   StudyRow row;
   row.values = Combination(spec, index);
   row.metrics.assign(spec.metrics.size(), NAN);
@@ -93,6 +93,7 @@ StudyRow MeasureRow(const StudySpec& spec, int index, ReferenceCache* references
     row.status = std::string("diverged: ") + e.what();
     return row;
   }
+  if (motion) motion(index, row.values, scene.model, run);
   double alpha = 0.0, beta = 0.0;
   GainsInUse(scene.model, &alpha, &beta);
   for (size_t m = 0; m < spec.metrics.size(); ++m) {
@@ -126,7 +127,8 @@ double RowCost(const StudySpec& spec, int index) {
 }
 
 void RunRows(const StudySpec& spec, const std::vector<int>& indices, int threads,
-             const std::function<void(const FinishedRow&)>& on_row, const std::function<void()>& idle) {
+             const std::function<void(const FinishedRow&)>& on_row, const std::function<void()>& idle,
+             const RowMotion& motion) {
   ReferenceCache references;
   std::atomic<size_t> next{0};
   std::atomic<bool> stop{false};
@@ -137,7 +139,7 @@ void RunRows(const StudySpec& spec, const std::vector<int>& indices, int threads
   auto work = [&] {
     for (size_t k; !stop && !Interrupted() && (k = next++) < indices.size();) {
       try {
-        FinishedRow row{indices[k], Line(MeasureRow(spec, indices[k], &references))};
+        FinishedRow row{indices[k], Line(MeasureRow(spec, indices[k], &references, motion))};
         std::lock_guard<std::mutex> lock(mutex);
         finished.push_back(std::move(row));
       } catch (...) {

@@ -26,7 +26,9 @@ double RowCost(const StudySpec& spec, int index);
 // A row that throws (other than a diverged simulation, which is a row's result) ends the run: the exception is
 // rethrown here once the running rows have finished. An interruption (Interrupted(), interrupts.h) ends it too:
 // no row starts after it, the rows under way are finished and handed on, and StudyInterrupted is thrown.
+// `motion` (may be empty) is given each finished run (study.h's RowMotion).
 void RunRows(const StudySpec& spec, const std::vector<int>& indices, int threads,
-             const std::function<void(const FinishedRow&)>& on_row, const std::function<void()>& idle);
+             const std::function<void(const FinishedRow&)>& on_row, const std::function<void()>& idle,
+             const RowMotion& motion);
 
 }  // namespace tether

@@ -6,11 +6,11 @@
 namespace tether {
 
 std::vector<StudyRow> RunStudy(const StudySpec& spec, const std::string& folder, int threads, bool restart,
-                               const StudyProgress& progress) {
+                               const StudyProgress& progress, const RowMotion& motion) {
   ResultsFolder results(spec, folder, restart, progress);
   if (results.Done()) return results.Finish();
   RunRows(
-      spec, results.Unfinished(), threads, [&](const FinishedRow& row) { results.Record(row); }, [] {});
+      spec, results.Unfinished(), threads, [&](const FinishedRow& row) { results.Record(row); }, [] {}, motion);
   return results.Finish();
 }
 

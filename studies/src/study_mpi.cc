@@ -71,11 +71,13 @@ MpiSession::MpiSession() {
 MpiSession::~MpiSession() { MPI_Finalize(); }
 
 std::vector<StudyRow> RunStudyOverMpi(const MpiSession& session, const StudySpec& spec, const std::string& folder,
-                                      int threads, bool restart, const StudyProgress& progress) {
+                                      int threads, bool restart, const StudyProgress& progress,
+                                      const RowMotion& motion) {
   try {
     if (session.rank() != 0) {
       const std::vector<int> rows = BroadcastRows({});
-      RunRows(spec, ShareOf(rows, session.rank(), session.size()), threads, SendRow, [] {});
+      RunRows(
+          spec, ShareOf(rows, session.rank(), session.size()), threads, SendRow, [] {}, motion);
       return {};
     }
     ResultsFolder results(spec, folder, restart, progress);
@@ -85,7 +87,8 @@ std::vector<StudyRow> RunStudyOverMpi(const MpiSession& session, const StudySpec
     auto receive_waiting = [&] {
       for (; remote > 0 && RowWaiting(); --remote) results.Record(ReceiveRow());
     };
-    RunRows(spec, own, threads, [&](const FinishedRow& row) { results.Record(row); }, receive_waiting);
+    RunRows(
+        spec, own, threads, [&](const FinishedRow& row) { results.Record(row); }, receive_waiting, motion);
     for (; remote > 0; --remote) results.Record(ReceiveRow());
     return results.Finish();
   } catch (const std::exception& e) {

@@ -13,7 +13,7 @@ MpiSession::MpiSession() {
 MpiSession::~MpiSession() = default;
 
 std::vector<StudyRow> RunStudyOverMpi(const MpiSession&, const StudySpec&, const std::string&, int, bool,
-                                      const StudyProgress&) {
+                                      const StudyProgress&, const RowMotion&) {
   return {};
 }
 

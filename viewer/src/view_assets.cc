@@ -13,6 +13,8 @@ TETHER_INCBIN(tether_view_page, TETHER_VIEW_PAGE_HTML)
 TETHER_INCBIN(tether_view_player, TETHER_VIEW_PLAYER_JS)
 TETHER_INCBIN(tether_report_page, TETHER_REPORT_PAGE_HTML)
 TETHER_INCBIN(tether_report_script, TETHER_REPORT_JS)
+TETHER_INCBIN(tether_study_page, TETHER_STUDY_PAGE_HTML)
+TETHER_INCBIN(tether_study_script, TETHER_STUDY_JS)
 
 namespace tether::viewer_assets {
 
@@ -29,6 +31,12 @@ std::string_view ReportPage() {
 }
 std::string_view ReportScript() {
   return {tether_report_script, static_cast<size_t>(tether_report_script_end - tether_report_script)};
+}
+std::string_view StudyPage() {
+  return {tether_study_page, static_cast<size_t>(tether_study_page_end - tether_study_page)};
+}
+std::string_view StudyScript() {
+  return {tether_study_script, static_cast<size_t>(tether_study_script_end - tether_study_script)};
 }
 
 }  // namespace tether::viewer_assets

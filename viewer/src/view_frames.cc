@@ -32,9 +32,10 @@ std::vector<double> Poses(const Model<double>& model, const VecX<double>& q) {
   return pose;
 }
 
-// Whether a state at time t is the next frame to keep after `kept` frames (on the grid k / kViewFramesPerSecond,
-// within round-off).
-bool Due(double t, size_t kept) { return t >= (static_cast<double>(kept) - 1e-9) / kViewFramesPerSecond; }
+// Whether a state at time t is the next frame to keep after `kept` frames (on the grid k / rate, within round-off).
+bool Due(double t, size_t kept, double rate = kViewFramesPerSecond) {
+  return t >= (static_cast<double>(kept) - 1e-9) / rate;
+}
 
 }  // namespace
 
@@ -57,14 +58,16 @@ bool PlottedColumn(const TrajectoryColumn& column) {
 ViewFrames SampledFrames(const std::string& source, const Model<double>& model, const std::vector<double>& times,
                          const std::function<VecX<double>(size_t)>& q_of_row,
                          const std::vector<std::string>& series_names,
-                         const std::function<std::vector<double>(size_t)>& series_of_row) {
+                         const std::function<std::vector<double>(size_t)>& series_of_row, double frames_per_second) {
   ViewFrames frames;
   frames.series_names = series_names;
   size_t kept = 0;  // the frames to keep, counted first: a page too large is refused before it is made
-  for (size_t row = 0; row < times.size(); ++row) kept += row + 1 == times.size() || Due(times[row], kept);
+  for (size_t row = 0; row < times.size(); ++row) {
+    kept += row + 1 == times.size() || Due(times[row], kept, frames_per_second);
+  }
   CheckViewSize(model, static_cast<double>(kept), series_names.size(), source);
   for (size_t row = 0; row < times.size(); ++row) {
-    if (row + 1 < times.size() && !Due(times[row], frames.times.size())) continue;
+    if (row + 1 < times.size() && !Due(times[row], frames.times.size(), frames_per_second)) continue;
     frames.times.push_back(times[row]);
     frames.poses.push_back(Poses(model, q_of_row(row)));
     frames.series.push_back(series_of_row(row));

@@ -33,8 +33,7 @@ std::string ImpulseUnit(const Model<double>& model, const ViewEvent& event) {
 
 }  // namespace
 
-std::string ViewHtml(const Model<double>& model, const std::string& title, const ViewFrames& frames,
-                     const ViewFrames* ghost) {
+nlohmann::json ViewData(const Model<double>& model, const ViewFrames& frames, const ViewFrames* ghost) {
   nlohmann::json events = nlohmann::json::array();
   for (const ViewEvent& e : frames.events) {
     events.push_back({{"t", e.t},
@@ -49,13 +48,25 @@ std::string ViewHtml(const Model<double>& model, const std::string& title, const
   data["drawing"] = ViewDrawing(model);
   data["events"] = events;
   data["ghost"] = ghost ? RunJson(*ghost) : nlohmann::json();
+  return data;
+}
+
+std::string ViewTemplate(const std::string& title) {
   std::string page(viewer_assets::Page());
   size_t from = 0;  // the markers in the order they appear
   html::Replace(&page, "@TITLE@", html::Escaped(title), &from);
-  html::Replace(&page, "@DATA@", html::InScript(data.dump()), &from);
+  from = page.find("@DATA@", from) + 6;  // left for the data
   html::Replace(&page, "@THREE@", viewer_assets::Three(), &from);
   html::Replace(&page, "@ORBIT_CONTROLS@", viewer_assets::OrbitControls(), &from);
   html::Replace(&page, "@PLAYER@", viewer_assets::Player(), &from);
+  return page;
+}
+
+std::string ViewHtml(const Model<double>& model, const std::string& title, const ViewFrames& frames,
+                     const ViewFrames* ghost) {
+  std::string page = ViewTemplate(title);
+  size_t from = 0;
+  html::Replace(&page, "@DATA@", html::InScript(ViewData(model, frames, ghost).dump()), &from);
   return page;
 }
 

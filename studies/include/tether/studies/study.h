@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "tether/dynamics/integration/trajectory.h"
 #include "tether/dynamics/model/errors.h"
 #include "tether/studies/study_spec.h"
 
@@ -39,6 +40,12 @@ struct StudyRow {
 
 // progress(done, total, seconds_left), called as rows finish.
 using StudyProgress = std::function<void(int, int, double)>;
+
+// What a study keeps of a row's motion besides its metrics (`tether study`'s index.html plays any row): called on
+// the row's thread, before the row is handed on, with the row's index, its swept values, its model and its run,
+// for every run that finished (a diverged run keeps no motion). Under MPI every rank calls it for its own rows.
+using RowMotion = std::function<void(int index, const std::vector<nlohmann::json>& values, const Model<double>& model,
+                                     const Trajectory<double>& run)>;
 
 // A study stopped by a signal (interrupts.h) between rows: what finished is kept in the partial results, and
 // running the study again resumes it.
@@ -55,6 +62,6 @@ std::string StudyFingerprint(const StudySpec& spec);
 // folder/results.csv. The partial results of a different study in `folder` are an InputError unless `restart`
 // discards them; a study already finished there (results.fingerprint, results_folder.h) is read back, not run.
 std::vector<StudyRow> RunStudy(const StudySpec& spec, const std::string& folder, int threads, bool restart,
-                               const StudyProgress& progress);
+                               const StudyProgress& progress, const RowMotion& motion = {});
 
 }  // namespace tether

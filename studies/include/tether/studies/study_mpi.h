@@ -41,6 +41,7 @@ class MpiSession {
 // (which writes folder/results.csv and calls `progress`), nothing on the other ranks. A failure on any rank
 // other than a diverged row (which is a result) prints its message and aborts every rank (MPI_Abort, status 1).
 std::vector<StudyRow> RunStudyOverMpi(const MpiSession& session, const StudySpec& spec, const std::string& folder,
-                                      int threads, bool restart, const StudyProgress& progress);
+                                      int threads, bool restart, const StudyProgress& progress,
+                                      const RowMotion& motion = {});
 
 }  // namespace tether

@@ -53,12 +53,13 @@ void CheckViewSize(const Model<double>& model, double frames, size_t series, con
 ViewFrames SimulatedFrames(const Model<double>& model);
 
 // The frames of a run's rows: row r at times[r] with configuration q_of_row(r) and the series' values
-// series_of_row(r) (names `series_names`); rows less than 1 / kViewFramesPerSecond after the last frame kept are
+// series_of_row(r) (names `series_names`); rows less than 1 / frames_per_second after the last frame kept are
 // skipped, the last row is always kept. `source` names the run in messages.
 ViewFrames SampledFrames(const std::string& source, const Model<double>& model, const std::vector<double>& times,
                          const std::function<VecX<double>(size_t)>& q_of_row,
                          const std::vector<std::string>& series_names,
-                         const std::function<std::vector<double>(size_t)>& series_of_row);
+                         const std::function<std::vector<double>(size_t)>& series_of_row,
+                         double frames_per_second = kViewFramesPerSecond);
 
 // Whether a trajectory column is a series the page plots for a simulated run: joint coordinates, markers, the
 // constraint error and the energy.
@@ -76,6 +77,14 @@ ViewFrames ObservedFrames(const Model<double>& model, const Observations& data, 
 
 // What the page draws, as JSON (view.h's header; docs/view.md lists the fields).
 nlohmann::json ViewDrawing(const Model<double>& model);
+
+// What the player draws and plays, as the JSON the page carries: the drawing, the frames, their series and events,
+// and the ghost's (null without one).
+nlohmann::json ViewData(const Model<double>& model, const ViewFrames& frames, const ViewFrames* ghost);
+
+// The page with everything inlined but the data: the marker @DATA@ stands where ViewData's JSON goes (as a script's
+// text: "</" written "<\/"), once, after the title.
+std::string ViewTemplate(const std::string& title);
 
 // The HTML page: `title` in its title bar, the drawing and the frames; with `ghost`, a second run of the scene (a
 // recording beside the simulation) drawn translucent and grey, its series plotted dashed beside the run's.
