@@ -102,3 +102,38 @@ def test_a_study_s_index_sorts_its_rows_and_plays_any_of_them(tmp_path):
     assert shown["viewing"] == finished[0] and shown["loaded"] == {"row": finished[0], "frames": 31}  # 30 a second
     diverged = next(k for k in range(4) if k not in finished)
     assert page_probe(out / "index.html", "tether-study-probe", f"#row={diverged}")["viewing"] == -1
+
+
+SHIPPED_INDEXES = ["studies/accuracy/results", "studies/stability_maps/results", "studies/optimizers/results",
+                   "studies/gradient_cost", "studies/scaling"]
+
+
+@pytest.mark.parametrize("folder", SHIPPED_INDEXES)
+def test_every_shipped_study_has_a_current_index(folder):
+    """Each shipped study's index.html opens with a clean console, holds every row of its results, and carries
+    today's study.js (a page left behind by a change to it would say so here: regenerate the study)."""
+    page = source(folder, "index.html")
+    with open(page, encoding="utf-8") as f:
+        text = f.read()
+    with open(source("viewer", "assets", "study.js"), encoding="utf-8") as f:
+        assert "<script>" + f.read() + "</script>" in text, "regenerate " + folder + "/index.html"
+    study = json.loads(re.search(r'<script type="application/json" id="tether-study">(.*?)</script>', text,
+                                 re.S).group(1).replace("<\\/", "</"))
+    shown = page_probe(page, "tether-study-probe", "#sort=-" + study["metrics"][0])
+    assert shown["rows"] == shown["shown"] == len(study["rows"]) > 0 and shown["figures"] >= 1
+    values = [study["rows"][k]["metrics"][0] for k in shown["order"]]
+    numbers = [v for v in values if v is not None]
+    assert numbers == sorted(numbers, reverse=True) and values[:len(numbers)] == numbers  # nan last
+
+
+def test_a_scripted_study_s_index_is_its_results(tmp_path):
+    """studies/index_page.py rewrites the scaling study's page from its results.json: the one in the repository."""
+    import shutil
+    import sys
+    sys.path.insert(0, source("studies"))
+    import index_page
+    for name in ("results.json", "scaling.png"):
+        shutil.copy(source("studies", "scaling", name), tmp_path / name)
+    written = index_page.write_index("scaling", str(tmp_path))
+    with open(written, encoding="utf-8") as f, open(source("studies", "scaling", "index.html"), encoding="utf-8") as g:
+        assert f.read() == g.read()

@@ -16,8 +16,10 @@ import sys
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, os.path.join(ROOT, "bench"))
+sys.path.insert(0, os.path.join(ROOT, "studies"))
 
 import bench_json  # noqa: E402
+import index_page  # noqa: E402
 import gradient_cost  # noqa: E402
 
 COLORS = {"implicit": "tab:blue", "jet_factor": "tab:purple", "central": "tab:orange", "adjoint": "tab:green"}
@@ -64,6 +66,7 @@ def main(argv):
                                           gradient_cost.MIN_TIME, gradient_cost.REPETITIONS, gradient_cost.run)
     print(gradient_cost.table(report))
     draw(report, out)
+    print("wrote " + index_page.write_index("gradient_cost", out))
 
 
 if __name__ == "__main__":

@@ -25,6 +25,8 @@ import argparse, csv, json, math, os, platform, random, statistics, subprocess, 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
 RESULTS = os.path.join(HERE, "results")
+sys.path.insert(0, os.path.join(ROOT, "studies"))
+import index_page  # noqa: E402
 EXAMPLE = os.path.join(ROOT, "docs", "examples", "identify")
 
 BUDGET = 100            # --max-evaluations for every run
@@ -382,6 +384,7 @@ def finish(rows, best, info):
     open(os.path.join(RESULTS, "summary.md"), "w").write(text)
     update_readme(text)
     plot(rows, best)
+    print("wrote " + index_page.write_index("optimizers", RESULTS))
     print(text)
 
 

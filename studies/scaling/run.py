@@ -23,8 +23,10 @@ import sys
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, os.path.join(ROOT, "bench"))
+sys.path.insert(0, os.path.join(ROOT, "studies"))
 
 import bench_json  # noqa: E402
+import index_page  # noqa: E402
 
 NAME = re.compile(r"^Step(Chain|Tree|FourBar|HingeChain|HingeTree)/(rk4|symplectic_euler)_(sparse|dense)/(\d+)$")
 MIN_TIME, REPETITIONS = "0.2", 3
@@ -183,6 +185,7 @@ def main(argv):
     print(table(parse(report)))
     print("host: " + bench_json.host(report))
     draw(report, out)
+    print("wrote " + index_page.write_index("scaling", out))
 
 
 if __name__ == "__main__":

@@ -16,6 +16,7 @@ function element(tag, text, className) {
 }
 function metricText(x) {
   if (x === null) return 'nan';
+  if (typeof x !== 'number') return String(x);
   return Number.isInteger(x) ? String(x) : x.toPrecision(4);
 }
 
@@ -25,8 +26,9 @@ study.rows.forEach(function(row) {
   var kind = row.status.split(':')[0];
   counts[kind] = (counts[kind] || 0) + 1;
 });
-document.getElementById('summary').textContent = 'Study ' + study.study + ' of ' + study.scenes.join(', ') + ': ' +
-    study.rows.length + ' runs over ' + study.pointers.join(', ') + '; ' +
+document.getElementById('summary').textContent = 'Study ' + study.study +
+    (study.scenes.length ? ' of ' + study.scenes.join(', ') : '') + ': ' + study.rows.length + ' runs over ' +
+    study.pointers.join(', ') + '; ' +
     Object.keys(counts)
         .map(function(kind) {
           return counts[kind] + ' ' + kind;
@@ -50,7 +52,12 @@ study.figures.forEach(function(name) {
 });
 
 // the results: a row per run, a column per swept pointer and metric, its status and its view
-var columns = ['#'].concat(study.pointers, study.metrics, ['status', 'run']);
+// (a study whose rows keep no motion, a benchmark's, has no run column and no viewer)
+var viewable = study.rows.some(function(row) {
+  return row.view;
+});
+document.getElementById('viewer-box').hidden = !viewable;
+var columns = ['#'].concat(study.pointers, study.metrics, viewable ? ['status', 'run'] : ['status']);
 var table = document.getElementById('results'), head = element('tr'), sortColumn = 0, ascending = true;
 columns.forEach(function(name, c) {
   var th = element('th', name);
@@ -71,7 +78,7 @@ function cellOf(row, c) {  // the value a column sorts by
   return c === 0 ? row.status : (row.view ? 1 : 0);
 }
 var viewing = -1, loaded = null, lines = study.rows.map(function(row) {
-  var tr = element('tr', undefined, row.status === 'ok' ? '' : 'not-ok');
+  var tr = element('tr', undefined, row.status.split(':')[0] === 'ok' ? '' : 'not-ok');
   tr.appendChild(element('td', String(row.index)));
   row.values.forEach(function(v) {
     tr.appendChild(element('td', String(v), typeof v === 'number' ? '' : 'text'));
@@ -82,6 +89,8 @@ var viewing = -1, loaded = null, lines = study.rows.map(function(row) {
   var status = element('td', row.status, 'status');
   status.title = row.status;
   tr.appendChild(status);
+  tr.userData = row;
+  if (!viewable) return tr;
   var run = element('td');
   if (row.view) {
     var button = element('button', 'view');
@@ -95,7 +104,6 @@ var viewing = -1, loaded = null, lines = study.rows.map(function(row) {
     run.title = 'no motion kept (a diverged run keeps none)';
   }
   tr.appendChild(run);
-  tr.userData = row;
   return tr;
 });
 function order() {
