@@ -4,6 +4,7 @@ motion, with a clean console; its residual statistics are those of the estimate'
 `tether simulate`. A study's index sorts its rows and plays any run that finished."""
 import csv
 import json
+import os
 import re
 import subprocess
 
@@ -137,3 +138,29 @@ def test_a_scripted_study_s_index_is_its_results(tmp_path):
     written = index_page.write_index("scaling", str(tmp_path))
     with open(written, encoding="utf-8") as f, open(source("studies", "scaling", "index.html"), encoding="utf-8") as g:
         assert f.read() == g.read()
+
+
+def readme_fits():
+    """The README's `tether identify` and `tether fit` commands, as argument lists (continuation lines joined).
+    Two are left to other tests: the imported humanoid's (tests/import/mujoco_cli_test.cc writes its report) and
+    the acrobot's swing-up, 46 s of fitting (docs/reports.md)."""
+    import shlex
+    with open(source("README.md"), encoding="utf-8") as f:
+        text = f.read().replace("\\\n", " ")
+    commands = []
+    for line in text.splitlines():
+        if re.match(r"build/tether (identify|fit) ", line) and "humanoid.json" not in line and "acrobot" not in line:
+            commands.append(shlex.split(line.split("  #")[0])[1:])
+    return commands
+
+
+@pytest.mark.parametrize("args", readme_fits(), ids=lambda args: os.path.basename(args[1]))
+def test_every_readme_fit_writes_its_report(tmp_path, args):
+    files = {"-o": tmp_path / "estimate.json", "--plot": tmp_path / "fit.png"}  # the README's outputs, put aside
+    args = [str(files.get(args[k - 1], a)) if k else a for k, a in enumerate(args)]
+    args = [source(a) if os.path.exists(source(a)) else a for a in args]
+    page, report = report_of(tmp_path, args)
+    drawn = page_probe(page, "tether-report-probe")
+    assert drawn["parameters"] == len(report["pointers"]) > 0
+    assert drawn["columns"] == len(report["columns"]) and drawn["constraints"] == len(report.get("constraints", []))
+    assert drawn["columns"] + drawn["constraints"] > 0
