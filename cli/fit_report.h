@@ -32,8 +32,8 @@ struct FitReportInput {
   const std::vector<InequalityTarget>* constraints = nullptr;
 };
 
-// The page's text. Throws InputError when the page would be too large for a browser (the viewer's limit) and what
-// Simulate throws for the estimate's run (the caller names the scene).
+// The page's text. Throws InputError when the page would be too large for a browser (the viewer's limit); an
+// estimate whose run diverges is drawn as far as it went, and the page says so.
 std::string FitReportHtml(const FitReportInput& input);
 
 }  // namespace tether::cli

@@ -48,6 +48,12 @@ void WriteStudyIndex(const StudySpec& spec, const std::vector<StudyRow>& rows, c
       {"study", spec.path}, {"scenes", scenes}, {"pointers", spec.pointers}, {"metrics", spec.metrics}};
   study["rows"] = nlohmann::json::array();
   for (size_t k = 0; k < rows.size(); ++k) {
+    // a row whose run did not finish keeps no motion: a view left by an earlier run of the study goes
+    const std::string& status = rows[k].status;
+    if (status.rfind("diverged", 0) == 0 || status.rfind("tuning failed", 0) == 0) {
+      std::error_code gone;
+      fs::remove(ViewPath(folder, static_cast<int>(k)), gone);
+    }
     nlohmann::json metrics = nlohmann::json::array();
     for (const double m : rows[k].metrics) metrics.push_back(std::isfinite(m) ? nlohmann::json(m) : nlohmann::json());
     study["rows"].push_back({{"index", k},

@@ -15,7 +15,7 @@ namespace tether::cli {
 RowMotion RowViewWriter(const std::string& folder);
 
 // Writes DIR/index.html from the rows, the figures in DIR (every PNG), the best rows of summary.md and the
-// views/ROW.js present.
+// views/ROW.js present; the view of a row whose run diverged, left by an earlier run of the study, is removed.
 void WriteStudyIndex(const StudySpec& spec, const std::vector<StudyRow>& rows, const std::string& folder);
 
 }  // namespace tether::cli
