@@ -86,23 +86,31 @@ std::string Joined(const std::vector<double>& numbers) {
   return text.str();
 }
 
-// "schedule:LABEL:TIMES:VALUES" for every scheduled effect of the model: a motor's torque or force, and each
-// component of a scheduled force or torque that is not zero throughout.
+// "schedule:LABEL:TIMES:VALUES" for every scheduled effect of the model (ScheduledEffects).
 std::vector<std::string> ScheduleArguments(const Model<double>& model) {
   std::vector<std::string> args;
+  for (const ScheduledEffect& effect : ScheduledEffects(model)) {
+    args.push_back("schedule:" + effect.label + ":" + Joined(effect.times) + ":" + Joined(effect.values));
+  }
+  return args;
+}
+
+}  // namespace
+
+std::vector<ScheduledEffect> ScheduledEffects(const Model<double>& model) {
+  std::vector<ScheduledEffect> effects;
   for (const JointTorqueEffect<double>& motor : model.joint_torques) {
     if (motor.schedule.empty()) continue;
     const bool angle = motor.coordinate == JointCoordinate::kAngle;
-    args.push_back("schedule:motor on " + model.joints[motor.joint].name + (angle ? " (N m)" : " (N)") + ":" +
-                   Joined(motor.schedule.times) + ":" + Joined(motor.schedule.values));
+    effects.push_back({"motor on " + model.joints[motor.joint].name + (angle ? " (N m)" : " (N)"), motor.schedule.times,
+                       motor.schedule.values});
   }
   const auto components = [&](const Schedule<Vec3<double>>& schedule, const std::string& what, const char* unit) {
     for (int k = 0; k < 3; ++k) {
       std::vector<double> values;
       for (const Vec3<double>& v : schedule.values) values.push_back(v[k]);
       if (std::all_of(values.begin(), values.end(), [](double v) { return v == 0.0; })) continue;
-      args.push_back("schedule:" + what + ", " + "xyz"[k] + " (" + unit + "):" + Joined(schedule.times) + ":" +
-                     Joined(values));
+      effects.push_back({what + ", " + "xyz"[k] + " (" + unit + ")", schedule.times, values});
     }
   };
   for (const ForceEffect<double>& force : model.forces) {
@@ -111,10 +119,8 @@ std::vector<std::string> ScheduleArguments(const Model<double>& model) {
   for (const TorqueEffect<double>& torque : model.torques) {
     if (!torque.schedule.empty()) components(torque.schedule, "torque on " + model.bodies[torque.body].name, "N m");
   }
-  return args;
+  return effects;
 }
-
-}  // namespace
 
 std::string ColumnUnit(const std::string& name) {
   if (name == "constraint_error") return "m";

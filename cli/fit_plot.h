@@ -12,6 +12,14 @@
 
 namespace tether::cli {
 
+// A scheduled effect the fit may have set, with its unit in its label: a motor's torque or force, and each
+// component of a scheduled force or torque that is not zero throughout (interpolated linearly between knots).
+struct ScheduledEffect {
+  std::string label;
+  std::vector<double> times, values;
+};
+std::vector<ScheduledEffect> ScheduledEffects(const Model<double>& model);
+
 // The unit of a trajectory column, by the suffix tether gives it (docs/contract.md's columns); empty for a
 // quaternion's components.
 std::string ColumnUnit(const std::string& name);

@@ -187,6 +187,10 @@ std::string FitReportHtml(const FitReportInput& in) {
                                      {"at_least", target.at_least}});
   }
   report["simulated"] = simulated;
+  report["schedules"] = nlohmann::json::array();
+  for (const ScheduledEffect& effect : ScheduledEffects(model)) {
+    report["schedules"].push_back({{"label", effect.label}, {"t", effect.times}, {"values", effect.values}});
+  }
   report["run_diverged"] = diverged;
 
   ViewFrames frames;

@@ -1,5 +1,6 @@
 // The report of an identification or a fit (`--report REPORT.html`, docs/reports.md): one self-contained page with
-// the run of the estimates against every observed column (and every constrained one), the residuals against time
+// the run of the estimates against every observed column (and every constrained one) and its scheduled forces
+// and torques through their knots, the residuals against time
 // and their histogram beside the normal density of the noise they imply, the parameters with their standard
 // deviations and correlations, the warnings, and the viewer's page of the estimate's motion with the recording
 // beside it.

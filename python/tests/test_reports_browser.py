@@ -67,6 +67,7 @@ def test_a_trajectory_fit_s_report_draws_its_constraints(tmp_path):
     drawn = page_probe(page, "tether-report-probe")
     assert drawn["columns"] == 0 and drawn["constraints"] == 4 and drawn["constrained"] == 2
     assert drawn["parameters"] == 13 and drawn["correlations"] == 0  # a fit to constraints has no uncertainty
+    assert drawn["schedules"] == 1 and len(report["schedules"][0]["values"]) == 13  # the motor's knots
     assert [c["met"] for c in report["constraints"]] == [True] * 4
 
 

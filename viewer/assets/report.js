@@ -316,6 +316,24 @@ constrainedOnly.forEach(function(column) {
   });
 });
 
+// the scheduled forces and torques through their knots, over the run
+var schedules = report.schedules;
+document.getElementById('schedules-part').hidden = schedules.length === 0;
+schedules.forEach(function(schedule) {
+  var end = simulated.t.length ? simulated.t[simulated.t.length - 1] : schedule.t[schedule.t.length - 1];
+  var first = schedule.t[0], last = schedule.t[schedule.t.length - 1];
+  var x = [Math.min(0, first)].concat(schedule.t, [Math.max(end, last)]);
+  var y = [schedule.values[0]].concat(schedule.values, [schedule.values[schedule.values.length - 1]]);
+  plot(canvasIn(document.getElementById('schedules')), {
+    title: schedule.label,
+    xUnit: 's',
+    x: range([x], true),
+    y: range([y]),
+    lines: [{x: x, y: y, color: '#b07aa1'}],
+    dots: [{x: schedule.t, y: schedule.values, color: '#b07aa1'}]
+  });
+});
+
 var motion = document.getElementById('motion');
 var posed = report.data.length > 0;
 document.getElementById('motion-note').textContent = !motion.getAttribute('srcdoc') ?
@@ -333,6 +351,7 @@ document.getElementById('tether-report-probe').textContent = JSON.stringify({
   histograms: histograms,
   constraints: constraintTable.rows.length - 1,
   constrained: constrainedOnly.length,
+  schedules: schedules.length,
   warnings: said.length,
   canvases: document.querySelectorAll('canvas').length
 });
