@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "tether/dynamics/io/output_file.h"
+#include "tether/dynamics/model/errors.h"
 #include "tether/viewer/pages.h"
 #include "tether/viewer/view.h"
 
@@ -23,15 +24,20 @@ fs::path ViewPath(const std::string& folder, int index) {
 RowMotion RowViewWriter(const std::string& folder) {
   return [folder](int index, const std::vector<nlohmann::json>& values, const Model<double>& model,
                   const Trajectory<double>& run) {
+    ViewFrames frames;
+    try {
+      frames = SampledFrames(
+          "row " + std::to_string(index), model, run.t, [&](size_t k) { return run.q[k]; },
+          {"constraint_error", "energy"},
+          [&](size_t k) {
+            return std::vector<double>{run.constraint_error[k], Value(run.energy[k])};
+          },
+          kStudyFramesPerSecond);
+    } catch (const InputError&) {  // more than a browser opens (CheckViewSize): the row keeps no view, not the study
+      return;
+    }
     std::error_code made;  // by the first row (rows run on several threads); writing the file says any failure
     fs::create_directories(fs::path(folder) / "views", made);
-    const ViewFrames frames = SampledFrames(
-        "row " + std::to_string(index), model, run.t, [&](size_t k) { return run.q[k]; },
-        {"constraint_error", "energy"},
-        [&](size_t k) {
-          return std::vector<double>{run.constraint_error[k], Value(run.energy[k])};
-        },
-        kStudyFramesPerSecond);
     AtomicOutputFile file(ViewPath(folder, index).string());
     file.stream() << StudyRowScript(index, values, model, frames);
     file.Commit();

@@ -11,7 +11,8 @@
 namespace tether::cli {
 
 // What keeps each row's motion: writes DIR/views/ROW.js (the folder made by the first row) at
-// kStudyFramesPerSecond, with the row's constraint error and energy as series.
+// kStudyFramesPerSecond, with the row's constraint error and energy as series; a run too large for a page
+// (CheckViewSize) keeps none.
 RowMotion RowViewWriter(const std::string& folder);
 
 // Writes DIR/index.html from the rows, the figures in DIR (every PNG), the best rows of summary.md and the

@@ -101,7 +101,7 @@ var viewing = -1, loaded = null, lines = study.rows.map(function(row) {
     run.appendChild(button);
   } else {
     run.textContent = '-';
-    run.title = 'no motion kept (a diverged run keeps none)';
+    run.title = 'no motion kept (a run that diverged, or one too large for a page, keeps none)';
   }
   tr.appendChild(run);
   return tr;
