@@ -7,6 +7,7 @@
 // and Pinocchio take it); a floating robot has a `floating` joint below a root link named, say, world.
 // URDF names no gravity (tether takes 9.81 m/s^2 down z) and no time step.
 #include <console_bridge/console.h>
+#include <tinyxml.h>
 #include <urdf_parser/urdf_parser.h>
 
 #include <algorithm>
@@ -131,22 +132,38 @@ std::vector<TreeJoint> ReadJoints(const urdf::Joint& source, const std::string& 
 
 // A URDF is a tree: urdfdom takes a link that is the child of two joints (one of them lost, the other doubled
 // below it) and joints that close a cycle (walked for ever), so both are refused here, naming the joints.
-void CheckTree(const urdf::ModelInterface& model, const std::string& path) {
-  std::map<std::string, std::string> parent_joint;  // link -> the joint it is the child of
-  for (const auto& [name, joint] : model.joints_) {
-    const auto [at, added] = parent_joint.emplace(joint->child_link_name, name);
+// The joints' tree, read from the text before urdfdom reads it: a link that is the child of two joints, or joints
+// that form a cycle, are refused here. urdfdom links each link to its children by shared pointers before it looks
+// for the root, so on a cycle it fails ("two root links") leaving the cycle's links to own each other: a leak
+// inside its parse that no caller can free (the fuzzer's finding). TinyXML is urdfdom's own XML parser; text it
+// cannot parse, or a robot without joints, is left for urdfdom to refuse or read.
+void CheckTree(const std::string& text, const std::string& path) {
+  TiXmlDocument document;
+  document.Parse(text.c_str());
+  const TiXmlElement* robot = document.Error() ? nullptr : document.FirstChildElement("robot");
+  if (!robot) return;
+  std::map<std::string, std::string> parent_joint, parent_of;  // link -> the joint it is the child of, its parent
+  for (const TiXmlElement* joint = robot->FirstChildElement("joint"); joint;
+       joint = joint->NextSiblingElement("joint")) {
+    const TiXmlElement* parent = joint->FirstChildElement("parent");
+    const TiXmlElement* child = joint->FirstChildElement("child");
+    const char* name = joint->Attribute("name");
+    const char* parent_link = parent ? parent->Attribute("link") : nullptr;
+    const char* child_link = child ? child->Attribute("link") : nullptr;
+    if (!name || !parent_link || !child_link) return;  // urdfdom refuses it, building nothing
+    const auto [at, added] = parent_joint.emplace(child_link, name);
     if (!added) {
-      throw InputError(path + ": link '" + joint->child_link_name + "' is the child of two joints ('" + at->second +
-                       "' and '" + name + "'): a URDF is a tree (close a loop with a constraint after import)");
+      throw InputError(path + ": link '" + child_link + "' is the child of two joints ('" + at->second + "' and '" +
+                       name + "'): a URDF is a tree (close a loop with a constraint after import)");
     }
+    parent_of[child_link] = parent_link;
   }
   // up from every link the root must come within as many steps as there are joints; a walk stops at a link an
   // earlier one reached the root from, so that every link is walked once (a long chain is not quadratic)
   std::set<std::string> rooted;
   for (const auto& [link, joint] : parent_joint) {
     std::vector<std::string> walked;
-    for (std::string at = link; parent_joint.count(at) && !rooted.count(at);
-         at = model.joints_.at(parent_joint.at(at))->parent_link_name) {
+    for (std::string at = link; parent_of.count(at) && !rooted.count(at); at = parent_of.at(at)) {
       if (walked.size() > parent_joint.size()) {
         throw InputError(path + ": the joints above link '" + link + "' form a cycle (through joint '" + joint +
                          "'): a URDF is a tree");
@@ -206,22 +223,13 @@ KinematicTree ReadUrdf(const std::string& path) {
     throw InputError(path + ": not a valid URDF model: elements nested deeper than " + std::to_string(kMaxXmlDepth) +
                      " levels");
   }
+  CheckTree(text, path);
   urdf::ModelInterfaceSharedPtr model;
   {
     CapturedLog log;
     model = urdf::parseURDF(text);
     if (!model)
       throw InputError(path + ": not a valid URDF model: " + (log.text().empty() ? "urdfdom refused it" : log.text()));
-  }
-  try {
-    CheckTree(*model, path);
-  } catch (const InputError&) {  // urdfdom linked the links of a cycle by shared pointers: unlink them to free them
-    for (auto& [name, link] : model->links_) {
-      link->child_links.clear();
-      link->child_joints.clear();
-      link->parent_joint.reset();
-    }
-    throw;
   }
   KinematicTree tree;
   tree.gravity = Eigen::Vector3d(0, 0, -9.81);
