@@ -19,12 +19,6 @@ namespace {
 // A line of the page holds at most this many points (more are thinned evenly: every k-th, and the last).
 constexpr size_t kMostPlottedPoints = 4000;
 
-nlohmann::json Numbers(const std::vector<double>& values) {  // NaN (not in JSON) as null
-  nlohmann::json out = nlohmann::json::array();
-  for (const double x : values) out.push_back(std::isfinite(x) ? nlohmann::json(x) : nlohmann::json());
-  return out;
-}
-
 size_t Stride(size_t count) { return std::max<size_t>(1, (count + kMostPlottedPoints - 1) / kMostPlottedPoints); }
 
 std::vector<double> Thinned(const std::vector<double>& values, size_t stride) {
@@ -134,7 +128,7 @@ std::string FitReportHtml(const FitReportInput& in) {
     diverged = e.what();
   }
   nlohmann::json simulated = {{"t", grid_times}, {"columns", nlohmann::json::object()}};
-  for (size_t c = 0; c < drawn.size(); ++c) simulated["columns"][drawn[c].name] = Numbers(grid[c]);
+  for (size_t c = 0; c < drawn.size(); ++c) simulated["columns"][drawn[c].name] = NumbersOrNull(grid[c]);
 
   nlohmann::json columns = nlohmann::json::array();
   for (const Observations& recording : recordings) {
@@ -162,9 +156,9 @@ std::string FitReportHtml(const FitReportInput& in) {
                               {"unit", ColumnUnit(name)},
                               {"stride", stride},
                               {"t", Thinned(times, stride)},
-                              {"observed", Numbers(Thinned(observed, stride))},
-                              {"residual", Numbers(Thinned(residuals, stride))},
-                              {"fit_rms", Numbers({FitRms(*in.result, recording.path, name)})[0]}};
+                              {"observed", NumbersOrNull(Thinned(observed, stride))},
+                              {"residual", NumbersOrNull(Thinned(residuals, stride))},
+                              {"fit_rms", NumbersOrNull({FitRms(*in.result, recording.path, name)})[0]}};
       entry["statistics"] = finite.empty() ? nlohmann::json() : ResidualStatisticsJson(finite);
       columns.push_back(entry);
     }

@@ -60,11 +60,9 @@ void WriteStudyIndex(const StudySpec& spec, const std::vector<StudyRow>& rows, c
       std::error_code gone;
       fs::remove(ViewPath(folder, static_cast<int>(k)), gone);
     }
-    nlohmann::json metrics = nlohmann::json::array();
-    for (const double m : rows[k].metrics) metrics.push_back(std::isfinite(m) ? nlohmann::json(m) : nlohmann::json());
     study["rows"].push_back({{"index", k},
                              {"values", rows[k].values},
-                             {"metrics", metrics},
+                             {"metrics", NumbersOrNull(rows[k].metrics)},
                              {"status", rows[k].status},
                              {"view", fs::exists(ViewPath(folder, static_cast<int>(k)))}});
   }

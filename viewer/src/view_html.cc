@@ -10,12 +10,8 @@ namespace {
 
 // A run's frames and series as the player reads them.
 nlohmann::json RunJson(const ViewFrames& frames) {
-  nlohmann::json series = nlohmann::json::array();  // NaN (not in JSON) as null
-  for (const std::vector<double>& row : frames.series) {
-    nlohmann::json values = nlohmann::json::array();
-    for (const double x : row) values.push_back(std::isfinite(x) ? nlohmann::json(x) : nlohmann::json());
-    series.push_back(values);
-  }
+  nlohmann::json series = nlohmann::json::array();
+  for (const std::vector<double>& row : frames.series) series.push_back(NumbersOrNull(row));
   return {{"frames", {{"times", frames.times}, {"poses", frames.poses}}},
           {"series", {{"names", frames.series_names}, {"values", series}}}};
 }
@@ -32,6 +28,12 @@ std::string ImpulseUnit(const Model<double>& model, const ViewEvent& event) {
 }
 
 }  // namespace
+
+nlohmann::json NumbersOrNull(const std::vector<double>& values) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const double x : values) out.push_back(std::isfinite(x) ? nlohmann::json(x) : nlohmann::json());
+  return out;
+}
 
 nlohmann::json ViewData(const Model<double>& model, const ViewFrames& frames, const ViewFrames* ghost) {
   nlohmann::json events = nlohmann::json::array();

@@ -78,6 +78,9 @@ ViewFrames ObservedFrames(const Model<double>& model, const Observations& data, 
 // What the page draws, as JSON (view.h's header; docs/view.md lists the fields).
 nlohmann::json ViewDrawing(const Model<double>& model);
 
+// Numbers as the pages' JSON holds them: one that is not finite (NaN, which JSON lacks) as null.
+nlohmann::json NumbersOrNull(const std::vector<double>& values);
+
 // What the player draws and plays, as the JSON the page carries: the drawing, the frames, their series and events,
 // and the ghost's (null without one).
 nlohmann::json ViewData(const Model<double>& model, const ViewFrames& frames, const ViewFrames* ghost);
