@@ -22,6 +22,9 @@ namespace {
 constexpr double kProjectionTolerance = 1e-12;
 // An event is located to this fraction of the step (the event function's root, bracketed).
 constexpr double kEventTimeTolerance = 1e-13;
+// A step that came close to a singular pass is retaken in this many substeps (schur_solver.h, "Singular passes"):
+// their stage states are off the constraints by 1/256 of the step's.
+constexpr int kSingularPassSubsteps = 16;
 // More events than this within one step: a sequence of impacts that the capture rule did not end.
 constexpr int kMostEventsPerStep = 10000;
 // An initial state off its constraints by more than this (relative) is reported as moved.
@@ -380,7 +383,16 @@ void Stepper<T>::AdvanceSmooth(double t, double dt) {
   VecX<T>& q = state_.q;
   VecX<T>& v = state_.v;
   ws_.solver->ForgetConditioning();
-  const StepStatus status = integrator_.Advance(t, dt, &ws_, &q, &v, settle_);
+  const bool baumgarte = model_.stabilization.method == Stabilization::kBaumgarte;
+  if (baumgarte) {
+    pass_start_.q = q;
+    pass_start_.v = v;
+    pass_start_.integrator = integrator_.memory();
+    pass_start_.solver = ws_.solver->memory();
+    ws_.solver->ForgetSingularPass();
+  }
+  StepStatus status = integrator_.Advance(t, dt, &ws_, &q, &v, settle_);
+  if (baumgarte && status == StepStatus::kOk && ws_.solver->saw_singular_pass()) status = RetakeSingularPass(t, dt);
   const double t_next = t + dt;
   if (status == StepStatus::kSolveFailed && ws_.painleve >= 0) {
     throw Diverged(t_next, "Painleve's paradox at " + DescribeConstraint(model_, ws_.infos[ws_.painleve].scene_index) +
@@ -402,6 +414,27 @@ void Stepper<T>::AdvanceSmooth(double t, double dt) {
       TrackCoordinates(model_, ws_.frames, q_values_, v_values_, &ws_.coordinates);
     }
   }
+}
+
+// The step from t of dt again from its start, in kSingularPassSubsteps substeps with the KKT solver's pivot floor
+// on (schur_solver.h, "Singular passes").
+template <typename T>
+StepStatus Stepper<T>::RetakeSingularPass(double t, double dt) {
+  state_.q = pass_start_.q;
+  state_.v = pass_start_.v;
+  integrator_.Restore(pass_start_.integrator);
+  ws_.solver->Restore(pass_start_.solver);
+  ws_.solver->set_pass_floor(true);
+  const double substep = dt / kSingularPassSubsteps;
+  StepStatus status = StepStatus::kOk;
+  for (int k = 0; k < kSingularPassSubsteps && status == StepStatus::kOk; ++k) {
+    ws_.solver->ForgetConditioning();
+    const double start = t + k * substep;
+    status = integrator_.Advance(start, k + 1 == kSingularPassSubsteps ? t + dt - start : substep, &ws_, &state_.q,
+                                 &state_.v, settle_);
+  }
+  ws_.solver->set_pass_floor(false);
+  return status;
 }
 
 // stops closer than 1e-9 h to a grid time are served by that grid time

@@ -291,7 +291,7 @@ std::optional<bool> RecordedKktAcceleration(const Model<Rev>& model, const VecX<
     r.factorization.sparse.inverse_d.swap(kept->factorization.sparse.inverse_d);
     std::swap(r.factorization.dense, kept->factorization.dense);
     r.regularized = kept->regularized;
-    ws->solver->RestoreConditioning(kept->regularized, kept->near_singular);
+    ws->solver->RestoreConditioning(kept->regularized, kept->near_singular, kept->close_to_pass);
     for (size_t i = 0; i < m; ++i) r.jacobian.AddTransposed(static_cast<int>(i), -r.lambda[i], &r.y);  // f - J^T lambda
     ApplyInverseMass(model, r.inverse_mass, r.y, &r.a);
   } else {

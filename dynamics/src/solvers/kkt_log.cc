@@ -9,6 +9,7 @@ void KktLog::Keep(const Eigen::VectorXd& lambda, const SchurSolver& solver) {
   solver.SaveFactorization(&solve.factorization);
   solve.regularized = solver.starts_regularized();
   solve.near_singular = solver.saw_near_singular();
+  solve.close_to_pass = solver.was_close_to_pass();
 }
 
 std::int64_t KktLog::Bytes() const {

@@ -30,23 +30,24 @@ SchurSolver::SchurSolver(const SchurPattern& pattern, KktSolver kind, bool facto
 }
 
 bool SchurSolver::Factor(const std::vector<double>& values) {
+  close_to_pass_ = false;
   if (!regularized_ && FactorAsGiven(values) && WellConditioned(values, false)) return true;
   regularized_values_ = values;
   Regularize(*pattern_, &regularized_values_);
-  if (!FactorAsGiven(regularized_values_)) return false;
+  if (!FactorAsGiven(regularized_values_, pass_floor_ ? kPassPivotFloor : 0.0)) return false;
   regularized_ = !WellConditioned(regularized_values_, true);
   // out of a near-singular stretch: S itself again, when it factors (it should, being well conditioned)
   if (!regularized_ && !FactorAsGiven(values)) {
     regularized_ = true;
-    return FactorAsGiven(regularized_values_);
+    return FactorAsGiven(regularized_values_, pass_floor_ ? kPassPivotFloor : 0.0);
   }
   return true;
 }
 
 // A non-finite entry of S reaches a pivot of the sparse LDL^T (every L(r, j) adds L(r, j)^2 d_j to d_r), which
 // Factor checks; Eigen's Cholesky can pass a NaN through, so the dense path checks the entries.
-bool SchurSolver::FactorAsGiven(const std::vector<double>& values) {
-  if (kind_ == KktSolver::kSparse) return sparse_factor_.Factor(values);
+bool SchurSolver::FactorAsGiven(const std::vector<double>& values, double pivot_floor) {
+  if (kind_ == KktSolver::kSparse) return sparse_factor_.Factor(values, pivot_floor);
   for (double v : values) {
     if (!std::isfinite(v)) return false;
   }
@@ -80,14 +81,16 @@ bool SchurSolver::WellConditioned(const std::vector<double>& values, bool note_n
   const bool sparse = kind_ == KktSolver::kSparse;
   const Eigen::VectorXd& pivots = sparse ? sparse_factor_.pivots() : pivots_;
   const std::vector<int>& diagonal = pattern_->diagonal();
-  bool all_above = true;
+  bool all_above = true, near_singular = false, close_to_pass = false;
   for (int i = 0; i < pivots.size(); ++i) {
     const double s_ii = values[diagonal[sparse ? sparse_factor_.order()[i] : i]];  // > 0 once factored
     if (pivots[i] >= kNearSingularPivotRatio * s_ii) continue;
     all_above = false;
     if (!note_near_singular) return false;
-    if (pivots[i] > kRedundantPivotRatio * s_ii) saw_near_singular_ = true;
+    if (pivots[i] > kRedundantPivotRatio * s_ii) near_singular = true;
+    if (pivots[i] <= kSingularPassRatio * s_ii) close_to_pass = true;
   }
+  if (note_near_singular) NoteConditioning(near_singular, close_to_pass);
   return all_above;
 }
 

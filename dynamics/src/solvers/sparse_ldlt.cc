@@ -201,6 +201,7 @@ void SparseLdlt::PlanNumericPhase(const SchurPattern& pattern) {
   lower_value_.assign(nnz + n, 0.0);
   d_.setZero(n);
   inverse_d_.setZero(n);
+  diagonal_.setZero(n);
   work_.setZero(n);
 }
 
@@ -208,7 +209,7 @@ void SparseLdlt::PlanNumericPhase(const SchurPattern& pattern) {
 // next load to wait for it.
 // The path is chosen once per factorization (listed is std::true_type or std::false_type), so that the listed
 // one's loop is as tight as it was before there were two.
-bool SparseLdlt::Factor(const std::vector<double>& values) {
+bool SparseLdlt::Factor(const std::vector<double>& values, double pivot_floor) {
   root_inverse_d_.resize(0);
   const auto factor = [&](auto listed) {
     const int n = size();
@@ -219,7 +220,9 @@ bool SparseLdlt::Factor(const std::vector<double>& values) {
     for (size_t v = 0; v < values.size(); ++v) f[slot[v]] = value[v];
     for (int position : fill_slot_) f[position] = 0.0;
     const int diagonal = nonzeros();  // f[diagonal + j]: A(j, j) as the updates reach it
+    if (pivot_floor > 0.0) diagonal_ = Eigen::Map<const Eigen::VectorXd>(f + diagonal, n);
     for (int j = 0; j < n; ++j) {
+      if (pivot_floor > 0.0) f[diagonal + j] = std::max(f[diagonal + j], pivot_floor * diagonal_[j]);
       const double d = f[diagonal + j];
       if (d == 0.0 || !std::isfinite(d)) return false;
       const double inverse = 1.0 / d;

@@ -94,6 +94,7 @@ class Stepper {
   void CheckViolation(double t, double largest) const;
   void WarnOfDrift(double t, double largest);
   bool Settle(double t, VecX<T>* q, VecX<T>* v);
+  StepStatus RetakeSingularPass(double t, double dt);
   int StopAt(double t);
 
   const Model<T>& model_;
@@ -119,6 +120,11 @@ class Stepper {
   int event_ = -1;                   // the located event (UnilateralEvents' numbering)
   Carry before_;                     // the state at the start of the step being taken (events are located from it)
   bool drift_warned_ = false;
+  struct PassStart {  // the start of the step being taken, for RetakeSingularPass
+    VecX<T> q, v;
+    IntegratorMemory integrator;
+    SolverMemory solver;
+  } pass_start_;
 };
 
 }  // namespace tether

@@ -21,6 +21,7 @@ struct KktSolve {
   SchurSolver::Factorization factorization;  // of S as solved: regularized or not
   bool regularized = false;                  // S + eps D was factored (SchurSolver::starts_regularized after)
   bool near_singular = false;                // SchurSolver::saw_near_singular after the solve
+  bool close_to_pass = false;                // SchurSolver::was_close_to_pass after the solve
 };
 
 struct KktLog {

@@ -41,7 +41,22 @@
 // step size removes (a four-rod hinge chain drifted off its hinges by 2.5e-8 m in 1 s without stabilization).
 // What it costs: a scene whose rows stay redundant would factor twice per solve, so after a regularized solve the
 // next one factors S + eps D first, and S again only where that one turns out well conditioned.
-// For Jets the value part decides, and the derivative parts are solved with the same matrix.
+// Singular passes. Within the near-singular stretch of a mechanism passing a singular configuration, the rows
+// losing rank have pivot ratios ~ theta^2 (theta its distance from the configuration, in radians for a
+// linkage), so a stage state off the constraints by delta (an integrator's stage is, by O(h^2)) gets a
+// multiplier ~ delta / theta^2 in the near-dependent direction, whose force leaks ~ delta^2 / theta^2 into the
+// motion: within 1e-5 rad of an IFToMM A02 linkage's horizontal pass, a velocity error of 4e-3 rad/s. A step
+// whose factorizations saw a near-singular ratio and one below kSingularPassRatio (within ~1e-3 rad of the pass;
+// saw_singular_pass) is retaken by the simulator in substeps with the pivot floor on (set_pass_floor): every pivot
+// below kPassPivotFloor S_jj is raised to it (sparse_ldlt.h), which bounds that multiplier and leaves the rows away
+// from dependence exact; exactly redundant rows then get a basic rather than the least-norm split of their
+// multipliers for those substeps (the motion is the same). The dense path has no floor. Both marks were chosen on
+// A02 with N = 20, 39, 40 and 41 parallelograms and steps of 0.8, 1 and 1.25 ms (docs/numerics.md, "Steps that
+// come close to the pass"): a lower detection mark lets steps with stages 1e-4 rad from the pass through
+// unrefined (6e-5 rad lost at 0.8 ms), and a floor at 1e-6 loses accuracy where a scene stays near singular (a
+// humanoid whose ball joints are split into hinges).
+// For Jets the value part decides, and the derivative parts are solved with the same matrix (a floor's E is a
+// constant).
 #pragma once
 
 #include <Eigen/Cholesky>
@@ -57,6 +72,8 @@ namespace tether {
 
 inline constexpr double kNearSingularPivotRatio = 1e-4;
 inline constexpr double kRedundantPivotRatio = 1e-9;
+inline constexpr double kSingularPassRatio = 1e-6;
+inline constexpr double kPassPivotFloor = 1e-8;
 
 inline constexpr int kDenseBlockRows = 128;
 
@@ -79,15 +96,21 @@ class SchurSolver {
   // Whether a factorization since the last call to ForgetConditioning() was near a singular configuration.
   bool saw_near_singular() const { return saw_near_singular_; }
   void ForgetConditioning() { saw_near_singular_ = false; }
+  // Whether the factorizations since the last ForgetSingularPass() came close to a singular pass (above).
+  bool saw_singular_pass() const { return pass_near_singular_ && pass_close_; }
+  void ForgetSingularPass() { pass_near_singular_ = pass_close_ = false; }
+  bool was_close_to_pass() const { return close_to_pass_; }  // the last factorization: a ratio below kSingularPassRatio
+  // Floors the pivots of regularized factorizations at kPassPivotFloor S_jj (sparse path), or stops.
+  void set_pass_floor(bool on) { pass_floor_ = on; }
 
   // Whether the next factorization starts from S + eps D (after a regularized one): state a replayed step restores.
   bool starts_regularized() const { return regularized_; }
   SolverMemory memory() const { return {regularized_}; }
   void Restore(const SolverMemory& memory) { regularized_ = memory.starts_regularized; }
   // What a solve leaves behind, as a replay that skips a solve it knows the outcome of sets it (kkt_log.h).
-  void RestoreConditioning(bool regularized, bool near_singular) {
+  void RestoreConditioning(bool regularized, bool near_singular, bool close_to_pass) {
     regularized_ = regularized;
-    saw_near_singular_ = saw_near_singular_ || near_singular;
+    NoteConditioning(near_singular, close_to_pass);
   }
 
   // x = S^-1 b, S given by its stored values (AssembleSchur). Returns false, leaving x unchanged, when the
@@ -124,11 +147,17 @@ class SchurSolver {
  private:
   // Factors S, or S + eps D where S's rows are close to dependence (above); regularized_ says which.
   bool Factor(const std::vector<double>& values);
-  // Factors `values` as given; false on a failed factorization.
-  bool FactorAsGiven(const std::vector<double>& values);
+  // Factors `values` as given (with SparseLdlt's pivot floor); false on a failed factorization.
+  bool FactorAsGiven(const std::vector<double>& values, double pivot_floor = 0.0);
   // Over the last factorization of `values`: whether every pivot ratio is at least kNearSingularPivotRatio, and
   // (with note_near_singular) records a ratio between the redundant and the near-singular marks.
   bool WellConditioned(const std::vector<double>& values, bool note_near_singular);
+  void NoteConditioning(bool near_singular, bool close_to_pass) {
+    close_to_pass_ = close_to_pass;
+    saw_near_singular_ = saw_near_singular_ || near_singular;
+    pass_near_singular_ = pass_near_singular_ || near_singular;
+    pass_close_ = pass_close_ || close_to_pass;
+  }
   void SolveInPlace(Eigen::VectorXd* x);
   // The values of the matrix factored last: `values` itself, or regularized_jets_ after a regularized factorization.
   const std::vector<Jet>& FactoredJets(const std::vector<Jet>& values);
@@ -141,6 +170,8 @@ class SchurSolver {
   SparseLdlt sparse_factor_;
   Eigen::VectorXd pivots_;
   bool saw_near_singular_ = false;
+  bool pass_near_singular_ = false, pass_close_ = false, close_to_pass_ = false;
+  bool pass_floor_ = false;
   bool regularized_ = false;  // the last factorization was of S + eps D (it starts the next attempt)
   std::vector<double> regularized_values_;
   std::vector<Jet> regularized_jets_;

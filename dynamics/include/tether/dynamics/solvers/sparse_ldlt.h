@@ -41,8 +41,10 @@ class SparseLdlt {
   SparseLdlt() = default;
   explicit SparseLdlt(const SchurPattern& pattern);
 
-  // Factors S given by its stored values (pattern order). Returns false on a zero or non-finite pivot.
-  bool Factor(const std::vector<double>& values);
+  // Factors S given by its stored values (pattern order). Returns false on a zero or non-finite pivot. With a
+  // pivot_floor, a pivot d_j below pivot_floor times its diagonal entry S_jj is raised to that: the factors are
+  // those of S + E with E diagonal and non-negative (a modified Cholesky factorization).
+  bool Factor(const std::vector<double>& values, double pivot_floor = 0.0);
 
   // x = S^-1 x with the last successful factorization.
   void SolveInPlace(Eigen::VectorXd* x);
@@ -76,6 +78,7 @@ class SparseLdlt {
   // The two triangular solves with L's values `lower` and D^-1 `inverse_d`.
   void Substitute(const double* lower, const double* inverse_d, Eigen::VectorXd* x);
 
+  Eigen::VectorXd diagonal_;       // S's diagonal in elimination order (for a pivot floor)
   Eigen::VectorXi order_;          // elimination order: new index -> S's row
   std::vector<int> column_start_;  // L by columns: rows lower_row_ and values lower_value_
   std::vector<int> lower_row_;
