@@ -1,13 +1,14 @@
 #include "mujoco_models.h"
 
-#include "bench_models.h"
-#include "humanoid_tree.h"
-
 #include <algorithm>
 #include <cmath>
 #include <functional>
 #include <sstream>
 #include <stdexcept>
+
+#include "bench_models.h"
+#include "humanoid_tree.h"
+#include "rssr_linkage.h"
 
 namespace tether::bench {
 namespace {
@@ -68,22 +69,63 @@ std::string ChainOfFreeBodies(int n, bool rk4, const MujocoSettings& settings) {
   return xml.str();
 }
 
-std::string FourBar(bool rk4, const MujocoSettings& settings) {
-  return std::string(R"(<mujoco model="four_bar">)") + Options(rk4, 3, settings) +
-         R"(<worldbody>
-  <body name="crank0"><joint type="hinge" axis="0 1 0"/>
-    <inertial pos="0 0 0.5" mass="1" diaginertia="0.0833333333333333 0.0833333333333333 1e-6"/>
-    <body name="coupler" pos="0 0 1"><joint type="hinge" axis="0 1 0"/>
-      <inertial pos="0.5 0 0" mass="1" diaginertia="1e-6 0.0833333333333333 0.0833333333333333"/>
-      <site name="coupler_end" pos="1 0 0"/>
-    </body>
-  </body>
-  <body name="crank1" pos="1 0 0"><joint type="hinge" axis="0 1 0"/>
-    <inertial pos="0 0 0.5" mass="1" diaginertia="0.0833333333333333 0.0833333333333333 1e-6"/>
-    <site name="crank1_tip" pos="0 0 1"/>
-  </body>
-</worldbody>
-<equality><connect body1="coupler" body2="crank1" anchor="1 0 0"/></equality></mujoco>)";
+std::string Vector(const Vec3<double>& v) {
+  std::ostringstream out;
+  out.precision(17);
+  out << v.x() << " " << v.y() << " " << v.z();
+  return out.str();
+}
+
+// n parallelograms in the x-z plane: crank i hinged to the ground at (i, 0, 0), coupler i hinged to crank i's tip,
+// and a connect equality closing each loop at crank i + 1's tip
+std::string FourBar(int n, bool rk4, const MujocoSettings& settings) {
+  std::ostringstream xml;
+  xml << R"(<mujoco model="four_bar">)" << Options(rk4, 3 * n, settings) << "<worldbody>";
+  for (int i = 0; i <= n; ++i) {
+    xml << "<body name=\"crank" << i << "\" pos=\"" << i << R"( 0 0"><joint type="hinge" axis="0 1 0"/>)"
+        << R"(<inertial pos="0 0 0.5" mass="1" diaginertia="0.0833333333333333 0.0833333333333333 1e-6"/>)"
+        << "<site name=\"crank" << i << "_tip\" pos=\"0 0 1\"/>";
+    if (i < n) {
+      xml << "<body name=\"coupler" << i << R"(" pos="0 0 1"><joint type="hinge" axis="0 1 0"/>)"
+          << R"(<inertial pos="0.5 0 0" mass="1" diaginertia="1e-6 0.0833333333333333 0.0833333333333333"/>)"
+          << "<site name=\"coupler" << i << "_end\" pos=\"1 0 0\"/></body>";
+    }
+    xml << "</body>";
+  }
+  xml << "</worldbody><equality>";
+  for (int i = 0; i < n; ++i) {
+    xml << "<connect body1=\"coupler" << i << "\" body2=\"crank" << i + 1 << "\" anchor=\"1 0 0\"/>";
+  }
+  xml << "</equality></mujoco>";
+  return xml.str();
+}
+
+// rssr_linkage.h's linkage: the crank and the rocker on hinges, the coupler on a ball joint at the crank's tip and a
+// connect equality (the other ball joint) at the rocker's tip; body frames at the joints, axes the world's
+std::string SpatialFourBar(bool rk4, const MujocoSettings& settings) {
+  const Rssr r = RssrLinkage();
+  std::ostringstream xml;
+  xml.precision(17);
+  auto inertial = [&xml](const Vec3<double>& a, const Vec3<double>& b, const Vec3<double>& origin) {
+    const Mat3<double> inertia = RodInertiaInWorld(a, b);
+    xml << "<inertial pos=\"" << Vector(0.5 * (a + b) - origin) << "\" mass=\"1\" fullinertia=\"" << inertia(0, 0)
+        << " " << inertia(1, 1) << " " << inertia(2, 2) << " " << inertia(0, 1) << " " << inertia(0, 2) << " "
+        << inertia(1, 2) << "\"/>";
+  };
+  xml << R"(<mujoco model="rssr">)" << Options(rk4, 3, settings) << "<worldbody>";
+  xml << "<body name=\"crank\" pos=\"" << Vector(r.crank_pivot) << R"("><joint type="hinge" axis=")"
+      << Vector(r.crank_axis) << "\"/>";
+  inertial(r.crank_pivot, r.crank_tip, r.crank_pivot);
+  xml << "<body name=\"coupler\" pos=\"" << Vector(r.crank_tip - r.crank_pivot) << R"("><joint type="ball"/>)";
+  inertial(r.crank_tip, r.rocker_tip, r.crank_tip);
+  xml << "<site name=\"coupler_end\" pos=\"" << Vector(r.rocker_tip - r.crank_tip) << "\"/></body></body>";
+  xml << "<body name=\"rocker\" pos=\"" << Vector(r.rocker_pivot) << R"("><joint type="hinge" axis=")"
+      << Vector(r.rocker_axis) << "\"/>";
+  inertial(r.rocker_pivot, r.rocker_tip, r.rocker_pivot);
+  xml << "<site name=\"rocker_tip\" pos=\"" << Vector(r.rocker_tip - r.rocker_pivot) << "\"/></body>";
+  xml << R"(</worldbody><equality><connect body1="coupler" body2="rocker" anchor=")"
+      << Vector(r.rocker_tip - r.crank_tip) << "\"/></equality></mujoco>";
+  return xml.str();
 }
 
 // rods of 1 kg, 1 m and radius 2 cm on hinges about y, body k's frame at its hinge, 40 links a file
@@ -114,16 +156,10 @@ std::string Humanoid(bool rk4, const MujocoSettings& settings) {
   const std::vector<TreeBody> tree = HumanoidTree();
   std::ostringstream xml;
   xml.precision(17);
-  auto vector = [](const Vec3<double>& v) {
-    std::ostringstream out;
-    out.precision(17);
-    out << v.x() << " " << v.y() << " " << v.z();
-    return out.str();
-  };
   std::function<void(int)> body = [&](int k) {
     const TreeBody& b = tree[k];
     const Vec3<double> origin = b.parent < 0 ? Vec3<double>::Zero() : tree[b.parent].anchor;
-    xml << "<body name=\"" << b.name << "\" pos=\"" << vector(b.anchor - origin) << "\">";
+    xml << "<body name=\"" << b.name << "\" pos=\"" << Vector(b.anchor - origin) << "\">";
     const char* x = R"(<joint type="hinge" axis="1 0 0"/>)";
     const char* y = R"(<joint type="hinge" axis="0 1 0"/>)";
     const char* z = R"(<joint type="hinge" axis="0 0 1"/>)";
@@ -149,8 +185,8 @@ std::string Humanoid(bool rk4, const MujocoSettings& settings) {
         xml << x << y;
         break;
     }
-    xml << "<inertial pos=\"" << vector(b.centre - b.anchor) << "\" mass=\"" << b.mass << "\" diaginertia=\""
-        << vector(b.inertia) << "\"/>";
+    xml << "<inertial pos=\"" << Vector(b.centre - b.anchor) << "\" mass=\"" << b.mass << "\" diaginertia=\""
+        << Vector(b.inertia) << "\"/>";
     for (size_t child = 0; child < tree.size(); ++child) {
       if (tree[child].parent == k) body(static_cast<int>(child));
     }
@@ -168,6 +204,12 @@ int SiteId(const mjModel& model, const std::string& name) {
   return site;
 }
 
+int BodyId(const mjModel& model, const std::string& name) {
+  const int body = mj_name2id(&model, mjOBJ_BODY, name.c_str());
+  if (body < 0) throw std::logic_error("the MuJoCo scene has no body " + name);
+  return body;
+}
+
 }  // namespace
 
 MujocoFiles MujocoModel(MujocoScene scene, int n, bool rk4, const MujocoSettings& settings) {
@@ -177,11 +219,13 @@ MujocoFiles MujocoModel(MujocoScene scene, int n, bool rk4, const MujocoSettings
     case MujocoScene::kChainOfFreeBodies:
       return {{"scene.xml", ChainOfFreeBodies(n, rk4, settings)}};
     case MujocoScene::kFourBar:
-      return {{"scene.xml", FourBar(rk4, settings)}};
+      return {{"scene.xml", FourBar(n, rk4, settings)}};
     case MujocoScene::kHingeChain:
       return HingeChain(n, rk4, settings);
     case MujocoScene::kHumanoid:
       return {{"scene.xml", Humanoid(rk4, settings)}};
+    case MujocoScene::kRssr:
+      return {{"scene.xml", SpatialFourBar(rk4, settings)}};
   }
   throw std::logic_error("unknown MuJoCo scene");
 }
@@ -212,11 +256,10 @@ MjModelPtr LoadMujoco(const std::string& xml) { return LoadMujoco(MujocoFiles{{"
 
 MjDataPtr InitialMujocoState(const mjModel& model, MujocoScene scene) {
   MjDataPtr data(mj_makeData(&model));
-  if (scene == MujocoScene::kFourBar) {  // hinges: crank0, coupler (relative to crank0), crank1
-    data->qvel[0] = 1.0;
-    data->qvel[1] = -1.0;  // the coupler keeps its orientation
-    data->qvel[2] = 1.0;
+  if (scene == MujocoScene::kFourBar) {  // hinges: crank0, coupler0 (relative to crank0), crank1, coupler1, ...
+    for (int j = 0; j < model.nv; ++j) data->qvel[j] = j % 2 == 0 ? 1.0 : -1.0;  // the couplers keep their orientation
   }
+  if (scene == MujocoScene::kRssr) data->qfrc_applied[0] = RssrLinkage().drive_torque;  // the crank's hinge
   mj_forward(&model, data.get());
   return data;
 }
@@ -235,22 +278,42 @@ std::string MujocoWarnings(const mjData& data) {
 }
 
 MujocoProbe::MujocoProbe(const mjModel& model, MujocoScene scene) : scene_(scene) {
-  if (scene == MujocoScene::kHingeChain || scene == MujocoScene::kHumanoid) return;
-  if (scene == MujocoScene::kFourBar) {
-    coupler_end_ = SiteId(model, "coupler_end");
-    crank1_tip_ = SiteId(model, "crank1_tip");
-    return;
-  }
-  for (int i = 0; i + 1 < model.nbody; ++i) {  // body 0 is the world
-    masses_.push_back(SiteId(model, "m" + std::to_string(i)));
-    if (scene == MujocoScene::kChainOfFreeBodies) bases_.push_back(SiteId(model, "b" + std::to_string(i)));
+  switch (scene) {
+    case MujocoScene::kChainOfSlides:
+    case MujocoScene::kChainOfFreeBodies:
+      for (int i = 0; i + 1 < model.nbody; ++i) {  // body 0 is the world
+        masses_.push_back(SiteId(model, "m" + std::to_string(i)));
+        if (scene == MujocoScene::kChainOfFreeBodies) bases_.push_back(SiteId(model, "b" + std::to_string(i)));
+      }
+      return;
+    case MujocoScene::kFourBar: {
+      const int n = (model.nbody - 2) / 2;  // the world, n + 1 cranks and n couplers
+      for (int i = 0; i < n; ++i) {
+        gaps_.push_back({SiteId(model, "coupler" + std::to_string(i) + "_end"),
+                         SiteId(model, "crank" + std::to_string(i + 1) + "_tip")});
+      }
+      for (int i = 0; i <= n; ++i) bodies_.push_back(BodyId(model, "crank" + std::to_string(i)));
+      for (int i = 0; i < n; ++i) bodies_.push_back(BodyId(model, "coupler" + std::to_string(i)));
+      return;
+    }
+    case MujocoScene::kHingeChain:
+      for (int k = 1; k < model.nbody; ++k) bodies_.push_back(k);  // nested in the links' order
+      return;
+    case MujocoScene::kHumanoid: {
+      const std::vector<TreeBody> tree = HumanoidTree();
+      for (size_t k = 1; k < tree.size(); ++k) bodies_.push_back(BodyId(model, tree[k].name));
+      return;
+    }
+    case MujocoScene::kRssr:
+      gaps_.push_back({SiteId(model, "coupler_end"), SiteId(model, "rocker_tip")});
+      for (const char* name : {"crank", "coupler", "rocker"}) bodies_.push_back(BodyId(model, name));
+      return;
   }
 }
 
 double MujocoProbe::Violation(const mjData& data) const {
-  if (scene_ == MujocoScene::kHingeChain || scene_ == MujocoScene::kHumanoid) return 0.0;
-  if (scene_ == MujocoScene::kFourBar) return (Site(data, coupler_end_) - Site(data, crank1_tip_)).norm();
   double worst = 0.0;
+  for (const auto& [a, b] : gaps_) worst = std::max(worst, (Site(data, a) - Site(data, b)).norm());
   Vec3<double> previous = Vec3<double>::Zero();  // the anchor
   for (size_t i = 0; i < masses_.size(); ++i) {
     const Vec3<double> mass = Site(data, masses_[i]);
@@ -260,6 +323,15 @@ double MujocoProbe::Violation(const mjData& data) const {
     previous = mass;
   }
   return worst;
+}
+
+std::vector<Vec3<double>> MujocoProbe::Centres(const mjData& data) const {
+  std::vector<Vec3<double>> centres;
+  for (int body : bodies_) {
+    const Vec3<double> p(data.xipos[3 * body], data.xipos[3 * body + 1], data.xipos[3 * body + 2]);
+    centres.push_back(scene_ == MujocoScene::kFourBar ? Vec3<double>(p.x(), p.z(), 0.0) : p);
+  }
+  return centres;
 }
 
 }  // namespace tether::bench

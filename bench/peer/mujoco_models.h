@@ -7,9 +7,12 @@
 //                       its initial length by a tendon equality (nv = 3n, n equality rows);
 //   kChainOfFreeBodies  every link a free body with its mass at its tip (inertia 1e-6 about the tip) and its
 //                       base held at the previous tip by a connect equality, a ball joint (nv = 6n, 3n rows).
-// Four-bar: scenes/four_bar.json's parallelogram (1 m, 1 kg bars, inertia 1/12 about the centre) in the x-z
-// plane: crank0 and crank1 hinged to the ground 1 m apart, the coupler hinged to crank0's tip, and a connect
-// equality closing the loop at crank1's tip; cranks vertical and turning at 1 rad/s.
+// Four-bar: n parallelograms of 1 m, 1 kg bars (inertia 1/12 about the centre) in the x-z plane (n = 1:
+// scenes/four_bar.json; n > 1: the IFToMM A02 N-four-bar): crank i hinged to the ground at (i, 0, 0), coupler i
+// hinged to crank i's tip, and a connect equality closing each loop at crank i + 1's tip; cranks vertical and
+// turning at 1 rad/s about y (their tips moving along +x, as tether's do in its x-y plane).
+// RSSR: rssr_linkage.h's spatial four-bar: the crank and the rocker on hinges, the coupler on a ball joint at the
+// crank's tip, a connect equality at the rocker's tip; the motor's torque as an applied generalized force.
 //
 // Hinge chain: bench_models.h's HingeChain as nested bodies on hinge joints (reduced coordinates); MuJoCo 2.2's
 // XML parser refuses elements nested deeper than about 100 levels, so the chain is split into files of 40 links,
@@ -42,7 +45,7 @@ struct MjDataDeleter {
 using MjModelPtr = std::unique_ptr<mjModel, MjModelDeleter>;
 using MjDataPtr = std::unique_ptr<mjData, MjDataDeleter>;
 
-enum class MujocoScene { kChainOfSlides, kChainOfFreeBodies, kFourBar, kHingeChain, kHumanoid };
+enum class MujocoScene { kChainOfSlides, kChainOfFreeBodies, kFourBar, kHingeChain, kHumanoid, kRssr };
 
 struct MujocoSettings {
   double step = 1e-3;           // s
@@ -50,8 +53,8 @@ struct MujocoSettings {
   double impedance = 0.9;       // solimp (impedance, impedance + 0.05 at most 1, width 0.001)
 };
 
-// The MJCF files of a scene, (name, text), the main file first (n: the chain's masses or rods; ignored for the
-// four-bar and the humanoid).
+// The MJCF files of a scene, (name, text), the main file first (n: the chain's masses or rods, the four-bar's
+// parallelograms; ignored for the humanoid and the RSSR).
 using MujocoFiles = std::vector<std::pair<std::string, std::string>>;
 MujocoFiles MujocoModel(MujocoScene scene, int n, bool rk4, const MujocoSettings& settings = {});
 
@@ -62,7 +65,8 @@ std::string MujocoXml(MujocoScene scene, int n, bool rk4, const MujocoSettings& 
 MjModelPtr LoadMujoco(const MujocoFiles& files);
 MjModelPtr LoadMujoco(const std::string& xml);
 
-// A fresh state at the scene's initial conditions (the four-bar's cranks turning), positions computed.
+// A fresh state at the scene's initial conditions (the four-bar's cranks turning, the RSSR's motor on), positions
+// computed.
 MjDataPtr InitialMujocoState(const mjModel& model, MujocoScene scene);
 
 // The warnings MuJoCo raised on this data ("too many constraints", "bad number in qacc", ...), as one line;
@@ -75,8 +79,14 @@ class MujocoProbe {
   MujocoProbe(const mjModel& model, MujocoScene scene);
 
   // The largest violation of the scene's equality constraints, in metres: the tendons' length errors
-  // | |p_i - p_{i-1}| - 1 |, or the gaps of the connect equalities. Needs the positions of a forward pass.
+  // | |p_i - p_{i-1}| - 1 |, or the gaps of the connect equalities (none on the hinge chain and the humanoid). Needs
+  // the positions of a forward pass.
   double Violation(const mjData& data) const;
+
+  // The bodies' centres of mass in tether's order and frame (tether_models.h; the four-bar's x-z plane is tether's
+  // x-y): the hinge chain's links, the humanoid's bodies but the torso, the four-bar's cranks then its couplers,
+  // the RSSR's crank, coupler and rocker. Empty for the chains of particles.
+  std::vector<Vec3<double>> Centres(const mjData& data) const;
 
   // Where chain mass i is (a forward pass's positions).
   Vec3<double> Mass(const mjData& data, int i) const { return Site(data, masses_[i]); }
@@ -87,8 +97,9 @@ class MujocoProbe {
   }
 
   MujocoScene scene_;
-  std::vector<int> masses_, bases_;  // (none for the hinge chain and the humanoid: no constraints to violate)  // chains: the site of every mass, and of every link's base (free bodies)
-  int coupler_end_ = -1, crank1_tip_ = -1;
+  std::vector<int> masses_, bases_;        // chains: the site of every mass, and of every link's base (free bodies)
+  std::vector<std::pair<int, int>> gaps_;  // the two sites of every connect equality
+  std::vector<int> bodies_;                // Centres' bodies
 };
 
 }  // namespace tether::bench

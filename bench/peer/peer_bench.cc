@@ -27,7 +27,7 @@ static_assert(MujocoSettings{}.step == kPeerStep, "both engines step alike");
 
 struct PeerCase {
   Mechanism mechanism;
-  int n;  // the chain's particles
+  int n;  // the chain's particles or rods, the four-bar's parallelograms
   bool rk4;
   double duration;  // s
 
@@ -129,7 +129,7 @@ void Register() {
       add(scene + "/mujoco_slides", Mujoco, c, MujocoScene::kChainOfSlides);
       add(scene + "/mujoco_free", Mujoco, c, MujocoScene::kChainOfFreeBodies);
     }
-    const PeerCase c{Mechanism::kFourBar, 0, rk4, 10.0};
+    const PeerCase c{Mechanism::kFourBar, 1, rk4, 10.0};
     add("four_bar" + integrator + "/tether", Tether, c, Stabilization::kBaumgarte);
     add("four_bar" + integrator + "/tether_projection", Tether, c, Stabilization::kProjection);
     add("four_bar" + integrator + "/mujoco", Mujoco, c, MujocoScene::kFourBar);

@@ -2,6 +2,7 @@
 
 #include "bench_models.h"
 #include "humanoid_tree.h"
+#include "tether/dynamics/io/scene_reader.h"
 #include "tether/dynamics/model/kinematics.h"
 
 namespace tether::bench {
@@ -66,13 +67,16 @@ Model<double> TetherPeerScene(Mechanism mechanism, int n, bool rk4, double durat
       model = HorizontalChain(n, integrator, KktSolver::kAuto, 3);
       break;
     case Mechanism::kFourBar:
-      model = FourBar(1, KktSolver::kAuto);
+      model = FourBar(n, KktSolver::kAuto);
       break;
     case Mechanism::kHingeChain:
       model = HingeChain(n, integrator, KktSolver::kAuto);
       break;
     case Mechanism::kHumanoid:
       model = Humanoid();
+      break;
+    case Mechanism::kRssr:
+      model = ReadSceneFile(TETHER_SOURCE_DIR "/scenes/rssr.json").model;
       break;
   }
   model.simulation.integrator = integrator;
