@@ -84,6 +84,28 @@ def study_report(argv, description, out, min_time, repetitions, run_benchmarks):
     return report, args.out
 
 
+def peer_report(argv, description, binary, program, out):
+    """The command line of a side-by-side comparison (bench/peer): --binary, --json, --out, --filter. Returns the
+    report saved earlier when --json names it, else a fresh run (three repetitions) saved as --out; the runs that
+    failed are named on stderr."""
+    parser = argparse.ArgumentParser(description=description)
+    parser.add_argument("--binary", default=binary, help=f"the {program} program")
+    parser.add_argument("--json", help="print this saved report instead of running the benchmark")
+    parser.add_argument("--out", default=out, help="where to save the report")
+    parser.add_argument("--filter", default=".", help="--benchmark_filter (default: every scene)")
+    args = parser.parse_args(argv)
+    if args.json:
+        report = load(args.json)
+    else:
+        report = run(args.binary, args.filter, 0, 3)
+        save(report, args.out)
+        print(f"wrote {args.out}", file=sys.stderr)
+    for entry in report["benchmarks"]:
+        if entry.get("error_occurred") and entry.get("run_type") != "aggregate":
+            print(f"{entry['run_name']} failed: {entry.get('error_message')}", file=sys.stderr)
+    return report
+
+
 def save_figure(figure, report, out, name, dpi):
     """Signs the figure with the benchmark's host and writes out/name.png and .svg (the SVG without a date, so
     that a redraw changes nothing)."""

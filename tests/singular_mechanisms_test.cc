@@ -1,15 +1,11 @@
 // Mechanisms through singular configurations (issue 7, hard cases).
 //
-// The IFToMM A02 N-four-bar (and a redundant parallelogram below): N parallelograms of uniform 1 m, 1 kg bars,
-// N + 1 cranks pinned to the ground at x = 0, 1, ..., N and N couplers joining their tips. Every time the cranks
-// pass the horizontal all bars are collinear: the Jacobian loses N ranks and the parallelogram and
-// anti-parallelogram branches cross. On the
-// parallelogram branch the mechanism has one degree of freedom, the crank angle theta, with
-//   I theta'' = -G cos theta,   I = (N + 1) / 3 + N,   G = g ((N + 1) / 2 + N)
-// (cranks rotate about their pins, couplers translate with the crank tips). The reference integrates that
-// equation by classical RK4 at h = 1e-5 s, independently of tether. tether runs the full model in maximal
-// coordinates with rk4 at h = 1e-3 s and the soft Baumgarte gains (10, 25) of the acceptance checks, 5 s from
-// the cranks vertical turning at -1 rad/s: five horizontal passes (t = 0.72, 1.24, 2.68, 3.20, 4.64 s).
+// The IFToMM A02 N-four-bar (and a redundant parallelogram below). Every time the cranks pass the horizontal all
+// bars are collinear: the Jacobian loses N ranks and the parallelogram and anti-parallelogram branches cross. The
+// reference is the one-degree-of-freedom motion on the parallelogram branch (n_four_bar_reduction.h). tether runs
+// the full model in maximal coordinates with rk4 at h = 1e-3 s and the soft Baumgarte gains (10, 25) of the
+// acceptance checks, 5 s from the cranks vertical turning at -1 rad/s: five horizontal passes (t = 0.72, 1.24,
+// 2.68, 3.20, 4.64 s).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -17,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "n_four_bar_reduction.h"
 #include "tether/dynamics/integration/simulator.h"
 #include "tether/dynamics/io/scene_reader.h"
 
@@ -51,33 +48,12 @@ nlohmann::json FourBars(int n) {
           {"stabilization", {{"method", "baumgarte"}, {"alpha", 10.0}, {"beta", 25.0}}}};
 }
 
-// theta at t = every, 2 every, ... up to `duration` from I theta'' = -G cos theta, theta(0) = pi/2,
-// theta'(0) = -1, by classical RK4 at h = 1e-5 s.
-std::vector<double> ReducedCrankAngles(double inertia, double load, double every, double duration) {
-  auto accel = [&](double theta) { return -load / inertia * std::cos(theta); };
-  double theta = kPi / 2, omega = -1.0;
-  const double h = 1e-5;
-  const int per_sample = static_cast<int>(std::lround(every / h)), steps = static_cast<int>(std::lround(duration / h));
-  std::vector<double> angles;
-  for (int k = 1; k <= steps; ++k) {
-    const double k1t = omega, k1w = accel(theta);
-    const double k2t = omega + 0.5 * h * k1w, k2w = accel(theta + 0.5 * h * k1t);
-    const double k3t = omega + 0.5 * h * k2w, k3w = accel(theta + 0.5 * h * k2t);
-    const double k4t = omega + h * k3w, k4w = accel(theta + h * k3t);
-    theta += h / 6.0 * (k1t + 2 * k2t + 2 * k3t + k4t);
-    omega += h / 6.0 * (k1w + 2 * k2w + 2 * k3w + k4w);
-    if (k % per_sample == 0) angles.push_back(theta);
-  }
-  return angles;
-}
-
 // Runs `model` (n parallelograms) and checks crank0's angle at t = 0.5, 1.0, ... to the run's end against the
 // reduction to `tolerance` rad, the spread of the crank angles (every crank turns with crank0 on the
 // parallelogram branch) to the same tolerance, and the largest constraint violation to 1e-9 m.
 void ExpectTheReduction(const Model<double>& model, int n, double tolerance) {
   const double duration = model.simulation.duration;
-  const std::vector<double> expected =
-      ReducedCrankAngles((n + 1) / 3.0 + n, kGravity * ((n + 1) / 2.0 + n), 0.5, duration);
+  const std::vector<double> expected = ReducedCrankAngles(NFourBarInertia(n), NFourBarLoad(n, kGravity), 0.5, duration);
   RunOptions options;
   for (size_t k = 1; k <= expected.size(); ++k) options.stops.push_back(0.5 * k);
   std::vector<double> angles, spreads;

@@ -1,5 +1,7 @@
 #include "mujoco_models.h"
 
+#include <benchmark/benchmark.h>
+
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -275,6 +277,16 @@ std::string MujocoWarnings(const mjData& data) {
                 std::to_string(data.warning[w].number) + " times)";
   }
   return warnings;
+}
+
+int RunPeerBenchmarks(int argc, char** argv, void (*register_benchmarks)()) {
+  mju_user_warning = [](const char*) {};
+  register_benchmarks();
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
 }
 
 MujocoProbe::MujocoProbe(const mjModel& model, MujocoScene scene) : scene_(scene) {

@@ -73,6 +73,11 @@ MjDataPtr InitialMujocoState(const mjModel& model, MujocoScene scene);
 // empty when there were none. A run with a warning measured a broken model.
 std::string MujocoWarnings(const mjData& data);
 
+// The main() of a benchmark that fails a MuJoCo run with a warning: MuJoCo's warnings are kept in
+// mjData::warning (MujocoWarnings) instead of printed, `register_benchmarks` registers the runs, and Google
+// Benchmark runs those the command line selects.
+int RunPeerBenchmarks(int argc, char** argv, void (*register_benchmarks)());
+
 // What the benchmark reads off a state: the sites it needs, looked up once.
 class MujocoProbe {
  public:

@@ -149,12 +149,4 @@ void Register() {
 }  // namespace
 }  // namespace tether::bench
 
-int main(int argc, char** argv) {
-  mju_user_warning = [](const char*) {};  // kept in mjData::warning and reported as the benchmark's error
-  tether::bench::Register();
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
-}
+int main(int argc, char** argv) { return tether::bench::RunPeerBenchmarks(argc, argv, tether::bench::Register); }

@@ -8,7 +8,6 @@ the two figures issue 8 asks for. Standard library only.
     python3 bench/peer/side_by_side.py --filter 'hinge_chain|humanoid' --out bench/peer/results_rigid3d.json
                                                                          # the rigid-body scenes only (5 minutes)
 """
-import argparse
 import os
 import sys
 
@@ -126,21 +125,7 @@ def verdict(table):
 
 
 def main(argv):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--binary", default=BINARY, help="the tether_vs_mujoco program")
-    parser.add_argument("--json", help="print this saved report instead of running the benchmark")
-    parser.add_argument("--out", default=os.path.join(HERE, "results.json"), help="where to save the report")
-    parser.add_argument("--filter", default=".", help="--benchmark_filter (default: every scene)")
-    args = parser.parse_args(argv)
-    if args.json:
-        report = bench_json.load(args.json)
-    else:
-        report = bench_json.run(args.binary, args.filter, 0, 3)
-        bench_json.save(report, args.out)
-        print(f"wrote {args.out}", file=sys.stderr)
-    for entry in report["benchmarks"]:
-        if entry.get("error_occurred") and entry.get("run_type") != "aggregate":
-            print(f"{entry['run_name']} failed: {entry.get('error_message')}", file=sys.stderr)
+    report = bench_json.peer_report(argv, __doc__.splitlines()[0], BINARY, "tether_vs_mujoco", os.path.join(HERE, "results.json"))
     table = runs(report)
     print(markdown(table))
     print()

@@ -11,11 +11,7 @@
 //   simbody/cpodes_ACC  CPodes (BDF, Newton iterations) at accuracy ACC = 1e-6, 1e-8
 //
 // Accuracy: the largest distance between a body's centre of mass at the end and the reference's, in metres. The
-// reference of the N-four-bar is its exact one-degree-of-freedom motion: on the parallelogram branch every crank
-// turns by theta and every coupler translates with the crank tips, so
-//   I theta'' = -G cos theta,   I = (N + 1) / 3 + N,   G = g ((N + 1) / 2 + N),
-// theta(0) = pi/2, theta'(0) = -1, integrated by classical RK4 at h = 1e-5 s (as tests/singular_mechanisms_test.cc
-// does); crank i's centre is (i + cos(theta) / 2, sin(theta) / 2), coupler i's (i + 1/2 + cos theta, sin theta). The
+// reference of the N-four-bar is its exact one-degree-of-freedom motion (tests/n_four_bar_reduction.h). The
 // other scenes' reference is Simbody's Runge-Kutta-Merson at accuracy 1e-12; tether's rk45 at 1e-12 runs beside it
 // as an independent check of that reference (and of the two builds of each mechanism).
 //
@@ -34,6 +30,7 @@
 #include <vector>
 
 #include "mujoco_models.h"
+#include "n_four_bar_reduction.h"
 #include "simbody_models.h"
 #include "tether/dynamics/integration/simulator.h"
 #include "tether/dynamics/model/errors.h"
@@ -65,17 +62,7 @@ using Centres = std::vector<Vec3<double>>;
 
 // the N-four-bar's centres at t = duration on its exact motion (above)
 Centres FourBarReduction(int n, double duration) {
-  const double g = 9.81, inertia = (n + 1) / 3.0 + n, load = g * ((n + 1) / 2.0 + n), h = 1e-5;
-  auto accel = [&](double theta) { return -load / inertia * std::cos(theta); };
-  double theta = M_PI / 2, omega = -1.0;
-  for (long k = 0, steps = std::lround(duration / h); k < steps; ++k) {
-    const double k1t = omega, k1w = accel(theta);
-    const double k2t = omega + 0.5 * h * k1w, k2w = accel(theta + 0.5 * h * k1t);
-    const double k3t = omega + 0.5 * h * k2w, k3w = accel(theta + 0.5 * h * k2t);
-    const double k4t = omega + h * k3w, k4w = accel(theta + h * k3t);
-    theta += h / 6.0 * (k1t + 2 * k2t + 2 * k3t + k4t);
-    omega += h / 6.0 * (k1w + 2 * k2w + 2 * k3w + k4w);
-  }
+  const double theta = ReducedCrankAngles(NFourBarInertia(n), NFourBarLoad(n, 9.81), duration, duration).back();
   Centres centres;
   for (int i = 0; i <= n; ++i) centres.emplace_back(i + 0.5 * std::cos(theta), 0.5 * std::sin(theta), 0.0);
   for (int i = 0; i < n; ++i) centres.emplace_back(i + 0.5 + std::cos(theta), std::sin(theta), 0.0);
@@ -235,12 +222,4 @@ void Register() {
 }  // namespace
 }  // namespace tether::bench
 
-int main(int argc, char** argv) {
-  mju_user_warning = [](const char*) {};  // kept in mjData::warning and reported as the benchmark's error
-  tether::bench::Register();
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
-}
+int main(int argc, char** argv) { return tether::bench::RunPeerBenchmarks(argc, argv, tether::bench::Register); }

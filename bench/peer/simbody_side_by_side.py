@@ -8,7 +8,6 @@ only.
     python3 bench/peer/simbody_side_by_side.py                                         # run (about 3 minutes)
     python3 bench/peer/simbody_side_by_side.py --json bench/peer/results_simbody.json  # print the saved run again
 """
-import argparse
 import os
 import re
 import sys
@@ -122,18 +121,7 @@ def verdict(table):
 
 
 def main(argv):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--binary", default=BINARY, help="the tether_vs_simbody program")
-    parser.add_argument("--json", help="print this saved report instead of running the benchmark")
-    parser.add_argument("--out", default=os.path.join(HERE, "results_simbody.json"), help="where to save the report")
-    parser.add_argument("--filter", default=".", help="--benchmark_filter (default: every scene)")
-    args = parser.parse_args(argv)
-    if args.json:
-        report = bench_json.load(args.json)
-    else:
-        report = bench_json.run(args.binary, args.filter, 0, 3)
-        bench_json.save(report, args.out)
-        print(f"wrote {args.out}", file=sys.stderr)
+    report = bench_json.peer_report(argv, __doc__.splitlines()[0], BINARY, "tether_vs_simbody", os.path.join(HERE, "results_simbody.json"))
     table = runs(report)
     print(markdown(table))
     print()
