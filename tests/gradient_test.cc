@@ -555,6 +555,62 @@ TEST(AdjointGradient, ParticleRodsAndARedundantRodEqualJets) {
   }
 }
 
+// A four-bar (a parallelogram of 1 m, 1 kg bars, IFToMM A02 with N = 1) with the default gains through four
+// horizontal passes, three of whose steps are retaken in substeps with the KKT solver's pivot floor
+// (schur_solver.h, "Singular passes"): the adjoint's replay retakes the same steps (the KKT log carries the
+// solver's conditioning) and equals the Jets.
+TEST(AdjointGradient, ThroughTheRetakenStepsOfSingularPassesEqualsJets) {
+  json bodies = json::array(), constraints = json::array();
+  for (int i = 0; i < 2; ++i) {
+    bodies.push_back({{"name", "crank" + std::to_string(i)},
+                      {"type", "rigid"},
+                      {"mass", 1.0},
+                      {"inertia", 1.0 / 12.0},
+                      {"position", {1.0 * i, 0.5}},
+                      {"angle", M_PI / 2},
+                      {"velocity", {0.5, 0.0}},
+                      {"angular_velocity", -1.0}});
+    constraints.push_back({{"type", "pin"},
+                           {"bodies", {"world", "crank" + std::to_string(i)}},
+                           {"points", {{1.0 * i, 0.0}, {-0.5, 0.0}}}});
+    constraints.push_back({{"type", "pin"},
+                           {"bodies", {"coupler", "crank" + std::to_string(i)}},
+                           {"points", {{i - 0.5, 0.0}, {0.5, 0.0}}}});
+  }
+  bodies.push_back({{"name", "coupler"},
+                    {"type", "rigid"},
+                    {"mass", 1.0},
+                    {"inertia", 1.0 / 12.0},
+                    {"position", {0.5, 1.0}},
+                    {"angle", 0.0},
+                    {"velocity", {1.0, 0.0}},
+                    {"angular_velocity", 0.0}});
+  const json document = {{"dimension", 2},
+                         {"bodies", bodies},
+                         {"constraints", constraints},
+                         {"effects", {{{"type", "gravity"}, {"acceleration", {0.0, -9.81}}}}},
+                         {"simulation", {{"integrator", "rk4"}, {"step", 1e-3}, {"duration", 5.0}}}};
+  const std::vector<std::string> pointers = {"/bodies/0/mass", "/bodies/2/inertia", "/effects/0/acceleration/1"};
+  const Model<double> truth = Truth(document, pointers);
+  ASSERT_GT(Simulate<double>(ParseScene(document, "four_bar.json").model, RunOptions{}, [](const Sample<double>&) {})
+                .retaken_steps,
+            0);
+  ScratchFile csv("observations.csv");
+  WriteObservations(truth, {1.0, 2.0, 3.0, 4.0, 5.0}, {"crank0.x", "coupler.y", "crank1.omega"}, csv.path(), 1, 0);
+  const Scene scene = ParseScene(document, "four_bar.json");
+  const ParameterSet parameters(scene, pointers);
+  const Observations observations = ReadObservations(csv.path(), scene.model);
+  const LossGradient jet = JetLossGradient(scene.model, parameters, observations);
+  const LossGradient adjoint = AdjointLossGradient(scene.model, parameters, observations);
+  const double scale = Largest(jet.gradient);
+  ASSERT_GT(scale, 0.0);
+  for (size_t i = 0; i < pointers.size(); ++i) {
+    EXPECT_NEAR(adjoint.gradient[i], jet.gradient[i],
+                kAdjointAgreement * std::max(1e-3 * scale, std::abs(jet.gradient[i])))
+        << pointers[i];
+  }
+}
+
 // The memory rule: every state while they fit, then the smallest K with N / K + K states fitting, then sqrt(N).
 TEST(AdjointCheckpoints, IntervalKeepsWithinTheBudget) {
   EXPECT_EQ(CheckpointInterval(1000, 8, 8000), 1);          // 1000 states fit

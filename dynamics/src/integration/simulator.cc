@@ -425,6 +425,7 @@ StepStatus Stepper<T>::RetakeSingularPass(double t, double dt) {
   integrator_.Restore(pass_start_.integrator);
   ws_.solver->Restore(pass_start_.solver);
   ws_.solver->set_pass_floor(true);
+  ++report_.retaken_steps;
   const double substep = dt / kSingularPassSubsteps;
   StepStatus status = StepStatus::kOk;
   for (int k = 0; k < kSingularPassSubsteps && status == StepStatus::kOk; ++k) {

@@ -68,6 +68,7 @@ struct RunEvent {
 
 struct RunReport {
   std::int64_t steps = 0;
+  std::int64_t retaken_steps = 0;     // steps retaken in substeps near a singular pass (schur_solver.h)
   std::vector<std::string> warnings;  // e.g. that the initial state was moved onto the constraints
   std::vector<RunEvent> events;       // in time order
   std::string drift;                  // when the constraints drifted past 1% of the length scale: that warning
