@@ -25,8 +25,7 @@ using nlohmann::json;
 
 // Every feature's gap at the scene's initial state, its rate against central differences of the gap along the
 // motion (q moved by +-h v, at constant v), and its row's velocity product (the gap's acceleration along that
-// motion, v' = 0) against second differences, except a crossed edges' (contact_geometry.h: n turning with A is
-// left to the stabilization).
+// motion, v' = 0) against second differences.
 std::vector<double> GapsAndCheckRates(const Model<double>& model) {
   const ContactGeometry geometry = BuildContactGeometry(model);
   const State<double> start = InitialState(model);
@@ -45,7 +44,6 @@ std::vector<double> GapsAndCheckRates(const Model<double>& model) {
     const double h = 1e-6, central = (gap_at(f, h) - gap_at(f, -h)) / (2 * h);
     EXPECT_NEAR(gap.rate, central, 1e-7) << geometry.pairs[f.pair].label << " feature " << f.vertex;
     gaps.push_back(gap.g);
-    if (f.form == GapForm::kCrossedEdges) continue;
     ConstraintRow<double> row;
     EvaluateContactRow(model, f, frames, start.q, start.v, true, &row);
     const double H = 2e-5, second = (gap_at(f, H) - 2 * gap.g + gap_at(f, -H)) / (H * H);

@@ -284,6 +284,8 @@ GapPrimitive<T> MeasureFeature(const Model<T>& model, const ContactFeature& feat
       gap.plane = AgainstPlane(second, WitnessInShape(second, edges.on_second), Vec3<T>(edges.normal_second.cast<T>()),
                                PointOfShape(first, WitnessInShape(first, edges.on_first), d), CoreRadius(first), d,
                                scene_index);
+      gap.slide_a = SlideOf(second, edges.on_second, d);  // the two edges, whose cross product turns n
+      gap.slide_b = SlideOf(first, edges.on_first, d);
       return gap;
     }
     gap.distance = {scene_index, PointOfShape(second, Vec3<T>(Vec3<T>::Zero()), d),
@@ -348,6 +350,33 @@ T SlideCorrection(const Model<T>& model, const BodyFrames<T>& frames, const GapP
   return -segment.length * (m_a * m_a + T(2.0) * cosine * m_a * m_b + m_b * m_b) / sine2;
 }
 
+// The turn of a crossed edges' normal that its line row leaves out (contact_geometry.h), at (q, v) with frames
+// updated there: n = c / |c| with c = +-(e_1 x e_2) of the two edges' world directions, while the row turns n with
+// its first body only (n_f' = w_1 x n). With d = x_2 - x_1 = (n . d) n, and n . n'' = -|n'|^2 for a unit vector,
+//   g'' - (the row's) = 2 (n' - n_f') . d' + (n . d) (|n_f'|^2 - |n'|^2),
+//   n' = (I - n n^T) c' / |c|,   c' = (w_1 x e_1) x e_2 + e_1 x (w_2 x e_2).
+// Zero for the other line rows, which have no edges.
+template <typename T>
+T TurnCorrection(const Model<T>& model, const BodyFrames<T>& frames, const GapPrimitive<T>& gap, const VecX<T>& q,
+                 const VecX<T>& v) {
+  if (!(Value(gap.slide_a.squaredNorm()) > 0.0 && Value(gap.slide_b.squaredNorm()) > 0.0)) return T(0.0);
+  const LinePrimitive<T>& line = gap.plane;
+  const int body_1 = line.a.body, body_2 = line.b.body;
+  const PointMotion<T> p1 = MovePoint(model, frames, line.a, q, v, true),
+                       p2 = MovePoint(model, frames, line.b, q, v, true);
+  const Vec3<T> n = BodyToWorld(model, frames, body_1, line.normals[0]);
+  const Vec3<T> e1 = BodyToWorld(model, frames, body_1, gap.slide_a),
+                e2 = BodyToWorld(model, frames, body_2, gap.slide_b);
+  const Vec3<T> w1 = SpinOf(model, frames, body_1), w2 = SpinOf(model, frames, body_2);
+  const Vec3<T> cross = e1.cross(e2);
+  const T sign = Value(cross.dot(n)) < 0.0 ? T(-1.0) : T(1.0);
+  const Vec3<T> cross_rate = sign * Vec3<T>(w1.cross(e1).cross(e2) + e1.cross(w2.cross(e2)));
+  const Vec3<T> n_rate = (cross_rate - n * n.dot(cross_rate)) / cross.norm();
+  const Vec3<T> n_fixed_rate = w1.cross(n);
+  const Vec3<T> d = p2.position - p1.position, d_rate = p2.velocity - p1.velocity;
+  return T(2.0) * (n_rate - n_fixed_rate).dot(d_rate) + n.dot(d) * (n_fixed_rate.squaredNorm() - n_rate.squaredNorm());
+}
+
 }  // namespace
 
 template <typename T>
@@ -356,6 +385,7 @@ ConstraintRow<T>* EvaluateContactRow(const Model<T>& model, const ContactFeature
   const GapPrimitive<T> gap = MeasureFeature(model, feature, frames, q);
   if (gap.line) {
     internal::EvaluateLineRows(model, frames, gap.plane, q, v, velocity_terms, row);
+    if (velocity_terms) row->bias += TurnCorrection(model, frames, gap, q, v);
   } else {
     internal::EvaluateDistanceRow(model, frames, gap.distance, q, v, velocity_terms, row);
     if (velocity_terms) row->bias += SlideCorrection(model, frames, gap, q, v);

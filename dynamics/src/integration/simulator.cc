@@ -337,16 +337,19 @@ double Stepper<T>::FirstEvent(double t, double dt) {
 // positive at the start (it releases there).
 template <typename T>
 double Stepper<T>::Locate(int side, double t, double dt) {
+  // a gap left overlapping at the start (a side released or dropped with its drift) is due where it deepens
+  const bool gap = !gaps_.IsFrictionEvent(side) && !gaps_.active(side);
+  double overlap = 0.0;
   auto value_after = [&](double tau) {
     Restore(before_);
     if (tau > 0.0) AdvanceSmooth(t, tau);
-    return gaps_.EventValue(side, t + tau, state_.q, state_.v, &ws_);
+    return gaps_.EventValue(side, t + tau, state_.q, state_.v, &ws_) - overlap;
   };
+  if (gap) overlap = std::min(value_after(0.0), 0.0);
   double hi = dt, f_hi = value_after(dt);
   if (!(f_hi < 0.0)) return dt;
   double lo = 0.0, f_lo = value_after(0.0);
   // a gap at zero at the start (it has just opened): bracket from the first probe where it is open
-  const bool gap = !gaps_.IsFrictionEvent(side) && !gaps_.active(side);
   for (double probe = kCaptureFlight * dt; gap && !(f_lo > 0.0) && probe < dt; probe *= 2.0) {
     const double f = value_after(probe);
     if (f > 0.0) {

@@ -36,7 +36,10 @@
 // H = [[1, -c], [-c, 1]] / |d| with c = u_a . u_b), which EvaluateContactRow adds to the row's velocity product: a
 // ball sliding along a capsule then has the gap acceleration of a point along a line, not of two material points
 // drawing apart. Segments closer to parallel than 1e-3 (their witnesses not unique) get no correction. A crossed
-// edges' line row keeps n fixed in B, so its second derivative misses n's turn with A (held by the stabilization).
+// edges' line row turns n with B only; the true n = +-(e_A x e_B)/|e_A x e_B| turns with both edges, and since
+// n . (x_A - x_B) is the same for any points of the two lines, that turn is all the row misses:
+//   g'' = (the row's) + 2 (n' - n_B') . d' + (n . d) (|n_B'|^2 - |n'|^2),   d = x_A - x_B,  n_B' = w_B x n
+// (n . n'' = -|n'|^2 for a unit vector), which EvaluateContactRow adds too.
 #pragma once
 
 #include <string>

@@ -23,6 +23,10 @@
 //            a side whose multiplier would pull (mu <= 0) is left out and the system solved again (active_set.h).
 //            A side that was active and is left out releases (an event of its own when its mu crosses zero in a
 //            step).
+//   overlap  a side left out while it overlaps by its drift (the stabilization holds g near zero, not at it) is due
+//            again only where its overlap deepens: its event function in a step is g(tau) - min(g(0), 0). Were
+//            it due at g < 0, a side whose multiplier pulls would be captured and left out again at the same
+//            instant without end.
 //   grazing  an approach slower than kRestingSpeed is a touch, not an impact: no impulse. Below kGrazingSpeed an
 //            impact's time sensitivity (g' in its denominator) is not taken, with a warning.
 //
