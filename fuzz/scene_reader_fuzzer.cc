@@ -83,6 +83,14 @@ void CheckModel(const tether::Model<double>& model) {
     }
     if (!(e.stiffness >= 0) || !(e.damping >= 0)) Finding("negative joint spring parameter");
   }
+  for (const auto& e : model.joint_servos) {
+    if (e.joint < 0 || e.joint >= static_cast<int>(model.joints.size()) ||
+        !tether::HasCoordinate(model, model.joints[e.joint], e.coordinate)) {
+      Finding("servo on a joint without that coordinate");
+    }
+    if (!(e.kp >= 0) || !(e.kd >= 0) || !(e.limit >= 0)) Finding("negative servo parameter");
+    if (e.schedule.times.size() != e.schedule.values.size()) Finding("servo schedule sizes differ");
+  }
   for (const auto& g : model.gravity) {
     if (!Finite(g.acceleration)) Finding("non-finite gravity");
   }

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "contact_scenes.h"
+#include "gradient_checks.h"
 #include "test_files.h"
 #include "tether/autodiff/adjoint.h"
 #include "tether/autodiff/residuals.h"
@@ -474,14 +475,7 @@ TEST(ContactFriction, JetsAndTheAdjointThroughTheStopOfASlipMatchTheClosedFormAn
   const double x = x_at_1(mu, v0), h = 1e-6;
   EXPECT_NEAR(jet.gradient[0], x * (x_at_1(mu + h, v0) - x_at_1(mu - h, v0)) / (2 * h), 1e-7);
   EXPECT_NEAR(jet.gradient[1], x * (x_at_1(mu, v0 + h) - x_at_1(mu, v0 - h)) / (2 * h), 1e-7);
-  const LossGradient central = CentralDifferenceLossGradient(scene.model, parameters, observations);
-  for (size_t i = 0; i < jet.gradient.size(); ++i) {
-    EXPECT_NEAR(jet.gradient[i], central.gradient[i], 1e-6 * std::abs(central.gradient[i])) << i;
-  }
-  const LossGradient adjoint = AdjointLossGradient(scene.model, parameters, observations);
-  for (size_t i = 0; i < jet.gradient.size(); ++i) {
-    EXPECT_NEAR(adjoint.gradient[i], jet.gradient[i], 1e-9 * std::abs(jet.gradient[i])) << i;
-  }
+  testing::ExpectGradientsAgree(scene.model, parameters, observations);
 }
 
 TEST(ContactFriction, TheAdjointThroughABoxSlidingOnASlopeMatchesJetsAndCentralDifferences) {
@@ -742,14 +736,7 @@ TEST(ContactGradients, JetsAndTheAdjointAcrossABounceMatchTheClosedFormAndCentra
   const double z = 0.1 + e * v0 * tau - kG * tau * tau / 2;
   EXPECT_NEAR(jet.gradient[0], z * ((1 + e) * tau - e * t1) / t1, 1e-9);
   EXPECT_NEAR(jet.gradient[1], z * v0 * tau, 1e-9);
-  const LossGradient central = CentralDifferenceLossGradient(scene.model, parameters, observations);
-  for (size_t i = 0; i < jet.gradient.size(); ++i) {
-    EXPECT_NEAR(jet.gradient[i], central.gradient[i], 1e-6 * std::abs(central.gradient[i])) << i;
-  }
-  const LossGradient adjoint = AdjointLossGradient(scene.model, parameters, observations);
-  for (size_t i = 0; i < jet.gradient.size(); ++i) {
-    EXPECT_NEAR(adjoint.gradient[i], jet.gradient[i], 1e-9 * std::abs(jet.gradient[i])) << i;
-  }
+  testing::ExpectGradientsAgree(scene.model, parameters, observations);
 }
 
 // ---------------------------------------------------------------------------------------------------------------

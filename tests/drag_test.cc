@@ -6,9 +6,8 @@
 
 #include <cmath>
 
+#include "gradient_checks.h"
 #include "test_scenes.h"
-#include "tether/autodiff/adjoint.h"
-#include "tether/autodiff/residuals.h"
 
 namespace tether {
 namespace {
@@ -86,14 +85,7 @@ TEST(Drag, EveryNumberIsAParameter_JetsAndTheAdjointMatchCentralDifferences) {
   const ParameterSet parameters(parsed, pointers);
   const Observations data = MakeObservations("swing data", {"t", "rod.x", "rod.y", "rod.angle"},
                                              {{0.5, 0.2, -0.4, -1.2}, {1.0, -0.3, -0.4, -2.0}}, parsed.model);
-  const LossGradient jets = JetLossGradient(parsed.model, parameters, data);
-  const LossGradient adjoint = AdjointLossGradient(parsed.model, parameters, data);
-  const LossGradient differences = CentralDifferenceLossGradient(parsed.model, parameters, data);
-  for (size_t i = 0; i < pointers.size(); ++i) {
-    EXPECT_NE(jets.gradient[i], 0.0) << pointers[i];
-    EXPECT_NEAR(jets.gradient[i], differences.gradient[i], 1e-6 * std::abs(differences.gradient[i])) << pointers[i];
-    EXPECT_NEAR(adjoint.gradient[i], jets.gradient[i], 1e-9 * std::abs(jets.gradient[i])) << pointers[i];
-  }
+  testing::ExpectGradientsAgree(parsed.model, parameters, data);
 }
 
 TEST(Drag, ItsNumbersAreCheckedAndItAddsNoEnergy) {

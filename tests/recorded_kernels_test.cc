@@ -23,8 +23,9 @@
 namespace tether {
 namespace {
 
-// 3D: a body with a full inertia tensor hinged to the world and driven by a motor, a second on a universal joint,
-// a particle on a rod from it and a second particle on a rod from the first; gravity, a spring, damping.
+// 3D: a body with a full inertia tensor hinged to the world and driven by a motor and a saturated servo, a second on a
+// universal joint, a particle on a rod from it and a second particle on a rod from the first; gravity, a spring,
+// damping.
 const char* kSpatial = R"({"dimension": 3,
   "bodies": [{"name": "a", "type": "rigid", "mass": 2.0, "inertia": [[0.03, 0.004, 0.002], [0.004, 0.04, 0.003],
               [0.002, 0.003, 0.05]], "position": [0.0, 0.0, -0.5]},
@@ -39,12 +40,14 @@ const char* kSpatial = R"({"dimension": 3,
                   {"type": "distance", "bodies": ["p", "r"]}],
   "effects": [{"type": "gravity", "acceleration": [0.0, 0.0, -9.81]},
               {"type": "joint_torque", "joint": "shoulder", "value": 0.7},
+              {"type": "joint_servo", "joint": "shoulder", "kp": 4.0, "kd": 0.5, "target_rate": 0.2, "limit": 1.5,
+               "schedule": {"times": [0.0, 1.0], "values": [0.1, 0.6]}},
               {"type": "spring", "bodies": ["world", "r"], "points": [[1.0, 0.0, 0.0], [0.0, 0.0, 0.0]],
                "stiffness": 5.0, "rest_length": 1.0},
               {"type": "damping", "coefficient": 0.1, "angular_coefficient": 0.02}]})";
 
-// 2D: two planar rods pinned in a chain, a spring on the elbow's angle, a particle on a rod from the second rod (the
-// node-by-node paths of 2D rows).
+// 2D: two planar rods pinned in a chain, a spring and a servo on the elbow's angle, a particle on a rod from the second
+// rod (the node-by-node paths of 2D rows).
 const char* kPlanar = R"({"dimension": 2,
   "bodies": [{"name": "a", "type": "rigid", "mass": 1.0, "inertia": 0.08, "position": [0.5, 0.0]},
              {"name": "b", "type": "rigid", "mass": 1.0, "inertia": 0.08, "position": [1.5, 0.0]},
@@ -54,6 +57,7 @@ const char* kPlanar = R"({"dimension": 2,
                   {"type": "distance", "bodies": ["b", "p"], "points": [[0.5, 0.0], [0.0, 0.0]]}],
   "effects": [{"type": "gravity", "acceleration": [0.0, -9.81]},
               {"type": "joint_spring", "joint": "elbow", "stiffness": 3.0, "damping": 0.2},
+              {"type": "joint_servo", "joint": "elbow", "kp": 2.0, "kd": 0.3, "target": 0.4},
               {"type": "damping", "coefficient": 0.1, "angular_coefficient": 0.02}]})";
 
 Model<double> Scene(const char* text) { return ParseScene(nlohmann::json::parse(text), "kernels.json").model; }

@@ -36,7 +36,11 @@ const char* kSpatial = R"({"dimension": 3,
                "schedule": {"times": [0.0, 0.5, 1.0], "values": [[0.5, 0.0, 0.0], [0.0, 0.5, 0.0], [0.0, 0.0, 0.5]]}},
               {"type": "torque", "body": "a", "value": [0.0, 1.0, 0.0]},
               {"type": "joint_torque", "joint": "shoulder", "schedule": {"times": [0.0, 1.0], "values": [0.3, -0.3]}},
-              {"type": "joint_spring", "joint": "shoulder", "stiffness": 5.0, "rest": 0.3, "damping": 0.1}],
+              {"type": "joint_spring", "joint": "shoulder", "stiffness": 5.0, "rest": 0.3, "damping": 0.1},
+              {"type": "joint_servo", "joint": "shoulder", "kp": 8.0, "kd": 0.5, "target": 0.2, "target_rate": 0.1,
+               "limit": 2.0},
+              {"type": "joint_servo", "joint": "shoulder", "kp": 1.0, "kd": 0.0,
+               "schedule": {"times": [0.0, 1.0], "values": [0.0, 0.4]}}],
   "markers": [{"name": "tip", "body": "b", "point": [0.0, 0.0, -0.1]}],
   "shapes": [{"name": "ball", "body": "p", "type": "sphere", "radius": 0.05, "restitution": 0.4},
              {"body": "b", "type": "capsule", "radius": 0.02, "length": 0.3, "position": [0.0, 0.0, 0.05],
@@ -142,6 +146,12 @@ TEST(SceneNumbers, EachNumberHasTheDomainTheFormatGivesIt) {
   EXPECT_EQ(domain("/effects/1/coefficient"), NumberDomain::kNonNegative);
   EXPECT_EQ(domain("/effects/2/rest_length"), NumberDomain::kNonNegative);
   EXPECT_EQ(domain("/effects/6/rest"), NumberDomain::kAny);
+  EXPECT_EQ(domain("/effects/7/kp"), NumberDomain::kNonNegative);
+  EXPECT_EQ(domain("/effects/7/kd"), NumberDomain::kNonNegative);
+  EXPECT_EQ(domain("/effects/7/target"), NumberDomain::kAny);
+  EXPECT_EQ(domain("/effects/7/target_rate"), NumberDomain::kAny);
+  EXPECT_EQ(domain("/effects/7/limit"), NumberDomain::kPositive);
+  EXPECT_EQ(domain("/effects/8/schedule/values/1"), NumberDomain::kAny);
   EXPECT_EQ(domain("/stabilization/beta"), NumberDomain::kNonNegative);
   EXPECT_EQ(domain("/bodies/0/position/2"), NumberDomain::kAny);
   EXPECT_EQ(domain("/shapes/0/radius"), NumberDomain::kPositive);

@@ -19,6 +19,7 @@
 #include <tuple>
 #include <vector>
 
+#include "bindings.h"
 #include "tether/autodiff/gradient_method.h"
 #include "tether/dynamics/integration/interrupts.h"
 #include "tether/dynamics/integration/simulator.h"
@@ -36,59 +37,11 @@
 #include "tether/viewer/view.h"
 #endif
 
-namespace py = pybind11;
-
 namespace tether::python {
 namespace {
 
-// A NumPy array of `rows` x `columns` that takes over `values` (row-major) without copying them.
-py::array_t<double> TakeMatrix(std::vector<double>&& values, size_t rows, size_t columns) {
-  auto* owned = new std::vector<double>(std::move(values));
-  py::capsule free_when_done(owned, [](void* p) { delete static_cast<std::vector<double>*>(p); });
-  return py::array_t<double>({rows, columns}, {columns * sizeof(double), sizeof(double)}, owned->data(),
-                             free_when_done);
-}
-
-// Runs `work` with the GIL released and Ctrl-C stopping it; a stop is KeyboardInterrupt.
-template <typename Work>
-auto Interruptible(Work work) {
-  try {
-    const CancelRuns cancel;
-    const py::gil_scoped_release release;
-    return work();
-  } catch (const RunInterrupted&) {
-    PyErr_SetNone(PyExc_KeyboardInterrupt);
-    throw py::error_already_set();
-  }
-}
-
-// Runs `work` on `scene` as Interruptible does; its InputError and SimulationDiverged name the scene's file (or
-// the name given to from_dict) first, as the command line's messages do.
-template <typename Work>
-auto OnScene(const Scene& scene, Work work) {
-  return Interruptible([&] {
-    try {
-      return work();
-    } catch (const InputError& e) {
-      throw InputError(scene.path + ": " + e.what());
-    } catch (const SimulationDiverged& e) {
-      throw SimulationDiverged(scene.path + ": " + e.what(), e.time(), e.constraint());
-    }
-  });
-}
-
 // The most a run's arrays may hold, refused up front rather than running out of memory at the end.
 constexpr double kMaxRecordingBytes = 4.0 * (1 << 30);
-
-// An event as Python's tether.Event: t, kind, constraint, g'-, g'+, point, normal, impulse (RunEvent).
-using EventRow =
-    std::tuple<double, std::string, std::string, double, double, std::array<double, 3>, std::array<double, 3>, double>;
-
-struct Recorded {
-  std::vector<std::string> columns;
-  py::array_t<double> table, q, v;
-  std::vector<EventRow> events;
-};
 
 // A run of the scene with `overrides` in place of its settings, every `every`-th step recorded.
 Recorded SimulateScene(const Scene& scene, const SettingsOverrides& overrides, int every) {
@@ -126,11 +79,7 @@ Recorded SimulateScene(const Scene& scene, const SettingsOverrides& overrides, i
   out.table = TakeMatrix(std::move(table), rows, columns.size());
   out.q = TakeMatrix(std::move(q), rows, nq);
   out.v = TakeMatrix(std::move(v), rows, nv);
-  const auto array = [](const Vec3<double>& x) { return std::array<double, 3>{x.x(), x.y(), x.z()}; };
-  for (const RunEvent& e : report.events) {
-    out.events.emplace_back(e.t, e.kind, e.constraint, e.speed_before, e.speed_after, array(e.point), array(e.normal),
-                            e.impulse);
-  }
+  out.events = EventRows(report.events);
   return out;
 }
 
@@ -353,4 +302,5 @@ PYBIND11_MODULE(_tether, m) {
   m.def("check", [](const Scene& scene) { return SceneCheckJson(CheckScene(scene.model)).dump(); });
   m.def("study", &RunStudyFile);
   m.def("view_html", &ViewOf);
+  BindStepper(m);
 }

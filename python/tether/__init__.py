@@ -45,7 +45,7 @@ except ImportError as _missing:
 from ._tether import InputError, OutputError, SimulationDiverged
 from ._tether import __version__  # the project's (CMakeLists.txt), as `tether --version` names it
 
-__all__ = ["Scene", "Trajectory", "Event", "View", "view", "gradient", "tune", "identify", "fit", "check", "study", "InputError",
+__all__ = ["Scene", "Stepper", "Trajectory", "Event", "View", "view", "gradient", "tune", "identify", "fit", "check", "study", "InputError",
            "SimulationDiverged", "OutputError", "EstimateFailed"]
 for _error in (InputError, OutputError, SimulationDiverged):
     _error.__module__ = __name__  # shown as tether.InputError
@@ -143,14 +143,107 @@ class Scene:
         integrator ("euler", "symplectic_euler", "rk4", "rk45"), alpha (1/s) and beta (1/s^2), which select the
         baumgarte method, stabilization ("none", "baumgarte", "projection") and solver ("auto", "dense",
         "sparse")."""
-        overrides = _tether.SettingsOverrides()
-        for name, value in (("duration", duration), ("step", step), ("integrator", integrator), ("alpha", alpha),
-                            ("beta", beta), ("stabilization", stabilization), ("solver", solver)):
-            setattr(overrides, name, value)
+        overrides = _overrides(duration, step, integrator, alpha, beta, stabilization, solver)
         return Trajectory(_tether.simulate(self._core, overrides, _whole(every, "every")), self)
+
+    def stepper(self, duration=None, step=None, integrator=None, every=1, *, alpha=None, beta=None,
+                stabilization=None, solver=None):
+        """A run that you step yourself, for a controller in Python (a Stepper, docs/stepping.md). It starts at the
+        scene's initial state; the run ends at `duration` (the scene's, unless given). The arguments are
+        simulate's."""
+        return Stepper(self, _overrides(duration, step, integrator, alpha, beta, stabilization, solver),
+                       _whole(every, "every"))
 
     def __repr__(self):
         return f"tether.Scene({self.path!r})"
+
+
+def _overrides(duration, step, integrator, alpha, beta, stabilization, solver):
+    overrides = _tether.SettingsOverrides()
+    for name, value in (("duration", duration), ("step", step), ("integrator", integrator), ("alpha", alpha),
+                        ("beta", beta), ("stabilization", stabilization), ("solver", solver)):
+        setattr(overrides, name, value)
+    return overrides
+
+
+class Stepper:
+    """A run taken step by step (Scene.stepper()): step(n) or step_to(t) advance it with the scene's integrator and
+    step h; `t`, `q` and `v` are the state now (copies, in the model's layouts) and sim["COLUMN"] any trajectory
+    column's value now; set_control(name, value) holds a
+    joint_torque's value or a joint_servo's target from the next step on (name: the joint's, or /effects/K);
+    state() and set_state(s) save and put back the whole state, controls included (resets, rollouts); trajectory()
+    is the run so far as a Trajectory. Without set_control the trajectory is bit for bit simulate()'s. The
+    interpreter's lock is released while it steps; Ctrl-C stops it at its next step."""
+
+    def __init__(self, scene, overrides, every):
+        self._scene = scene
+        self._core = _tether.Stepper(scene._core, overrides, every)
+
+    @property
+    def t(self):
+        """The time of the state now, s."""
+        return self._core.t
+
+    @property
+    def end(self):
+        """The time the run ends at (its duration), s."""
+        return self._core.end
+
+    @property
+    def q(self):
+        """The configuration now (a copy)."""
+        return self._core.q
+
+    @property
+    def v(self):
+        """The velocity now (a copy)."""
+        return self._core.v
+
+    def __getitem__(self, name):
+        """A trajectory column's value now (sim["pivot.angle"]); columns() lists them."""
+        return self._core.column(name)
+
+    def columns(self):
+        """The names of the trajectory's columns, as the CSV has them."""
+        return list(self._core.columns())
+
+    def step(self, n=1):
+        """Takes n steps (none past the run's end: InputError, and no step taken); returns self."""
+        self._core.step(_whole(n, "n"))
+        return self
+
+    def step_to(self, t):
+        """Takes steps until the time reaches t (onto the first step's end at or after it); returns self."""
+        self._core.step_to(float(t))
+        return self
+
+    def set_control(self, name, value):
+        """Holds a joint_torque's value (N m or N) or a joint_servo's target (rad or m) from now on, in place of its
+        schedule if it has one; returns self."""
+        self._core.set_control(str(name), float(value))
+        return self
+
+    def control(self, name):
+        """A control's value now."""
+        return self._core.control(str(name))
+
+    def state(self):
+        """The whole state now (configuration, velocity, the integrator's and the events' memory, the controls):
+        an opaque value for set_state."""
+        return self._core.state()
+
+    def set_state(self, state):
+        """Puts back a state that state() returned; the trajectory is cut back to it (or, for a state of a rollout
+        since abandoned, starts again at it); returns self."""
+        self._core.set_state(state)
+        return self
+
+    def trajectory(self):
+        """The run so far, as simulate() returns it."""
+        return Trajectory(self._core.trajectory(), self._scene)
+
+    def __repr__(self):
+        return f"tether.Stepper({self._scene.path!r}, t={self.t!r})"
 
 
 Event = _namedtuple("Event", ["t", "kind", "constraint", "speed_before", "speed_after", "point", "normal", "impulse"])

@@ -170,6 +170,42 @@ void ReadJointSpring(SceneBuilder& r, const json& e, const std::string& at, int 
   r.model().joint_springs.push_back(s);
 }
 
+void ReadJointServo(SceneBuilder& r, const json& e, const std::string& at, int index) {
+  r.check().Object(e, at, {"type", "joint", "coordinate", "kp", "kd", "target", "schedule", "target_rate", "limit"});
+  const int k = static_cast<int>(r.model().joint_servos.size());
+  JointServoEffect<double> s;
+  s.scene_index = index;
+  r.ReadJointReference(e, at, &s.joint, &s.coordinate);
+  s.kp = r.check().NonNegative(r.check().Required(e, at, "kp"), Child(at, "kp"));
+  r.Bind(
+      Child(at, "kp"), D::kNonNegative, [k](auto& m) -> auto& { return m.joint_servos[k].kp; });
+  s.kd = r.check().NonNegative(r.check().Required(e, at, "kd"), Child(at, "kd"));
+  r.Bind(
+      Child(at, "kd"), D::kNonNegative, [k](auto& m) -> auto& { return m.joint_servos[k].kd; });
+  r.ReadValueOrSchedule(
+      e, at, [&r](const json& j, const std::string& p) { return r.check().Number(j, p); }, &s.target, &s.schedule,
+      "target");
+  if (s.schedule.empty()) {
+    r.Bind(
+        Child(at, "target"), D::kAny, [k](auto& m) -> auto& { return m.joint_servos[k].target; });
+  }
+  r.BindSchedule(at, s.schedule.times, [&r, k](const std::string& p, int j, const ScheduleKnot& knot) {
+    r.Bind(
+        p, D::kAny, [ k, j ](auto& m) -> auto& { return m.joint_servos[k].schedule.values[j]; }, knot);
+  });
+  if (const json* rate = r.check().Optional(e, "target_rate")) {
+    s.target_rate = r.check().Number(*rate, Child(at, "target_rate"));
+    r.Bind(
+        Child(at, "target_rate"), D::kAny, [k](auto& m) -> auto& { return m.joint_servos[k].target_rate; });
+  }
+  if (const json* limit = r.check().Optional(e, "limit")) {
+    s.limit = r.check().Positive(*limit, Child(at, "limit"));
+    r.Bind(
+        Child(at, "limit"), D::kPositive, [k](auto& m) -> auto& { return m.joint_servos[k].limit; });
+  }
+  r.model().joint_servos.push_back(s);
+}
+
 void ReadDrag(SceneBuilder& r, const json& e, const std::string& at, int index) {
   r.check().Object(e, at, {"type", "body", "point", "density", "drag_coefficient", "area"});
   const int k = static_cast<int>(r.model().drag.size());
@@ -211,6 +247,7 @@ constexpr EffectReader kEffectReaders[] = {
     {"torque", ReadTorque},
     {"joint_torque", ReadJointTorque},
     {"joint_spring", ReadJointSpring},
+    {"joint_servo", ReadJointServo},
     {"drag", ReadDrag},
 };
 // clang-format on

@@ -701,13 +701,13 @@ class SceneBuilder {
     }
   }
 
-  // An effect's "value" or "schedule" (exactly one), each entry read by read_value.
+  // An effect's `key` ("value", a servo's "target") or "schedule" (exactly one), each entry read by read_value.
   template <typename V, typename ReadValue>
-  void ReadValueOrSchedule(const json& e, const std::string& at, ReadValue read_value, V* value,
-                           Schedule<V>* schedule) const {
-    if (e.contains("value") == e.contains("schedule")) check_.Fail(at, "give exactly one of 'value' and 'schedule'");
-    if (const json* v = check_.Optional(e, "value")) {
-      *value = read_value(*v, Child(at, "value"));
+  void ReadValueOrSchedule(const json& e, const std::string& at, ReadValue read_value, V* value, Schedule<V>* schedule,
+                           const std::string& key = "value") const {
+    if (e.contains(key) == e.contains("schedule")) check_.Fail(at, "give exactly one of '" + key + "' and 'schedule'");
+    if (const json* v = check_.Optional(e, key.c_str())) {
+      *value = read_value(*v, Child(at, key));
     } else {
       *schedule = ReadSchedule<V>(e.at("schedule"), Child(at, "schedule"), read_value);
     }

@@ -1,7 +1,7 @@
 // Applied forces: the generalized force f(t, q, v) of a model's effects, and its energy. Each effect is a header of
-// its own (gravity.h, damping.h, spring.h, force.h, torque.h, joint_torque.h, joint_spring.h), which states its law;
-// here they are summed over the model's lists (ForEachEffectList, model.h), through the view of the state that
-// effect_context.h gives them:
+// its own (gravity.h, damping.h, spring.h, force.h, torque.h, joint_torque.h, joint_spring.h, joint_servo.h,
+// drag.h), which states its law; here they are summed over the model's lists (ForEachEffectList, model.h),
+// through the view of the state that effect_context.h gives them:
 //   f = sum over the effects of their force  +  the gyroscopic torque -w_P x (I_P w_P) of every 3D rigid body
 //   E = sum 1/2 m |x'|^2 + 1/2 I theta'^2 + 1/2 w_P . I_P w_P  +  sum over the effects of their potential energy
 // (v-shaped: forces on translation, torques on rotation in each body's velocity frame; Euler's equations in

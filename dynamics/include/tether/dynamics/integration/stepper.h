@@ -70,6 +70,8 @@ class Stepper {
   bool Step();
 
   bool done() const { return step_ >= steps_; }
+  double time() const { return time_; }                       // the time of the state now
+  std::int64_t steps_left() const { return steps_ - step_; }  // of the plan (stops split one without counting)
   Carry Save() const;
   void Restore(const Carry& carry);
   // Save into an existing carry, reusing its storage.

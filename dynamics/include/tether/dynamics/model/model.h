@@ -28,6 +28,7 @@
 #include "tether/dynamics/effects/drag.h"
 #include "tether/dynamics/effects/force.h"
 #include "tether/dynamics/effects/gravity.h"
+#include "tether/dynamics/effects/joint_servo.h"
 #include "tether/dynamics/effects/joint_spring.h"
 #include "tether/dynamics/effects/joint_torque.h"
 #include "tether/dynamics/effects/spring.h"
@@ -133,6 +134,7 @@ struct Model {
   std::vector<TorqueEffect<T>> torques;
   std::vector<JointTorqueEffect<T>> joint_torques;
   std::vector<JointSpringEffect<T>> joint_springs;
+  std::vector<JointServoEffect<T>> joint_servos;
   std::vector<DragEffect<T>> drag;
 
   SimulationSettings simulation;
@@ -154,6 +156,7 @@ void ForEachEffectList(F&& f, Models&... models) {
   f(models.torques...);
   f(models.joint_torques...);
   f(models.joint_springs...);
+  f(models.joint_servos...);
   f(models.drag...);
 }
 

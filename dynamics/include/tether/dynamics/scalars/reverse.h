@@ -255,6 +255,13 @@ inline Rev exp(const Rev& x) {
 inline Rev log(const Rev& x) {
   return Unary(x, std::log(x.a), [&] { return 1.0 / x.a; });
 }
+inline Rev log1p(const Rev& x) {
+  return Unary(x, std::log1p(x.a), [&] { return 1.0 / (1.0 + x.a); });
+}
+inline Rev tanh(const Rev& x) {
+  const double t = std::tanh(x.a);
+  return Unary(x, t, [t] { return 1.0 - t * t; });
+}
 inline Rev abs(const Rev& x) {
   return Unary(x, std::abs(x.a), [&] { return x.a < 0.0 ? -1.0 : 1.0; });
 }
