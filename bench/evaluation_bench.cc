@@ -1,6 +1,7 @@
 // Where one evaluation of the dynamics (ComputeAcceleration: v' at (q, v)) spends its time on the 3D scenes of the
-// peer benchmark, part by part (docs/performance.md): the humanoid-sized tree (12 moving bodies, 51 rows) and the
-// 200-rod hinge chain (1000 rows), each at the state reached after 0.5 s of its rk4 run from rest, so that every
+// peer benchmark, part by part (docs/performance.md): the humanoid-sized tree (12 moving bodies, 51 rows), MuJoCo's
+// humanoid.xml imported hanging by its torso (14 bodies, 63 rows; it needs MuJoCo's importer and sample models) and
+// the 200-rod hinge chain (1000 rows), each at the state reached after 0.5 s of its rk4 run from rest, so that every
 // velocity term is non-zero. EvaluationPart/PART/SCENE, PART one of
 //   frames     UpdateFrames: every body's rotation and world angular velocity
 //   forces     AccumulateForces: gravity and the gyroscopic torques
@@ -85,8 +86,9 @@ void Part(benchmark::State& state, Mechanism mechanism, const std::string& part)
 }
 
 void Register() {
-  for (const auto& [scene, mechanism] : {std::pair{"humanoid", Mechanism::kHumanoid},
-                                         std::pair{"hinge_chain200", Mechanism::kHingeChain}}) {
+  for (const auto& [scene, mechanism] :
+       {std::pair{"humanoid", Mechanism::kHumanoid}, std::pair{"humanoid_file", Mechanism::kHumanoidFile},
+        std::pair{"hinge_chain200", Mechanism::kHingeChain}}) {
     for (const char* part : {"frames", "forces", "rows", "assembly", "factor", "solve", "evaluation", "rk4_step"}) {
       benchmark::RegisterBenchmark((std::string("EvaluationPart/") + part + "/" + scene).c_str(), Part, mechanism,
                                    std::string(part))

@@ -55,7 +55,8 @@ class ImportCommand final : public Command {
     app_->add_option("-o,--output", output_path_, "scene file to write (default: stdout)");
     app_->add_option("--joint", joint_values_, "NAME=VALUE: a hinge's (rad) or slide's (m) initial coordinate");
     app_->add_option("--joint-velocity", joint_rates_, "NAME=RATE: a hinge's (rad/s) or slide's (m/s) initial rate");
-    app_->add_option("--fix", options_.fixed_bodies, "BODY: weld it to the world where it starts, in place of its joints");
+    app_->add_option("--fix", options_.fixed_bodies,
+                     "BODY: make it part of the world where it starts, in place of its joints");
     app_->add_flag("--merge-fixed", options_.merge_fixed, "merge links welded to their parent into its body");
     app_->add_flag("--split-joints", options_.split_joints,
                    "keep every model joint as its own constraint (through light intermediate bodies)");

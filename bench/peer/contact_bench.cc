@@ -45,7 +45,6 @@ constexpr double kRadius = 0.1;       // the ball's, m
 constexpr double kHalfEdge = 0.1;     // the box's, m
 constexpr double kHumanoidRaise = 0.2;
 constexpr double kG = 9.81;
-const char* const kHumanoidFile = "/usr/share/mujoco/model/humanoid/humanoid.xml";
 
 enum class Case { kBall, kBox, kHumanoid };
 
@@ -132,7 +131,7 @@ json TetherScene(Case c, double step, bool events) {
             {"stabilization", kStabilization}};
   }
   importers::ImportOptions options;
-  json scene = importers::ImportModel(kHumanoidFile, options).scene;
+  json scene = importers::ImportModel(kMujocoHumanoidFile, options).scene;
   for (json& body : scene["bodies"]) body["position"][2] = body["position"][2].get<double>() + kHumanoidRaise;
   scene["simulation"] = Simulation(step, events);
   scene["stabilization"] = kStabilization;
@@ -220,7 +219,7 @@ MjModelPtr LoadCase(Case c, double step) {
   char error[1000] = "";
   mjModel* model = nullptr;
   if (c == Case::kHumanoid) {
-    model = mj_loadXML(kHumanoidFile, nullptr, error, sizeof(error));
+    model = mj_loadXML(kMujocoHumanoidFile, nullptr, error, sizeof(error));
   } else {
     std::unique_ptr<mjVFS> vfs(new mjVFS);
     mj_defaultVFS(vfs.get());

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <functional>
 #include <sstream>
 #include <stdexcept>
@@ -212,6 +213,26 @@ int BodyId(const mjModel& model, const std::string& name) {
   return body;
 }
 
+// kMujocoHumanoidFile hanging by its torso: its free joint removed, contacts and limits off, h and the integrator
+// set.
+std::string HumanoidFile(bool rk4, const MujocoSettings& settings) {
+  std::ifstream in(kMujocoHumanoidFile);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string xml = text.str();
+  const auto replace = [&xml](const std::string& from, const std::string& to) {
+    const size_t at = xml.find(from);
+    if (at == std::string::npos) throw std::runtime_error(std::string(kMujocoHumanoidFile) + " has no " + from);
+    xml.replace(at, from.size(), to);
+  };
+  replace("<freejoint name=\"root\"/>", "");
+  std::ostringstream option;
+  option << "<option timestep=\"" << settings.step << "\" integrator=\"" << (rk4 ? "RK4" : "Euler")
+         << "\"><flag contact=\"disable\" limit=\"disable\"/></option>";
+  replace("<option timestep=\"0.005\"/>", option.str());
+  return xml;
+}
+
 }  // namespace
 
 MujocoFiles MujocoModel(MujocoScene scene, int n, bool rk4, const MujocoSettings& settings) {
@@ -226,6 +247,8 @@ MujocoFiles MujocoModel(MujocoScene scene, int n, bool rk4, const MujocoSettings
       return HingeChain(n, rk4, settings);
     case MujocoScene::kHumanoid:
       return {{"scene.xml", Humanoid(rk4, settings)}};
+    case MujocoScene::kHumanoidFile:
+      return {{"scene.xml", HumanoidFile(rk4, settings)}};
     case MujocoScene::kRssr:
       return {{"scene.xml", SpatialFourBar(rk4, settings)}};
   }
@@ -316,6 +339,9 @@ MujocoProbe::MujocoProbe(const mjModel& model, MujocoScene scene) : scene_(scene
       for (size_t k = 1; k < tree.size(); ++k) bodies_.push_back(BodyId(model, tree[k].name));
       return;
     }
+    case MujocoScene::kHumanoidFile:
+      for (int k = 1; k < model.nbody; ++k) bodies_.push_back(k);
+      return;
     case MujocoScene::kRssr:
       gaps_.push_back({SiteId(model, "coupler_end"), SiteId(model, "rocker_tip")});
       for (const char* name : {"crank", "coupler", "rocker"}) bodies_.push_back(BodyId(model, name));

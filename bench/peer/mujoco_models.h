@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "tether/dynamics/scalars/scalar.h"
+#include "tether_models.h"
 
 namespace tether::bench {
 
@@ -45,7 +46,9 @@ struct MjDataDeleter {
 using MjModelPtr = std::unique_ptr<mjModel, MjModelDeleter>;
 using MjDataPtr = std::unique_ptr<mjData, MjDataDeleter>;
 
-enum class MujocoScene { kChainOfSlides, kChainOfFreeBodies, kFourBar, kHingeChain, kHumanoid, kRssr };
+enum class MujocoScene { kChainOfSlides, kChainOfFreeBodies, kFourBar, kHingeChain, kHumanoid, kHumanoidFile, kRssr };
+// kHumanoidFile: kMujocoHumanoidFile (tether_models.h) with the torso's free joint removed (it hangs by its
+// torso), contacts and joint limits disabled, and the step and integrator asked.
 
 struct MujocoSettings {
   double step = 1e-3;           // s

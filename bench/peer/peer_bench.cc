@@ -1,6 +1,7 @@
 // tether against MuJoCo on the same scenes, side by side in one run (bench/peer/README.md): the chains of
 // tether_models.h and mujoco_models.h (n = 10, 50, 200, 1000; MuJoCo's two ways of writing a chain), the four-bar,
-// the 3D hinge chains of rigid rods (n = 10 to 1000) and the humanoid-sized tree, each with symplectic Euler
+// the 3D hinge chains of rigid rods (n = 10 to 1000), the humanoid-sized tree and MuJoCo's humanoid.xml hanging by
+// its torso, each with symplectic Euler
 // against MuJoCo's semi-implicit Euler and rk4 against RK4, h = 1e-3.
 //
 // Every benchmark first runs its scene once untimed, observing every step: the largest constraint violation,
@@ -143,6 +144,9 @@ void Register() {
     const PeerCase humanoid{Mechanism::kHumanoid, 0, rk4, 5.0};
     add("humanoid" + integrator + "/tether", Tether, humanoid, Stabilization::kBaumgarte);
     add("humanoid" + integrator + "/mujoco", Mujoco, humanoid, MujocoScene::kHumanoid);
+    const PeerCase file{Mechanism::kHumanoidFile, 0, rk4, 5.0};
+    add("humanoid_file" + integrator + "/tether", Tether, file, Stabilization::kBaumgarte);
+    add("humanoid_file" + integrator + "/mujoco", Mujoco, file, MujocoScene::kHumanoidFile);
   }
 }
 

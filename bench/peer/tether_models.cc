@@ -4,6 +4,7 @@
 #include "humanoid_tree.h"
 #include "tether/dynamics/io/scene_reader.h"
 #include "tether/dynamics/model/kinematics.h"
+#include "tether/importers/import_model.h"
 
 namespace tether::bench {
 
@@ -57,6 +58,16 @@ Model<double> Humanoid() {
   return model;
 }
 
+// MuJoCo's humanoid.xml, imported hanging by its torso, without joint ranges.
+Model<double> HumanoidFile() {
+  importers::ImportOptions options;
+  options.fixed_bodies = {"torso"};
+  options.contact = false;
+  nlohmann::ordered_json scene = importers::ImportModel(kMujocoHumanoidFile, options).scene;
+  for (auto& constraint : scene["constraints"]) constraint.erase("range");
+  return ParseScene(nlohmann::json::parse(scene.dump()), kMujocoHumanoidFile).model;
+}
+
 }  // namespace
 
 Model<double> TetherPeerScene(Mechanism mechanism, int n, bool rk4, double duration) {
@@ -74,6 +85,9 @@ Model<double> TetherPeerScene(Mechanism mechanism, int n, bool rk4, double durat
       break;
     case Mechanism::kHumanoid:
       model = Humanoid();
+      break;
+    case Mechanism::kHumanoidFile:
+      model = HumanoidFile();
       break;
     case Mechanism::kRssr:
       model = ReadSceneFile(TETHER_SOURCE_DIR "/scenes/rssr.json").model;

@@ -8,6 +8,10 @@
 // holds the constraints exactly at the acceleration level, MuJoCo softly.
 // Hinge chain: bench_models.h's HingeChain (rigid rods on hinges about y); humanoid: humanoid_tree.h's tree, the
 // torso welded to the world. MuJoCo builds both in reduced coordinates, so only tether has constraints there.
+// Humanoid file: MuJoCo's own humanoid.xml hanging by its torso, imported as `tether import --fix torso
+// --no-contact` imports it (the torso and head the world's, 14 moving bodies, the hands welded to the forearms),
+// its joint ranges removed; MuJoCo runs the same file with the torso's free joint removed and its contacts and
+// limits disabled (mujoco_models.h).
 // RSSR: scenes/rssr.json as shipped (rssr_linkage.h describes it for the peers), its gains and integrator replaced.
 // h = 1e-3; symplectic_euler is paired with MuJoCo's semi-implicit "Euler", rk4 with "RK4"; KKT solver auto.
 #pragma once
@@ -16,11 +20,14 @@
 
 namespace tether::bench {
 
-enum class Mechanism { kChain, kFourBar, kHingeChain, kHumanoid, kRssr };
+enum class Mechanism { kChain, kFourBar, kHingeChain, kHumanoid, kHumanoidFile, kRssr };
 
 inline constexpr double kPeerStep = 1e-3;  // s, both engines
 
-// n: the chain's particles or rods, the four-bar's parallelograms (ignored for the humanoid and the RSSR).
+// MuJoCo's own humanoid (Debian's libmujoco-samples).
+inline constexpr const char* kMujocoHumanoidFile = "/usr/share/mujoco/model/humanoid/humanoid.xml";
+
+// n: the chain's particles or rods, the four-bar's parallelograms (ignored for the humanoids and the RSSR).
 Model<double> TetherPeerScene(Mechanism mechanism, int n, bool rk4, double duration);
 
 // Gravity's potential energy sum m g height, J (height: the last coordinate of a position).

@@ -49,8 +49,8 @@ struct Body {
   Twist V;
   int parent = -1;                  // the body it hangs from (-1: the world)
   std::vector<PlacedJoint> joints;  // the model joints between parent and this body; none: welded
-  bool fixed = false;               // --fix: welded to the world instead
-  bool removed = false;             // a massless link whose joints went to its only child
+  bool fixed = false;               // --fix: part of the world instead
+  bool removed = false;             // part of the world, or a massless link whose joints went to its only child
 };
 
 // How a model joint's coordinate lives on in the scene: a named constraint and which of its coordinates.
@@ -71,6 +71,7 @@ class SceneBuilder {
     reference_ = PlaceLinks(tree_, {}, {});
     GroupLinks();
     FixBodies();
+    MergeFixedIntoWorld();
     CollapseMasslessLinks();
     for (Body& body : bodies_) {
       if (!body.removed) ComputeMassProperties(&body);
@@ -174,6 +175,33 @@ class SceneBuilder {
         }
       }
       bodies_[found].fixed = true;
+    }
+  }
+
+  // A body held by --fix is part of the world, as links welded to the world are (and as MuJoCo has a body without
+  // joints): its links and those welded to it become the world's, their geoms world shapes, their sites dropped,
+  // and the bodies that hang from it by joints hang from the world at the same places. A weld of 6 rows would
+  // have cost every step: the held body couples the rows of all the joints on it (a humanoid's torso, its four
+  // limbs and its head). Bodies come after their parents, so one pass carries the world down the welds.
+  void MergeFixedIntoWorld() {
+    std::vector<char> in_world(bodies_.size(), 0);
+    for (size_t b = 0; b < bodies_.size(); ++b) {
+      Body& body = bodies_[b];
+      const bool on_world = body.parent >= 0 && in_world[body.parent];
+      if (body.removed || !(body.fixed || (on_world && body.joints.empty()))) {
+        if (on_world) body.parent = -1;
+        continue;
+      }
+      in_world[b] = 1;
+      body.removed = true;
+      for (const PlacedJoint& j : body.joints) replaced_.push_back(j.joint->name);
+      for (int link : body.links) {
+        link_body_[link] = -1;
+        for (const TreeSite& site : tree_.links[link].sites) dropped_sites_.push_back(site.name);
+      }
+    }
+    if (std::all_of(bodies_.begin(), bodies_.end(), [](const Body& body) { return body.removed; })) {
+      Fail("nothing to import: --fix holds every moving body, so the model has none left");
     }
   }
 
@@ -410,10 +438,7 @@ class SceneBuilder {
       const int b = static_cast<int>(i);
       const Body& body = bodies_[i];
       if (body.removed) continue;
-      if (body.fixed) {
-        EmitWeld(-1, b, body.name + "_fixed");
-        for (const PlacedJoint& j : body.joints) replaced_.push_back(j.joint->name);
-      } else if (body.joints.empty()) {
+      if (body.joints.empty()) {
         EmitWeld(body.parent, b, "");
       } else if (body.joints.size() == 1) {
         if (const auto spec = SingleJointConstraint(body.joints[0])) EmitConstraint(*spec, body.parent, b);
@@ -424,7 +449,7 @@ class SceneBuilder {
       }
     }
     if (!replaced_.empty()) {
-      warnings_.push_back(ListWarning("--fix welds bodies to the world in place of their joints", replaced_));
+      warnings_.push_back(ListWarning("--fix makes bodies part of the world in place of their joints", replaced_));
     }
     if (!split_.empty()) {
       warnings_.push_back(ListWarning(

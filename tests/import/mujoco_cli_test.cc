@@ -38,7 +38,7 @@ TEST(HumanoidCli, ImportsSimulatesTunesAndIdentifiesAsTheReadmeShows) {
   const std::string report;
 #endif
   const Outcome identified = RunTether("identify " + scene + " --duration 3 --data " + std::string(TETHER_SOURCE_DIR) +
-                                           "/docs/examples/humanoid/joint_angles.csv --param /bodies/14/mass" + report,
+                                           "/docs/examples/humanoid/joint_angles.csv --param /bodies/12/mass" + report,
                                        folder);
   ASSERT_EQ(identified.status, 0) << identified.err;
 #ifdef TETHER_HAVE_VIEWER
@@ -50,7 +50,8 @@ TEST(HumanoidCli, ImportsSimulatesTunesAndIdentifiesAsTheReadmeShows) {
   }
 #endif
   const nlohmann::json result = nlohmann::json::parse(identified.out);
-  const double mass = result["parameters"]["/bodies/14/mass"], deviation = result["standard_deviation"]["/bodies/14/mass"];
+  const double mass = result["parameters"]["/bodies/12/mass"],
+               deviation = result["standard_deviation"]["/bodies/12/mass"];
   EXPECT_FALSE(result["failed"].get<bool>());
   EXPECT_LT(std::abs(mass - kTruth), 3 * deviation) << mass << " +- " << deviation;
   EXPECT_LT(deviation, 1e-3);

@@ -323,19 +323,29 @@ TEST(SceneFromTree, AMasslessLinkWithJointsHandsThemToTheLinkItCarries) {
   EXPECT_TRUE(Warned(weighted, "are given 1e-06 of the heaviest link's mass"));
 }
 
-TEST(SceneFromTree, FixedBodiesAreWeldedToTheWorld) {
+TEST(SceneFromTree, FixedBodiesArePartOfTheWorld) {
+  // a torso on a free joint with a head welded to it and an arm on a hinge: --fix torso makes the torso and its
+  // head the world's (no body, no weld), and the arm hangs from the world where the shoulder is
   const KinematicTree tree =
       Tree({Link("torso", -1, Vector3d(0, 0, 1.5), {Joint("root", TreeJointType::kFree)}),
+            Link("head", 0, Vector3d(0, 0, 0.3), {}),
             Link("arm", 0, Vector3d(0, 0.2, 0), {Hinge("shoulder", Vector3d::Zero(), Vector3d::UnitX())})});
   const ImportedScene free = Import(tree);
-  EXPECT_EQ(ConstraintTypes(free.scene), std::vector<std::string>{"hinge"});
+  EXPECT_EQ(ConstraintTypes(free.scene), (std::vector<std::string>{"weld", "hinge"}));
+  EXPECT_EQ(free.scene["bodies"].size(), 3u);
   ImportOptions fix;
   fix.fixed_bodies = {"torso"};
   const ImportedScene fixed = Import(tree, fix);
-  EXPECT_EQ(ConstraintTypes(fixed.scene), (std::vector<std::string>{"weld", "hinge"}));
-  EXPECT_EQ(fixed.scene["constraints"][0]["bodies"], json::array({"world", "torso"}));
-  EXPECT_TRUE(Warned(fixed, "--fix welds bodies to the world in place of their joints: root"));
+  EXPECT_EQ(ConstraintTypes(fixed.scene), std::vector<std::string>{"hinge"});
+  ASSERT_EQ(fixed.scene["bodies"].size(), 1u);
+  EXPECT_EQ(fixed.scene["bodies"][0]["name"], "arm");
+  EXPECT_EQ(fixed.scene["constraints"][0]["bodies"], json::array({"world", "arm"}));
+  EXPECT_EQ(fixed.scene["bodies"][0]["position"], free.scene["bodies"][2]["position"]);  // where it was
+  EXPECT_TRUE(Warned(fixed, "--fix makes bodies part of the world in place of their joints: root"));
   StartOf(fixed);
+  ImportOptions alone;  // nothing left to move
+  alone.fixed_bodies = {"torso", "arm"};
+  EXPECT_THROW(Import(tree, alone), InputError);
 }
 
 TEST(SceneFromTree, EffectsCarryTheModelsGravitySpringsDampersAndMotors) {

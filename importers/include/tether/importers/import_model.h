@@ -23,7 +23,7 @@ namespace tether::importers {
 struct ImportOptions {
   std::vector<std::pair<std::string, double>> joint_values;  // --joint NAME=VALUE: initial coordinates, rad or m
   std::vector<std::pair<std::string, double>> joint_rates;   // --joint-velocity NAME=RATE: rad/s or m/s
-  std::vector<std::string> fixed_bodies;                     // --fix BODY: welded to the world where it starts
+  std::vector<std::string> fixed_bodies;                     // --fix BODY: part of the world where it starts
   bool merge_fixed = false;   // --merge-fixed: welded links join their parent's body instead of a weld
   bool split_joints = false;  // --split-joints: every joint its own constraint, through light intermediate bodies
   bool contact = true;        // false (--no-contact): the collision shapes are drawn only ("contact": false)
