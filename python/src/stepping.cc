@@ -51,7 +51,7 @@ class SteppedRun {
     });
   }
 
-  double time() const { return stepper_->time(); }
+  double time() const { return Idle().time(); }
   double end() const { return scene_.model.simulation.duration; }
 
   void Step(int n) {
@@ -68,7 +68,8 @@ class SteppedRun {
 
   // Steps until the time reaches t, to within a millionth of a step: onto the first grid time at or after t.
   void StepTo(double t) {
-    if (!std::isfinite(t) || t > end() * (1.0 + 1e-12)) {
+    if (!std::isfinite(t)) throw InputError(scene_.path + ": t = " + Number(t) + " is not a time");
+    if (t > end() * (1.0 + 1e-12)) {
       throw InputError(scene_.path + ": t = " + Number(t) + " is past the run's end at t = " + Number(end()) +
                        " s: make the stepper with a longer duration");
     }
@@ -81,6 +82,7 @@ class SteppedRun {
 
   // A trajectory column's value now.
   double Column(const std::string& name) const {
+    Idle();
     for (size_t c = 0; c < columns_.size(); ++c) {
       if (columns_[c].name == name) return now_[c];
     }
@@ -92,20 +94,21 @@ class SteppedRun {
     return names;
   }
 
-  py::array_t<double> q() const { return Copy(stepper_->state().q); }
-  py::array_t<double> v() const { return Copy(stepper_->state().v); }
+  py::array_t<double> q() const { return Copy(Idle().state().q); }
+  py::array_t<double> v() const { return Copy(Idle().state().v); }
 
-  void SetControl(const std::string& name, double value) { tether::SetControl(Find(name), value, &scene_.model); }
+  void SetControl(const std::string& name, double value) {
+    Idle();
+    tether::SetControl(Find(name), value, &scene_.model);
+  }
   double ControlNow(const std::string& name) const { return ControlValue(Find(name), scene_.model, time()); }
 
-  SavedState Save() const {
-    return {this, stepper_->Save(), SaveControls(scene_.model), branch_, rows_, events_.size()};
-  }
+  SavedState Save() const { return {this, Idle().Save(), SaveControls(scene_.model), branch_, rows_, events_.size()}; }
   // The recording keeps the path to the state now: a state saved on it cuts the recording back to where it was
   // saved; one saved on a path since left (a rollout abandoned) starts the recording again at that state.
   void Restore(const SavedState& state) {
     if (state.owner != this) throw InputError(scene_.path + ": that state was saved by another stepper");
-    stepper_->Restore(state.carry);
+    Idle().Restore(state.carry);
     RestoreControls(state.controls, &scene_.model);
     failed_.clear();
     refresh_only_ = OnThePath(state.branch, state.rows);  // the state's row is in the recording already
@@ -122,6 +125,7 @@ class SteppedRun {
   }
 
   Recorded Trajectory() const {
+    Idle();
     Recorded out;
     for (const TrajectoryColumn& column : columns_) out.columns.push_back(column.name);
     out.table = TakeMatrix(std::vector<double>(table_), rows_, columns_.size());
@@ -180,9 +184,15 @@ class SteppedRun {
   // cannot go on (its state is where the failure left it) until a saved state is put back.
   template <typename Work>
   void Run(Work work) {
+    Idle();
     if (!failed_.empty()) {
       throw InputError(scene_.path + ": the run stopped (" + failed_ + "); set_state() a saved state to go on");
     }
+    struct Stepping {  // set while the lock is released, so that another thread's calls are refused
+      bool& flag;
+      explicit Stepping(bool& f) : flag(f) { flag = true; }
+      ~Stepping() { flag = false; }
+    } stepping(stepping_);
     try {
       OnScene(scene_, [&] {
         work();
@@ -194,6 +204,12 @@ class SteppedRun {
       throw;
     }
     TakeEvents();
+  }
+
+  // The stepper, when no other thread is stepping it (its calls hold the interpreter's lock; stepping releases it).
+  Stepper<double>& Idle() const {
+    if (stepping_) throw InputError(scene_.path + ": the stepper is stepping in another thread");
+    return *stepper_;
   }
 
   void TakeEvents() {
@@ -222,6 +238,7 @@ class SteppedRun {
   std::vector<RunEvent> events_;
   size_t seen_events_ = 0;
   std::string failed_;
+  bool stepping_ = false;
   struct Branch {
     int parent;        // the branch it forked from, -1 for a recording started afresh
     size_t fork_rows;  // the parent's rows it kept

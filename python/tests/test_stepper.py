@@ -142,6 +142,19 @@ def test_the_interpreters_lock_is_released_while_it_steps():
         stop.set()
         thread.join()
     assert len(counted) > 1000
+    # another thread's calls while it steps are refused, not raced
+    sim = load("scenes", "cart_pole.json").stepper(duration=2000.0)
+    stepping = threading.Thread(target=lambda: sim.step(200000))
+    stepping.start()
+    refused = 0
+    while stepping.is_alive():
+        try:
+            sim.set_control("rail", 0.0)
+        except tether.InputError as error:
+            assert "is stepping in another thread" in str(error)
+            refused += 1
+    stepping.join()
+    assert refused > 0 and sim.t == pytest.approx(2000.0)
 
 
 def test_the_servo_arm_reaches_its_pose_and_its_gains_are_identified_to_one_percent():
