@@ -1,11 +1,14 @@
-// tether, MuJoCo and Simbody on the same scenes in one run (bench/peer/README.md, "Against Simbody"): the 10- and
-// 200-rod hinge chains (5 s and 1 s), the humanoid-sized tree (5 s), the RSSR loop (3 s) and the IFToMM A02
+// tether, MuJoCo and Simbody on the same scenes in one run (bench/peer/README.md, "Against Simbody"): the chaotic
+// double pendulum (the hinge chain of two rods released horizontal, 5 s), the 10- and 200-rod hinge chains (5 s
+// and 1 s), the humanoid-sized tree (5 s), the RSSR loop (3 s) and the IFToMM A02
 // N-four-bar with ten parallelograms (21 bars, 5 s, five passes through its singular configuration). Each engine in
 // its own terms (tether_models.h, mujoco_models.h, simbody_models.h):
 //   tether/rk4          rk4, h = 1e-3, Baumgarte (100, 2500), as in peer_bench.cc
 //   tether/rk45_TOL     rk45 with the projection stabilization at tolerance TOL = 1e-4, 1e-6, ..., 1e-12, one output
 //                       at the end
 //   mujoco/rk4          RK4, h = 1e-3, MuJoCo's default soft equality constraints
+//   tether/rk4_hH, mujoco/rk4_hH   the same at h = H = 2e-3, 5e-4, 2.5e-4 (the work-precision diagrams of
+//                       studies/accuracy/work_precision.py)
 //   simbody/rkm_ACC     Runge-Kutta-Merson at accuracy ACC = 1e-4, 1e-6, ..., 1e-12 (constraint tolerance ACC / 10,
 //                       projection on)
 //   simbody/cpodes_ACC  CPodes (BDF, Newton iterations) at accuracy ACC = 1e-6, 1e-8
@@ -50,6 +53,7 @@ struct PeerScene {
 
 const std::vector<PeerScene>& Scenes() {
   static const std::vector<PeerScene> scenes = {
+      {"double_pendulum", Mechanism::kHingeChain, 2, 5.0, MujocoScene::kHingeChain},
       {"hinge_chain10", Mechanism::kHingeChain, 10, 5.0, MujocoScene::kHingeChain},
       {"hinge_chain200", Mechanism::kHingeChain, 200, 1.0, MujocoScene::kHingeChain},
       {"humanoid", Mechanism::kHumanoid, 0, 5.0, MujocoScene::kHumanoid},
@@ -106,9 +110,10 @@ struct Observed {
   }
 };
 
-// tether: rk4 at h = 1e-3 with Baumgarte (tolerance 0), or rk45 with projection at `tolerance`
-void Tether(benchmark::State& state, PeerScene scene, double tolerance) {
+// tether: rk4 at h = `step` with Baumgarte (tolerance 0), or rk45 with projection at `tolerance`
+void Tether(benchmark::State& state, PeerScene scene, double tolerance, double step) {
   Model<double> model = TetherPeerScene(scene.mechanism, scene.n, true, scene.duration);
+  model.simulation.step = step;
   if (tolerance > 0.0) {
     model.simulation.integrator = Integrator::kRk45;
     model.simulation.step = scene.duration;  // one output, at the end: the tolerance alone sets the steps
@@ -138,8 +143,10 @@ void Tether(benchmark::State& state, PeerScene scene, double tolerance) {
   seen.Report(state, scene);
 }
 
-void Mujoco(benchmark::State& state, PeerScene scene) {
-  const MjModelPtr model = LoadMujoco(MujocoModel(scene.mujoco, scene.n, true));
+void Mujoco(benchmark::State& state, PeerScene scene, double step) {
+  MujocoSettings settings;
+  settings.step = step;
+  const MjModelPtr model = LoadMujoco(MujocoModel(scene.mujoco, scene.n, true, settings));
   const MujocoProbe probe(*model, scene.mujoco);
   const int steps = static_cast<int>(std::lround(scene.duration / model->opt.timestep));
   Observed seen;
@@ -191,8 +198,16 @@ std::string Accuracy(double accuracy) {
   return text;
 }
 
+std::string StepName(double step) {  // 0.002, 0.0005, 0.00025
+  char text[16];
+  std::snprintf(text, sizeof text, "%g", step);
+  return text;
+}
+
 // the sweep of tether's rk45 and Simbody's Runge-Kutta-Merson; CPodes runs at 1e-6 and 1e-8
 constexpr double kAccuracies[] = {1e-4, 1e-6, 1e-8, 1e-10, 1e-12};
+// the steps of tether's rk4 and MuJoCo's RK4 besides h = 1e-3 (s)
+constexpr double kSteps[] = {2e-3, 5e-4, 2.5e-4};
 
 // Names are SCENE/ENGINE/METHOD: hinge_chain200/tether/rk4, rssr/simbody/rkm_1e-06, four_bar10/mujoco/rk4, ...
 void Register() {
@@ -204,10 +219,14 @@ void Register() {
         ->Repetitions(3);
   };
   for (const PeerScene& scene : Scenes()) {
-    add(scene.name + "/tether/rk4", Tether, scene, 0.0);
+    add(scene.name + "/tether/rk4", Tether, scene, 0.0, kPeerStep);
     for (double tolerance : kAccuracies)
-      add(scene.name + "/tether/rk45_" + Accuracy(tolerance), Tether, scene, tolerance);
-    add(scene.name + "/mujoco/rk4", Mujoco, scene);
+      add(scene.name + "/tether/rk45_" + Accuracy(tolerance), Tether, scene, tolerance, kPeerStep);
+    add(scene.name + "/mujoco/rk4", Mujoco, scene, kPeerStep);
+    for (double step : kSteps) {  // the fixed-step integrators' sweep, for the work-precision diagrams
+      add(scene.name + "/tether/rk4_h" + StepName(step), Tether, scene, 0.0, step);
+      add(scene.name + "/mujoco/rk4_h" + StepName(step), Mujoco, scene, step);
+    }
     for (double accuracy : kAccuracies) {
       add(scene.name + "/simbody/rkm_" + Accuracy(accuracy), Simbody, scene,
           SimbodySettings{SimbodyIntegrator::kRungeKuttaMerson, accuracy});

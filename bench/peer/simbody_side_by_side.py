@@ -5,7 +5,7 @@ the time per simulated second, the error of the bodies' centres at the end again
 constraint violation; then, per scene, each engine's fastest run within 1e-6 m of the reference. Standard library
 only.
 
-    python3 bench/peer/simbody_side_by_side.py                                         # run (about 3 minutes)
+    python3 bench/peer/simbody_side_by_side.py                                         # run (about 8 minutes)
     python3 bench/peer/simbody_side_by_side.py --json bench/peer/results_simbody.json  # print the saved run again
 """
 import os
@@ -17,7 +17,7 @@ sys.path.insert(0, os.path.dirname(HERE))
 import bench_json  # noqa: E402  (bench/bench_json.py)
 
 BINARY = os.path.join(os.path.dirname(os.path.dirname(HERE)), "build", "bench", "tether_vs_simbody")
-SCENES = {"hinge_chain10": "3D hinge chain, 10 rods, 5 s", "hinge_chain200": "3D hinge chain, 200 rods, 1 s",
+SCENES = {"double_pendulum": "double pendulum (2 rods), 5 s", "hinge_chain10": "3D hinge chain, 10 rods, 5 s", "hinge_chain200": "3D hinge chain, 200 rods, 1 s",
           "humanoid": "humanoid-sized tree, 5 s", "rssr": "RSSR loop, 3 s",
           "four_bar10": "N-four-bar, N = 10 (21 bars), 5 s"}
 MODELS = {
@@ -37,8 +37,9 @@ WITHIN = 1e-6  # m: the accuracy at which the verdict compares the engines' time
 
 
 def method_label(engine, method):
-    if method == "rk4":
-        return "rk4, h = 1 ms, Baumgarte (100, 2500)" if engine == "tether" else "RK4, h = 1 ms"
+    if method == "rk4" or method.startswith("rk4_h"):  # rk4 (h = 1 ms) or rk4_hH
+        step = "1 ms" if method == "rk4" else f"{float(method[len('rk4_h'):]) * 1e3:g} ms"
+        return f"rk4, h = {step}, Baumgarte (100, 2500)" if engine == "tether" else f"RK4, h = {step}"
     name, accuracy = method.split("_")
     accuracy = f"{float(accuracy):.0e}".replace("e-0", "e-")
     return {"rk45": f"rk45 + projection, tolerance {accuracy}",
@@ -47,7 +48,7 @@ def method_label(engine, method):
 
 
 def model_label(scene, engine):
-    kind = "hinge_chain" if scene.startswith("hinge_chain") else "four_bar" if scene.startswith("four_bar") else scene
+    kind = "hinge_chain" if scene.startswith(("hinge_chain", "double_pendulum")) else "four_bar" if scene.startswith("four_bar") else scene
     return MODELS[engine][kind]
 
 
