@@ -78,6 +78,20 @@ inline std::vector<EventRow> EventRows(const std::vector<RunEvent>& events) {
   return rows;
 }
 
+// The rows a run of `model` recording every `every`-th step makes (t = 0 and the end included), refused up front
+// (InputError) when they would hold more than 4 GiB rather than running out of memory at the end.
+inline size_t ExpectedRows(const std::string& path, const Model<double>& model, size_t columns, int every) {
+  constexpr double kMaxRecordingBytes = 4.0 * (1 << 30);
+  const size_t numbers = columns + model.NumCoordinates() + model.NumVelocities();
+  const size_t rows = static_cast<size_t>(StepCount(model.simulation) / every) + 2;
+  if (8.0 * static_cast<double>(rows) * static_cast<double>(numbers) > kMaxRecordingBytes) {
+    throw InputError(path + ": the run would record " + std::to_string(rows) + " rows of " + std::to_string(numbers) +
+                     " numbers, more than the 4 GiB a recording may hold; record fewer rows (every) or simulate " +
+                     "less (duration)");
+  }
+  return rows;
+}
+
 // Binds tether._tether.Stepper (stepping.cc).
 void BindStepper(py::module_& m);
 

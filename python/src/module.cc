@@ -40,9 +40,6 @@
 namespace tether::python {
 namespace {
 
-// The most a run's arrays may hold, refused up front rather than running out of memory at the end.
-constexpr double kMaxRecordingBytes = 4.0 * (1 << 30);
-
 // A run of the scene with `overrides` in place of its settings, every `every`-th step recorded.
 Recorded SimulateScene(const Scene& scene, const SettingsOverrides& overrides, int every) {
   CheckCount(every, 1, std::numeric_limits<int>::max(), "every");
@@ -50,13 +47,7 @@ Recorded SimulateScene(const Scene& scene, const SettingsOverrides& overrides, i
   overrides.Apply(&model, "");
   const std::vector<TrajectoryColumn> columns = TrajectoryColumns(model);
   const size_t nq = model.NumCoordinates(), nv = model.NumVelocities();
-  const size_t expected_rows = static_cast<size_t>(StepCount(model.simulation) / every) + 2;  // t = 0, the end
-  const double bytes = 8.0 * static_cast<double>(expected_rows) * static_cast<double>(columns.size() + nq + nv);
-  if (bytes > kMaxRecordingBytes) {
-    throw InputError(scene.path + ": the run would record " + std::to_string(expected_rows) + " rows of " +
-                     std::to_string(columns.size() + nq + nv) + " numbers, more than the 4 GiB a recording may " +
-                     "hold; record fewer rows (every) or simulate less (duration)");
-  }
+  const size_t expected_rows = ExpectedRows(scene.path, model, columns.size(), every);
   std::vector<double> table, q, v;
   table.reserve(expected_rows * columns.size());
   q.reserve(expected_rows * nq);

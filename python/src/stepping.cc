@@ -41,6 +41,7 @@ class SteppedRun {
     CheckCount(every, 1, std::numeric_limits<int>::max(), "every");
     overrides.Apply(&scene_.model, "");
     columns_ = TrajectoryColumns(scene_.model);
+    ExpectedRows(scene_.path, scene_.model, columns_.size(), every);
     now_.resize(columns_.size());
     OnScene(scene_, [&] {
       stepper_ =
@@ -56,7 +57,7 @@ class SteppedRun {
 
   void Step(int n) {
     CheckCount(n, 0, std::numeric_limits<int>::max(), "n");
-    if (n > stepper_->steps_left()) {
+    if (n > Idle().steps_left()) {
       throw InputError(scene_.path + ": " + std::to_string(n) + (n == 1 ? " step" : " steps") +
                        " would pass the run's end at t = " + Number(end()) + " s (" +
                        std::to_string(stepper_->steps_left()) + " are left): make the stepper with a longer duration");

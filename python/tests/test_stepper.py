@@ -177,3 +177,11 @@ def test_the_lqr_example_balances_the_cart_pole_for_10_s():
     assert done.returncode == 0, done.stderr
     largest, last_tilt, cart = map(float, re.findall(r"-?\d\.\d+e[-+]\d+", done.stdout))
     assert largest < 0.02 and abs(last_tilt) < 1e-4 and abs(cart) < 1e-3, done.stdout
+
+
+def test_a_recording_too_large_is_refused_up_front():
+    scene = load("scenes", "chain100.json")
+    with pytest.raises(tether.InputError, match="more than the 4 GiB a recording may hold"):
+        scene.stepper(duration=1e5)
+    sim = scene.stepper(duration=1e5, every=100000).step(2)  # fewer rows fit: the first, then every 100000th step
+    assert len(sim.trajectory()) == 1 and sim.t == pytest.approx(0.002)
