@@ -40,7 +40,6 @@ struct Evaluated {
     q = start.q;
     v = start.v;
     workspace = std::make_unique<Workspace<double>>(model, q);
-    workspace->coordinates = BuildJointCoordinates(model, q);  // the joint springs' angles, as the Stepper sets them
     GainsInUse(model, &workspace->alpha, &workspace->beta);
     TimeIntegrator<double> integrator(model);
     for (double t = 0.0; t < kSettleTime; t += kPeerStep) integrator.Advance(t, kPeerStep, workspace.get(), &q, &v);

@@ -76,6 +76,7 @@ Workspace<T>::Workspace(const Model<T>& model, const VecX<T>& q_start, bool fact
   force.setZero(nv);
   reaction.setZero(nv);
   projection_q.setZero(nq);
+  coordinates = BuildJointCoordinates(model, q_start);  // the effects on joint angles read them at every evaluation
 }
 
 template <typename T>

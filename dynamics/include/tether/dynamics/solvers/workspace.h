@@ -84,7 +84,7 @@ struct Workspace {
   SchurPattern* pattern;             // of S = J M^-1 J^T for the current rows (in shapes)
   SchurSolver* solver;               // its factorization
   InverseMass<T> inverse_mass;
-  JointCoordinates<T> coordinates;  // references set once the initial state is assembled
+  JointCoordinates<T> coordinates;  // from q_start; the Stepper builds them again from the assembled state
   T alpha = T(0.0), beta = T(0.0);  // Baumgarte gains in use (0 unless the method is baumgarte)
 
   BodyFrames<T> frames;                // at the last evaluation
