@@ -458,6 +458,18 @@ INSTANTIATE_TEST_SUITE_P(AllScenesIntegratorsAndStabilizations, JetGradient, All
 // max(|g|, 1e-3 of the largest component).
 constexpr double kAdjointAgreement = 1e-8;
 
+// The adjoint's gradient against the Jets' to kAdjointAgreement; `where` adds to the messages.
+void ExpectAdjointAgrees(const LossGradient& adjoint, const LossGradient& jet, const std::vector<std::string>& pointers,
+                         const std::string& where = "") {
+  const double scale = Largest(jet.gradient);
+  ASSERT_GT(scale, 0.0);
+  for (size_t i = 0; i < pointers.size(); ++i) {
+    EXPECT_NEAR(adjoint.gradient[i], jet.gradient[i],
+                kAdjointAgreement * std::max(1e-3 * scale, std::abs(jet.gradient[i])))
+        << pointers[i] << where;
+  }
+}
+
 class AdjointGradient : public ::testing::TestWithParam<Combination> {};
 
 TEST_P(AdjointGradient, EqualsJets) {
@@ -470,13 +482,7 @@ TEST_P(AdjointGradient, EqualsJets) {
   const LossGradient adjoint = AdjointLossGradient(p.scene.model, p.parameters, p.observations, 0, &report);
   EXPECT_NEAR(adjoint.loss, jet.loss, 1e-12 * jet.loss);
   ASSERT_EQ(adjoint.gradient.size(), pointers.size());
-  const double scale = Largest(jet.gradient);
-  ASSERT_GT(scale, 0.0);
-  for (size_t i = 0; i < pointers.size(); ++i) {
-    EXPECT_NEAR(adjoint.gradient[i], jet.gradient[i],
-                kAdjointAgreement * std::max(1e-3 * scale, std::abs(jet.gradient[i])))
-        << pointers[i];
-  }
+  ExpectAdjointAgrees(adjoint, jet, pointers);
   // 150 grid steps and two stops off the grid, whose states all fit in the memory budget: every one is kept
   EXPECT_EQ(report.steps, 152);
   EXPECT_EQ(report.interval, 1);
@@ -544,13 +550,8 @@ TEST(AdjointGradient, ParticleRodsAndARedundantRodEqualJets) {
       const Problem p = MakeProblem(document, pointers, {"b.x", "c.y", "c.vx"}, csv.path());
       const LossGradient jet = JetLossGradient(p.scene.model, p.parameters, p.observations);
       const LossGradient adjoint = AdjointLossGradient(p.scene.model, p.parameters, p.observations);
-      const double scale = Largest(jet.gradient);
-      ASSERT_GT(scale, 0.0);
-      for (size_t i = 0; i < pointers.size(); ++i) {
-        EXPECT_NEAR(adjoint.gradient[i], jet.gradient[i],
-                    kAdjointAgreement * std::max(1e-3 * scale, std::abs(jet.gradient[i])))
-            << pointers[i] << " " << IntegratorName(integrator) << " " << StabilizationName(stabilization);
-      }
+      ExpectAdjointAgrees(adjoint, jet, pointers,
+                          " " + std::string(IntegratorName(integrator)) + " " + StabilizationName(stabilization));
     }
   }
 }
@@ -602,13 +603,7 @@ TEST(AdjointGradient, ThroughTheRetakenStepsOfSingularPassesEqualsJets) {
   const Observations observations = ReadObservations(csv.path(), scene.model);
   const LossGradient jet = JetLossGradient(scene.model, parameters, observations);
   const LossGradient adjoint = AdjointLossGradient(scene.model, parameters, observations);
-  const double scale = Largest(jet.gradient);
-  ASSERT_GT(scale, 0.0);
-  for (size_t i = 0; i < pointers.size(); ++i) {
-    EXPECT_NEAR(adjoint.gradient[i], jet.gradient[i],
-                kAdjointAgreement * std::max(1e-3 * scale, std::abs(jet.gradient[i])))
-        << pointers[i];
-  }
+  ExpectAdjointAgrees(adjoint, jet, pointers);
 }
 
 // The memory rule: every state while they fit, then the smallest K with N / K + K states fitting, then sqrt(N).

@@ -25,6 +25,7 @@
 // the mechanisms with MuJoCo's constraints nearly rigid).
 #pragma once
 
+#include <benchmark/benchmark.h>
 #include <mujoco/mujoco.h>
 
 #include <memory>
@@ -80,6 +81,17 @@ std::string MujocoWarnings(const mjData& data);
 // mjData::warning (MujocoWarnings) instead of printed, `register_benchmarks` registers the runs, and Google
 // Benchmark runs those the command line selects.
 int RunPeerBenchmarks(int argc, char** argv, void (*register_benchmarks)());
+
+// Registers one peer run as the side-by-side benchmarks time them: the whole run is one iteration (timed in
+// milliseconds of wall time), repeated three times.
+template <typename Function, typename... Arguments>
+void RegisterPeerRun(const std::string& name, Function&& function, Arguments... arguments) {
+  benchmark::RegisterBenchmark(name.c_str(), function, arguments...)
+      ->Unit(benchmark::kMillisecond)
+      ->UseRealTime()
+      ->Iterations(1)
+      ->Repetitions(3);
+}
 
 // What the benchmark reads off a state: the sites it needs, looked up once.
 class MujocoProbe {

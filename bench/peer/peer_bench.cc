@@ -116,37 +116,30 @@ void Mujoco(benchmark::State& state, PeerCase c, MujocoScene scene) {
 void Register() {
   for (bool rk4 : {false, true}) {
     const std::string integrator = rk4 ? "/rk4" : "/euler";
-    auto add = [](const std::string& name, auto&& function, auto... arguments) {
-      benchmark::RegisterBenchmark(name.c_str(), function, arguments...)
-          ->Unit(benchmark::kMillisecond)
-          ->UseRealTime()
-          ->Iterations(1)
-          ->Repetitions(3);
-    };
     for (int n : {10, 50, 200, 1000}) {
       const PeerCase c{Mechanism::kChain, n, rk4, n == 1000 ? 1.0 : 10.0};
       const std::string scene = "chain" + std::to_string(n) + integrator;
-      add(scene + "/tether", Tether, c, Stabilization::kBaumgarte);
-      add(scene + "/mujoco_slides", Mujoco, c, MujocoScene::kChainOfSlides);
-      add(scene + "/mujoco_free", Mujoco, c, MujocoScene::kChainOfFreeBodies);
+      RegisterPeerRun(scene + "/tether", Tether, c, Stabilization::kBaumgarte);
+      RegisterPeerRun(scene + "/mujoco_slides", Mujoco, c, MujocoScene::kChainOfSlides);
+      RegisterPeerRun(scene + "/mujoco_free", Mujoco, c, MujocoScene::kChainOfFreeBodies);
     }
     const PeerCase c{Mechanism::kFourBar, 1, rk4, 10.0};
-    add("four_bar" + integrator + "/tether", Tether, c, Stabilization::kBaumgarte);
-    add("four_bar" + integrator + "/tether_projection", Tether, c, Stabilization::kProjection);
-    add("four_bar" + integrator + "/mujoco", Mujoco, c, MujocoScene::kFourBar);
+    RegisterPeerRun("four_bar" + integrator + "/tether", Tether, c, Stabilization::kBaumgarte);
+    RegisterPeerRun("four_bar" + integrator + "/tether_projection", Tether, c, Stabilization::kProjection);
+    RegisterPeerRun("four_bar" + integrator + "/mujoco", Mujoco, c, MujocoScene::kFourBar);
     // rigid bodies on hinges: MuJoCo in reduced coordinates (its factorization of a chain grows with n^2 and more)
     for (int n : {10, 50, 200, 1000}) {
       const PeerCase h{Mechanism::kHingeChain, n, rk4, n >= 1000 ? 0.05 : n >= 200 ? 1.0 : 5.0};
       const std::string scene = "hinge_chain" + std::to_string(n) + integrator;
-      add(scene + "/tether", Tether, h, Stabilization::kBaumgarte);
-      add(scene + "/mujoco", Mujoco, h, MujocoScene::kHingeChain);
+      RegisterPeerRun(scene + "/tether", Tether, h, Stabilization::kBaumgarte);
+      RegisterPeerRun(scene + "/mujoco", Mujoco, h, MujocoScene::kHingeChain);
     }
     const PeerCase humanoid{Mechanism::kHumanoid, 0, rk4, 5.0};
-    add("humanoid" + integrator + "/tether", Tether, humanoid, Stabilization::kBaumgarte);
-    add("humanoid" + integrator + "/mujoco", Mujoco, humanoid, MujocoScene::kHumanoid);
+    RegisterPeerRun("humanoid" + integrator + "/tether", Tether, humanoid, Stabilization::kBaumgarte);
+    RegisterPeerRun("humanoid" + integrator + "/mujoco", Mujoco, humanoid, MujocoScene::kHumanoid);
     const PeerCase file{Mechanism::kHumanoidFile, 0, rk4, 5.0};
-    add("humanoid_file" + integrator + "/tether", Tether, file, Stabilization::kBaumgarte);
-    add("humanoid_file" + integrator + "/mujoco", Mujoco, file, MujocoScene::kHumanoidFile);
+    RegisterPeerRun("humanoid_file" + integrator + "/tether", Tether, file, Stabilization::kBaumgarte);
+    RegisterPeerRun("humanoid_file" + integrator + "/mujoco", Mujoco, file, MujocoScene::kHumanoidFile);
   }
 }
 

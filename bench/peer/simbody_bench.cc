@@ -211,29 +211,22 @@ constexpr double kSteps[] = {2e-3, 5e-4, 2.5e-4};
 
 // Names are SCENE/ENGINE/METHOD: hinge_chain200/tether/rk4, rssr/simbody/rkm_1e-06, four_bar10/mujoco/rk4, ...
 void Register() {
-  auto add = [](const std::string& name, auto&& function, auto... arguments) {
-    benchmark::RegisterBenchmark(name.c_str(), function, arguments...)
-        ->Unit(benchmark::kMillisecond)
-        ->UseRealTime()
-        ->Iterations(1)
-        ->Repetitions(3);
-  };
   for (const PeerScene& scene : Scenes()) {
-    add(scene.name + "/tether/rk4", Tether, scene, 0.0, kPeerStep);
+    RegisterPeerRun(scene.name + "/tether/rk4", Tether, scene, 0.0, kPeerStep);
     for (double tolerance : kAccuracies)
-      add(scene.name + "/tether/rk45_" + Accuracy(tolerance), Tether, scene, tolerance, kPeerStep);
-    add(scene.name + "/mujoco/rk4", Mujoco, scene, kPeerStep);
+      RegisterPeerRun(scene.name + "/tether/rk45_" + Accuracy(tolerance), Tether, scene, tolerance, kPeerStep);
+    RegisterPeerRun(scene.name + "/mujoco/rk4", Mujoco, scene, kPeerStep);
     for (double step : kSteps) {  // the fixed-step integrators' sweep, for the work-precision diagrams
-      add(scene.name + "/tether/rk4_h" + StepName(step), Tether, scene, 0.0, step);
-      add(scene.name + "/mujoco/rk4_h" + StepName(step), Mujoco, scene, step);
+      RegisterPeerRun(scene.name + "/tether/rk4_h" + StepName(step), Tether, scene, 0.0, step);
+      RegisterPeerRun(scene.name + "/mujoco/rk4_h" + StepName(step), Mujoco, scene, step);
     }
     for (double accuracy : kAccuracies) {
-      add(scene.name + "/simbody/rkm_" + Accuracy(accuracy), Simbody, scene,
-          SimbodySettings{SimbodyIntegrator::kRungeKuttaMerson, accuracy});
+      RegisterPeerRun(scene.name + "/simbody/rkm_" + Accuracy(accuracy), Simbody, scene,
+                      SimbodySettings{SimbodyIntegrator::kRungeKuttaMerson, accuracy});
     }
     for (double accuracy : {1e-6, 1e-8}) {
-      add(scene.name + "/simbody/cpodes_" + Accuracy(accuracy), Simbody, scene,
-          SimbodySettings{SimbodyIntegrator::kCPodes, accuracy});
+      RegisterPeerRun(scene.name + "/simbody/cpodes_" + Accuracy(accuracy), Simbody, scene,
+                      SimbodySettings{SimbodyIntegrator::kCPodes, accuracy});
     }
   }
 }
