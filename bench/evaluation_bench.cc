@@ -1,8 +1,8 @@
 // Where one evaluation of the dynamics (ComputeAcceleration: v' at (q, v)) spends its time on the 3D scenes of the
 // peer benchmark, part by part (docs/performance.md): the humanoid-sized tree (12 moving bodies, 51 rows), MuJoCo's
 // humanoid.xml imported hanging by its torso (14 bodies, 63 rows; it needs MuJoCo's importer and sample models) and
-// the 200-rod hinge chain (1000 rows), each at the state reached after 0.5 s of its rk4 run from rest, so that every
-// velocity term is non-zero. EvaluationPart/PART/SCENE, PART one of
+// the 10- and 200-rod hinge chains (50 and 1000 rows), each at the state reached after 0.5 s of its rk4 run from rest,
+// so that every velocity term is non-zero. EvaluationPart/PART/SCENE, PART one of
 //   frames     UpdateFrames: every body's rotation and world angular velocity
 //   forces     AccumulateForces: gravity and the gyroscopic torques
 //   rows       EvaluateConstraintRows: values, Jacobian blocks and velocity products
@@ -34,7 +34,7 @@ constexpr double kSettleTime = 0.5;  // s of rk4 from rest before the state is t
 
 // A scene's model, its workspace at the settled state, and that state.
 struct Evaluated {
-  explicit Evaluated(Mechanism mechanism) : model(TetherPeerScene(mechanism, 200, true, kSettleTime)) {
+  Evaluated(Mechanism mechanism, int size) : model(TetherPeerScene(mechanism, size, true, kSettleTime)) {
     RunReport report;
     const State<double> start = AssembledInitialState(model, &report);
     q = start.q;
@@ -51,8 +51,8 @@ struct Evaluated {
   std::unique_ptr<Workspace<double>> workspace;
 };
 
-void Part(benchmark::State& state, Mechanism mechanism, const std::string& part) {
-  Evaluated e(mechanism);
+void Part(benchmark::State& state, Mechanism mechanism, int size, const std::string& part) {
+  Evaluated e(mechanism, size);
   Workspace<double>& ws = *e.workspace;
   SparseLdlt factor(*ws.pattern);
   factor.Factor(ws.kkt.schur);
@@ -86,11 +86,16 @@ void Part(benchmark::State& state, Mechanism mechanism, const std::string& part)
 }
 
 void Register() {
-  for (const auto& [scene, mechanism] :
-       {std::pair{"humanoid", Mechanism::kHumanoid}, std::pair{"humanoid_file", Mechanism::kHumanoidFile},
-        std::pair{"hinge_chain200", Mechanism::kHingeChain}}) {
+  struct Scene {
+    const char* name;
+    Mechanism mechanism;
+    int size;  // of a chain
+  };
+  for (const auto& [scene, mechanism, size] :
+       {Scene{"humanoid", Mechanism::kHumanoid, 0}, Scene{"humanoid_file", Mechanism::kHumanoidFile, 0},
+        Scene{"hinge_chain10", Mechanism::kHingeChain, 10}, Scene{"hinge_chain200", Mechanism::kHingeChain, 200}}) {
     for (const char* part : {"frames", "forces", "rows", "assembly", "factor", "solve", "evaluation", "rk4_step"}) {
-      benchmark::RegisterBenchmark((std::string("EvaluationPart/") + part + "/" + scene).c_str(), Part, mechanism,
+      benchmark::RegisterBenchmark((std::string("EvaluationPart/") + part + "/" + scene).c_str(), Part, mechanism, size,
                                    std::string(part))
           ->Unit(benchmark::kMicrosecond);
     }

@@ -63,6 +63,18 @@ class ResidualCost final : public ceres::CostFunction {
   int* evaluations_;
 };
 
+// OptimizerSettings::done as a Ceres callback.
+class StopWhenDone final : public ceres::IterationCallback {
+ public:
+  explicit StopWhenDone(const std::function<bool()>& done) : done_(done) {}
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary&) override {
+    return done_() ? ceres::SOLVER_TERMINATE_SUCCESSFULLY : ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  const std::function<bool()>& done_;
+};
+
 OptimizerResult MinimizeWithCeres(const ResidualFunction& residuals, const std::vector<double>& start,
                                   const std::vector<double>& lower, const std::vector<double>& upper,
                                   const OptimizerSettings& settings) {
@@ -103,6 +115,9 @@ OptimizerResult MinimizeWithCeres(const ResidualFunction& residuals, const std::
   options.max_num_iterations = settings.max_evaluations / 2;
   options.function_tolerance = settings.relative_tolerance;
   options.parameter_tolerance = settings.relative_tolerance;
+  options.use_nonmonotonic_steps = settings.nonmonotonic_steps;
+  StopWhenDone stop(settings.done);
+  if (settings.done) options.callbacks.push_back(&stop);
   ceres::Solver::Summary summary;
   ceres::Solve(options, &problem, &summary);
   result.x = x;

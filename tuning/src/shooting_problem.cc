@@ -274,6 +274,10 @@ ShootingProblem::SegmentOutput<T> ShootingProblem::RunSegment(const Model<T>& mo
     out.end = {s.q, s.v};
     for (int i = 0; i < s.coordinates.size(); ++i) out.end_coordinates.push_back(Value(s.coordinates[i]));
   });
+  if (on_the_constraints_ && k + 1 < Segments()) {  // the end the next start is held to (shooting_problem.h)
+    RunReport unused;
+    out.end = AssembledInitialState(WithInitialState(segment, out.end.q, out.end.v), &unused);
+  }
   size_t group = 0;
   for (size_t i = 0; i < observed_.size(); ++i) {
     for (const auto& row : cells[i]) {

@@ -6,10 +6,14 @@
 //   data         simulated - observed, every observed cell of every recording, segment by segment;
 //   continuity   end state of segment k (-) start state of segment k + 1 (configuration, then velocity), for
 //                every k; then, with kOnTheConstraints, for every segment after the first its start state (-)
-//                that state moved onto the constraints (zero where the segments join, since an end lies on them;
-//                without these rows a trajectory fit's steps drift off the constraints, where moving a state onto
-//                them can jump between branches: on the acrobot 2 of 8 starts reached the upright without, 5
-//                with; identification keeps without, its starts come from the data);
+//                that state moved onto the constraints (without these rows a trajectory fit's steps drift off the
+//                constraints, where moving a state onto them can jump between branches: on the acrobot 2 of 8
+//                starts reached the upright without, 5 with; identification keeps without, its starts come from
+//                the data). With kOnTheConstraints the end state is itself moved onto the constraints first: a
+//                stabilized run ends off them by its drift, and a start both on them and equal to that end would
+//                be asked for twice what cannot be (on the acrobot the gaps stalled at 1e-5 m, the drift, and
+//                the reach ran out its 500 iterations); the run from the scene's initial state, which is not
+//                moved there, then parts from the joined segments by the drifts, which single shooting closes;
 //   penalties    smoothing sqrt(W_s) (s_{j+1} - s_j) of consecutive schedule values; effort, the integral
 //                W_e int_0^D tau(t)^2 dt of every joint motor's torque, exact for its piecewise linear schedule
 //                (held at its end values): over a piece of length L from a to b, W_e L (a^2 + a b + b^2) / 3 =

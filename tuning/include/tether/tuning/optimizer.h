@@ -65,6 +65,11 @@ struct OptimizerSettings {
   int max_evaluations = 200;  // NLopt's budget of evaluations; Ceres gets max_evaluations / 2 iterations
   double relative_tolerance = 1e-8;  // on x (NLopt) and on the cost decrease (Ceres)
   EvaluationObserver observer;       // none by default
+  // Ceres only: accept a step that raises the cost where the last few steps have lowered it more than this one
+  // raises it (Ceres' non-monotonic steps), which crosses the narrow valleys of a swing-up's shooting problem
+  bool nonmonotonic_steps = false;
+  // Ceres only: the caller's own test, asked after every iteration; true stops the minimizer
+  std::function<bool()> done;
 };
 
 // `residuals` telling `settings`' observer of each evaluation (the cost 1/2 sum rho(r_i^2)), or `residuals`
