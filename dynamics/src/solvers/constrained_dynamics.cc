@@ -30,9 +30,11 @@ bool ComputeAcceleration(const Model<T>& model, double t, const VecX<T>& q, cons
 }
 
 template <typename S, typename T>
-bool KktAcceleration(const Model<S>& model, const std::vector<BodyLayout>& layout, const SchurPattern& pattern,
-                     SchurSolver* solver, const std::vector<ConstraintRow<T>>& rows, const InverseMass<T>& inverse_mass,
-                     const VecX<T>& v, const T& alpha, const T& beta, VecX<T>* force, KktSystem<T>* kkt, VecX<T>* a) {
+TETHER_FLATTEN bool KktAcceleration(const Model<S>& model, const std::vector<BodyLayout>& layout,
+                                    const SchurPattern& pattern, SchurSolver* solver,
+                                    const std::vector<ConstraintRow<T>>& rows, const InverseMass<T>& inverse_mass,
+                                    const VecX<T>& v, const T& alpha, const T& beta, VecX<T>* force, KktSystem<T>* kkt,
+                                    VecX<T>* a) {
   ApplyInverseMass(model, inverse_mass, *force, a);  // unconstrained acceleration u = M^-1 f
   // J u + Jdot v + alpha J v + beta C, with the two products by J taken as one, J (u + alpha v)
   kkt->u_plus_alpha_v = *a + alpha * v;

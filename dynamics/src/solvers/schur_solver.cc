@@ -138,12 +138,20 @@ bool SchurSolver::Solve<Jet>(const std::vector<Jet>& values, const VecX<Jet>& b,
   // residual b - S x0: its value part is ~0, its derivative parts are db_k - dS_k x0
   MultiplySymmetric(*pattern_, FactoredJets(values), x0_, &product_);
   x->resize(n);
-  for (int i = 0; i < n; ++i) (*x)[i] = Jet(x0_[i]);
-  column_.resize(n);
-  for (int k = 0; k < kJetStride; ++k) {
-    for (int i = 0; i < n; ++i) column_[i] = b[i].v[k] - product_[i].v[k];
-    SolveInPlace(&column_);
-    for (int i = 0; i < n; ++i) (*x)[i].v[k] = column_[i];
+  columns_.resize(n, kJetStride);
+  for (int i = 0; i < n; ++i) columns_.row(i) = b[i].v - product_[i].v;
+  if (kind_ == KktSolver::kDense) {
+    for (int k = 0; k < kJetStride; ++k) {
+      column_ = columns_.col(k);
+      SolveInPlace(&column_);
+      columns_.col(k) = column_;
+    }
+  } else {
+    sparse_factor_.SolveInPlace(&columns_);
+  }
+  for (int i = 0; i < n; ++i) {
+    (*x)[i].a = x0_[i];
+    (*x)[i].v = columns_.row(i).transpose();
   }
   return true;
 }

@@ -8,6 +8,8 @@
 #include <queue>
 #include <type_traits>
 
+#include "tether/dynamics/scalars/scalar.h"
+
 namespace tether {
 namespace {
 
@@ -279,6 +281,38 @@ bool SparseLdlt::HalfSolveInPlace(Eigen::VectorXd* x) {
   for (int k = 0; k < n; ++k) b[k] = t[k] * root_inverse_d_[k];
   return true;
 }
+
+template <int K>
+void SparseLdlt::SolveInPlace(Eigen::Matrix<double, Eigen::Dynamic, K, Eigen::RowMajor>* x) {
+  const int n = size();
+  columns_work_.resize(static_cast<size_t>(n) * K);
+  double* __restrict t = columns_work_.data();
+  double* __restrict b = x->data();
+  const int* __restrict lower_row = lower_row_.data();
+  const int* __restrict start = column_start_.data();
+  const double* __restrict lower = lower_value_.data();
+  const double* __restrict inverse_d = inverse_d_.data();
+  for (int k = 0; k < n; ++k) {
+    for (int c = 0; c < K; ++c) t[k * K + c] = b[order_[k] * K + c];
+  }
+  for (int j = 0; j < n; ++j) {  // L Z = P B
+    for (int p = start[j]; p < start[j + 1]; ++p) {
+      for (int c = 0; c < K; ++c) t[lower_row[p] * K + c] -= lower[p] * t[j * K + c];
+    }
+  }
+  for (int j = n - 1; j >= 0; --j) {  // L^T W = D^-1 Z
+    double tj[K];
+    for (int c = 0; c < K; ++c) tj[c] = t[j * K + c] * inverse_d[j];
+    for (int p = start[j]; p < start[j + 1]; ++p) {
+      for (int c = 0; c < K; ++c) tj[c] -= lower[p] * t[lower_row[p] * K + c];
+    }
+    for (int c = 0; c < K; ++c) t[j * K + c] = tj[c];
+  }
+  for (int k = 0; k < n; ++k) {
+    for (int c = 0; c < K; ++c) b[order_[k] * K + c] = t[k * K + c];
+  }
+}
+template void SparseLdlt::SolveInPlace<kJetStride>(Eigen::Matrix<double, Eigen::Dynamic, kJetStride, Eigen::RowMajor>*);
 
 void SparseLdlt::Save(Numeric* numeric) const {
   numeric->lower.assign(lower_value_.begin(), lower_value_.begin() + nonzeros());

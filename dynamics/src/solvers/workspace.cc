@@ -30,7 +30,8 @@ KktSystem<T>::KktSystem(const SchurPattern& pattern, int nv)
       u_plus_alpha_v(VecX<T>::Zero(nv)) {}
 
 template <typename S, typename T>
-void ApplyInverseMass(const Model<S>& model, const InverseMass<T>& inverse, const VecX<T>& x, VecX<T>* out) {
+TETHER_FLATTEN void ApplyInverseMass(const Model<S>& model, const InverseMass<T>& inverse, const VecX<T>& x,
+                                     VecX<T>* out) {
   if (model.spatial_bodies.empty()) {  // M is diagonal
     out->noalias() = inverse.diagonal.cwiseProduct(x);
     return;

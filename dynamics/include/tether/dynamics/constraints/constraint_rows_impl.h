@@ -333,6 +333,32 @@ void EvaluateLimitRow(const Model<T>& model, const LimitPrimitive<T>& limit, con
   if (velocity_terms) row->bias = side * CoordinateBias(model, limit.coordinate, frames, q, v);
 }
 
+namespace internal {
+
+// The rows of the model's user constraints (user_constraint.h), from `row` on; the next row. Apart from the rows
+// above, so that a scene without user constraints does not clear their buffer (kMaxUserRows rows of 14 scalars)
+// at every evaluation.
+template <typename T>
+ConstraintRow<T>* EvaluateUserRows(const Model<T>& model, const VecX<T>& q, const VecX<T>& v, bool velocity_terms,
+                                   ConstraintRow<T>* row) {
+  UserRow<T> out[kMaxUserRows];
+  for (const UserConstraintInstance& c : model.user_constraints) {
+    const int count = c.residual->NumRows();
+    const BodyState<T> sa = StateOf(model, c.body_a, q, v, velocity_terms);
+    const BodyState<T> sb = StateOf(model, c.body_b, q, v, velocity_terms);
+    c.residual->Evaluate(sa, sb, velocity_terms, out);
+    for (int i = 0; i < count; ++i, ++row) {
+      row->value = out[i].value;
+      if (velocity_terms) row->bias = out[i].bias;
+      row->a = GradientOf(model, c.body_a, out[i].gradient);
+      row->b = GradientOf(model, c.body_b, out[i].gradient + sa.v_size);
+    }
+  }
+  return row;
+}
+
+}  // namespace internal
+
 template <typename T>
 TETHER_FLATTEN void EvaluateConstraintRows(const Model<T>& model, const ConstraintSet<T>& set,
                                            const BodyFrames<T>& frames, const VecX<T>& q, const VecX<T>& v,
@@ -356,19 +382,7 @@ TETHER_FLATTEN void EvaluateConstraintRows(const Model<T>& model, const Constrai
   } else {
     for (const AnglePrimitive<T>& c : set.angles) row = internal::EvaluateAngleRows(model, frames, c, vt, row);
   }
-  UserRow<T> out[kMaxUserRows];
-  for (const UserConstraintInstance& c : model.user_constraints) {
-    const int count = c.residual->NumRows();
-    const BodyState<T> sa = internal::StateOf(model, c.body_a, q, v, velocity_terms);
-    const BodyState<T> sb = internal::StateOf(model, c.body_b, q, v, velocity_terms);
-    c.residual->Evaluate(sa, sb, velocity_terms, out);
-    for (int i = 0; i < count; ++i, ++row) {
-      row->value = out[i].value;
-      if (velocity_terms) row->bias = out[i].bias;
-      row->a = internal::GradientOf(model, c.body_a, out[i].gradient);
-      row->b = internal::GradientOf(model, c.body_b, out[i].gradient + sa.v_size);
-    }
-  }
+  if (!model.user_constraints.empty()) row = internal::EvaluateUserRows(model, q, v, vt, row);
   for (const LimitPrimitive<T>& c : set.limits) EvaluateLimitRow(model, c, frames, q, v, vt, row++);
   for (const ContactPrimitive& c : set.contacts) row = EvaluateContactRow(model, c.feature, frames, q, v, vt, row);
   for (const ContactPrimitive& c : set.contacts) {

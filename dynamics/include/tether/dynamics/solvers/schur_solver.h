@@ -178,6 +178,7 @@ class SchurSolver {
   // scratch for the Jet path
   std::vector<double> value_part_;
   Eigen::VectorXd x0_, column_;
+  Eigen::Matrix<double, Eigen::Dynamic, kJetStride, Eigen::RowMajor> columns_;  // a Jet's derivative parts
   VecX<Jet> product_;
   // the oracle path
   bool factor_jet_matrices_;

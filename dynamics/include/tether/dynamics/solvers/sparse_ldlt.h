@@ -25,7 +25,8 @@
 // it updates instead, in the same order and so with the same result; memory then stays O(nnz(L)).
 //
 // Solve (x = S^-1 b in place): permute, forward substitution with L, divide by D, back substitution with L^T,
-// permute back; 2 nnz(L) + n multiply-adds.
+// permute back; 2 nnz(L) + n multiply-adds. K right-hand sides at once (a Jet's derivative parts) take one pass
+// over L, each entry of L applied to the K of them side by side, in the same order as K solves of one.
 #pragma once
 
 #include <Eigen/Core>
@@ -48,6 +49,9 @@ class SparseLdlt {
 
   // x = S^-1 x with the last successful factorization.
   void SolveInPlace(Eigen::VectorXd* x);
+  // The same for the K columns of x (row-major, so that row k holds every column's k-th entry).
+  template <int K>
+  void SolveInPlace(Eigen::Matrix<double, Eigen::Dynamic, K, Eigen::RowMajor>* x);
   // x <- D^-1/2 L^-1 P x, so that x^T S^-1 x' is the dot product of two such (half the work of a solve); false,
   // with x unchanged, where a pivot is not positive.
   bool HalfSolveInPlace(Eigen::VectorXd* x);
@@ -92,6 +96,7 @@ class SparseLdlt {
   Eigen::VectorXd d_, inverse_d_;  // D and its inverse (so that the solves multiply)
   Eigen::VectorXd root_inverse_d_;  // D^-1/2 once a half solve has asked for it (empty after Factor)
   Eigen::VectorXd work_;           // the permuted x of a solve
+  std::vector<double> columns_work_;  // the permuted x of a solve of several columns
 };
 
 }  // namespace tether
