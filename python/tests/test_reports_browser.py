@@ -144,7 +144,7 @@ def test_a_scripted_study_s_index_is_its_results(tmp_path):
 def readme_fits():
     """The README's `tether identify` and `tether fit` commands, as argument lists (continuation lines joined).
     Two are left to other tests: the imported humanoid's (tests/import/mujoco_cli_test.cc writes its report) and
-    the acrobot's swing-up, 46 s of fitting (docs/reports.md)."""
+    the acrobot's swing-up, 23 s of fitting (docs/reports.md)."""
     import shlex
     with open(source("README.md"), encoding="utf-8") as f:
         text = f.read().replace("\\\n", " ")
