@@ -9,10 +9,13 @@
 //   Coordinate(joint, c)          a joint coordinate's value, rate and generalized row (joint_coordinates.h)
 //   AddAlong(row, tau, f)         a force tau along that coordinate: f += tau dq'/dv on both bodies
 //   AddAlongCoordinate(joint, c, tau, f)  the same from the coordinate itself (the adjoint records it as one
-//                                 operation where it can: adjoint/recorded.h)
+//                                 operation where it can: adjoint/recorded.h), nothing for a double zero (the
+//                                 motors of an imported model at rest: five of MuJoCo's humanoid)
 // Written against this view, an effect's header needs nothing of the kinematics, and a new effect touches no
 // other file of the dynamics (docs/architecture.md, "Add an effect").
 #pragma once
+
+#include <type_traits>
 
 #include "tether/dynamics/adjoint/recorded.h"
 #include "tether/dynamics/constraints/joint_coordinates.h"
@@ -70,6 +73,9 @@ struct EffectContext {
   }
 
   TETHER_HOT_INLINE void AddAlongCoordinate(int joint, JointCoordinate coordinate, const T& value, VecX<T>* f) const {
+    if constexpr (std::is_same_v<T, double>) {
+      if (value == 0.0) return;  // adds nothing; a Jet or Rev zero can still carry derivatives
+    }
     const int k = coordinates.Find(joint, coordinate);
     if (RecordedAngleTorque(model, coordinates, k, frames, value, f)) return;
     AddAlong(EvaluateCoordinate(model, coordinates, k, frames, q, v, false), value, f);
