@@ -95,6 +95,30 @@ TEST(ShootingProblem, SegmentsContinueTheJointCoordinatesOfTheRun) {
   EXPECT_LT(pieces.segment(held.DataCount(), held.ContinuityCount()).lpNorm<Eigen::Infinity>(), 1e-5);
 }
 
+// With kOnTheConstraints a segment's end is moved onto the constraints before it is compared with the next start
+// (shooting_problem.h). Each segment started from the previous one's end so moved, every continuity row and every
+// start's distance to the constraints vanish to rounding; compared with the end itself, which a stabilized run
+// leaves off the constraints by its drift, the two sets of rows could not both be met (the reach's gaps stalled at
+// the drift).
+TEST(ShootingProblem, SegmentsStartedFromTheEndsMovedOntoTheConstraintsMeetEveryContinuityRow) {
+  Acrobot acrobot;
+  acrobot.settings.segments = 4;
+  const ShootingProblem problem(acrobot.scene.model, acrobot.parameters, acrobot.recordings, acrobot.settings,
+                                ShootingProblem::StartRows::kOnTheConstraints);
+  const int first = problem.DataCount(), starts = 3 * 12;
+  ASSERT_EQ(problem.Unknowns(), 41 + starts);
+  std::vector<double> x = problem.Start();
+  Eigen::VectorXd r;
+  ASSERT_TRUE(problem.Evaluate(x, &r, nullptr));
+  EXPECT_GT(r.segment(first, 2 * starts).lpNorm<Eigen::Infinity>(), 1e-8);  // one run's states: its drift
+  // each start moved by its gap (end - start, an offset and a velocity, as the unknowns are), boundary by boundary
+  for (int pass = 0; pass < 4; ++pass) {
+    for (int i = 0; i < starts; ++i) x[41 + i] += r[first + i];
+    ASSERT_TRUE(problem.Evaluate(x, &r, nullptr));
+  }
+  EXPECT_LT(r.segment(first, 2 * starts).lpNorm<Eigen::Infinity>(), 1e-11);
+}
+
 // A 3D hinge's angle is continuous across segments however far their starts are from the first guess: a rotor
 // built at rest (the first guess's run never turns), its segments started as if spinning at 8 rad/s, measures 8 rad
 // after 1 s. Each segment's angle takes the branch nearest the previous segment's end; taken from the first guess,
