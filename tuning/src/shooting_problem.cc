@@ -81,12 +81,13 @@ int ShootingProblem::Seeds::Slot(int unknown) const {
 
 ShootingProblem::ShootingProblem(const Model<double>& model, const ParameterSet& parameters,
                                  const std::vector<Observations>& recordings, const IdentifySettings& settings,
-                                 StartRows start_rows)
+                                 StartRows start_rows, IdleCores* idle)
     : model_(model),
       parameters_(parameters),
       recordings_(recordings),
       settings_(settings),
-      on_the_constraints_(start_rows == StartRows::kOnTheConstraints) {
+      on_the_constraints_(start_rows == StartRows::kOnTheConstraints),
+      idle_(idle) {
   const std::vector<double> values = parameters.Values(model);
   for (int i = 0; i < parameters.size(); ++i)
     log_space_.push_back(FittedInLogSpace(parameters, i, values[i], settings));
@@ -386,34 +387,40 @@ bool ShootingProblem::Evaluate(const std::vector<double>& x, Eigen::VectorXd* r,
     const auto fill = [&](int row, const Jet& value, const Seeds& seeds) {
       for (size_t j = 0; j < seeds.unknowns.size(); ++j) (*jacobian)(row, seeds.unknowns[j]) = value.v[j];
     };
+    // one task per segment and chunk of its unknowns: each fills its own columns of its own rows
+    std::vector<std::function<void()>> runs;
     for (int k = 0; k < segments; ++k) {
       std::vector<int> unknowns;
       for (int i = 0; i < p; ++i) {
         if (ActsWithin(i, k)) unknowns.push_back(i);
       }
       for (int i = 0; k > 0 && i < state_size_; ++i) unknowns.push_back(p + (k - 1) * state_size_ + i);
-      chunks(unknowns, [&](const Seeds& seeds) {
-        const Model<Jet> model = Seeded<Jet>(guess, seeds);
-        const SegmentOutput<Jet> s = RunSegment(model, x, k, seeds, hints[k]);
-        for (size_t j = 0; j < s.data.size(); ++j) fill(segment_rows_[k] + static_cast<int>(j), s.data[j].second, seeds);
-        for (const auto& [c, value] : s.constraints) fill(constraint + c, value, seeds);
-        if (k > 0 && on_the_constraints_) {  // how far the start lies off the constraints
-          const State<Jet> start = SegmentStart(model, x, k, seeds);
-          VecX<Jet> off(nv);
-          Difference(model, s.start.q, start.q, &off);
-          const int row = continuity + (segments - 1 + k - 1) * state_size_;
-          for (int i = 0; i < nv; ++i) fill(row + i, off[i], seeds);
-          for (int i = 0; i < nv; ++i) fill(row + nv + i, start.v[i] - s.start.v[i], seeds);
-        }
-        if (k + 1 == segments) return;
-        const State<Jet> start = SegmentStart(model, x, k + 1, Seeds{});  // the next start, constant here
-        VecX<Jet> jet_gap(nv);
-        Difference(model, start.q, s.end.q, &jet_gap);
-        const int row = continuity + k * state_size_;
-        for (int i = 0; i < nv; ++i) fill(row + i, jet_gap[i], seeds);
-        for (int i = 0; i < nv; ++i) fill(row + nv + i, s.end.v[i], seeds);
+      chunks(unknowns, [&, k](const Seeds& seeds) {
+        runs.push_back([&, k, seeds] {
+          const Model<Jet> model = Seeded<Jet>(guess, seeds);
+          const SegmentOutput<Jet> s = RunSegment(model, x, k, seeds, hints[k]);
+          for (size_t j = 0; j < s.data.size(); ++j)
+            fill(segment_rows_[k] + static_cast<int>(j), s.data[j].second, seeds);
+          for (const auto& [c, value] : s.constraints) fill(constraint + c, value, seeds);
+          if (k > 0 && on_the_constraints_) {  // how far the start lies off the constraints
+            const State<Jet> start = SegmentStart(model, x, k, seeds);
+            VecX<Jet> off(nv);
+            Difference(model, s.start.q, start.q, &off);
+            const int row = continuity + (segments - 1 + k - 1) * state_size_;
+            for (int i = 0; i < nv; ++i) fill(row + i, off[i], seeds);
+            for (int i = 0; i < nv; ++i) fill(row + nv + i, start.v[i] - s.start.v[i], seeds);
+          }
+          if (k + 1 == segments) return;
+          const State<Jet> start = SegmentStart(model, x, k + 1, Seeds{});  // the next start, constant here
+          VecX<Jet> jet_gap(nv);
+          Difference(model, start.q, s.end.q, &jet_gap);
+          const int row = continuity + k * state_size_;
+          for (int i = 0; i < nv; ++i) fill(row + i, jet_gap[i], seeds);
+          for (int i = 0; i < nv; ++i) fill(row + nv + i, s.end.v[i], seeds);
+        });
       });
     }
+    RunTasksOnIdleCores(runs, idle_);
     for (int k = 0; k + 1 < segments; ++k) {  // the continuity rows' dependence on the next start
       std::vector<int> unknowns;
       for (int i = 0; i < state_size_; ++i) unknowns.push_back(p + k * state_size_ + i);

@@ -37,6 +37,7 @@
 #include <utility>
 #include <vector>
 
+#include "task_threads.h"
 #include "tether/autodiff/observations.h"
 #include "tether/autodiff/parameters.h"
 #include "tether/dynamics/scalars/scalar.h"
@@ -56,9 +57,11 @@ class ShootingProblem {
  public:
   // Whether the continuity rows hold each segment's start state to the constraints as well (see above).
   enum class StartRows { kContinuityOnly, kOnTheConstraints };
-  // settings.segments >= 1 (Identify resolves an automatic choice before).
-  ShootingProblem(const Model<double>& model, const ParameterSet& parameters, const std::vector<Observations>& recordings,
-                  const IdentifySettings& settings, StartRows start_rows = StartRows::kContinuityOnly);
+  // settings.segments >= 1 (Identify resolves an automatic choice before). With `idle`, a Jacobian's Jet runs
+  // spread over the cores it holds (task_threads.h).
+  ShootingProblem(const Model<double>& model, const ParameterSet& parameters,
+                  const std::vector<Observations>& recordings, const IdentifySettings& settings,
+                  StartRows start_rows = StartRows::kContinuityOnly, IdleCores* idle = nullptr);
 
   int Unknowns() const { return parameters_.size() + (Segments() - 1) * state_size_; }
   int Segments() const { return static_cast<int>(boundaries_.size()) - 1; }
@@ -142,6 +145,7 @@ class ShootingProblem {
   const std::vector<Observations>& recordings_;
   const IdentifySettings& settings_;
   bool on_the_constraints_ = false;  // StartRows::kOnTheConstraints
+  IdleCores* idle_ = nullptr;
   std::vector<Observations> targets_;  // one per inequality target: its column at its time, the bound as value
   std::vector<const Observations*> observed_;  // the recordings, then the targets
   size_t data_groups_ = 0;                      // columns over the recordings

@@ -1,20 +1,18 @@
 #include "trajectory_fit.h"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
-#include <exception>
+#include <functional>
 #include <limits>
-#include <mutex>
 #include <random>
 #include <sstream>
-#include <system_error>
 #include <thread>
 
 #include "fit_judgement.h"
 #include "shooting_problem.h"
+#include "task_threads.h"
 #include "tether/dynamics/integration/simulator.h"
 #include "tether/dynamics/model/errors.h"
 
@@ -144,9 +142,9 @@ OptimizerResult MinimizeViolation(const ResidualFunction& residuals, const Const
 // A shooting problem with `segments` segments at `model`'s values, with its box and its residual function.
 struct Shooting {
   Shooting(const Model<double>& model, const ParameterSet& parameters, const std::vector<Observations>& recordings,
-           const IdentifySettings& settings, int segments, ShootingProblem::StartRows start_rows)
+           const IdentifySettings& settings, int segments, ShootingProblem::StartRows start_rows, IdleCores* idle)
       : with_segments(WithSegments(settings, segments)),
-        problem(model, parameters, recordings, with_segments, start_rows) {
+        problem(model, parameters, recordings, with_segments, start_rows, idle) {
     problem.Box(&lower, &upper);
   }
   Shooting(const Shooting&) = delete;
@@ -167,8 +165,9 @@ struct Shooting {
 // inequality targets) met by Levenberg-Marquardt. The parameters found.
 std::vector<double> Reach(const Model<double>& model, const ParameterSet& parameters,
                           const std::vector<Observations>& recordings, const IdentifySettings& settings, int segments,
-                          int* evaluations) {
-  const Shooting s(model, parameters, recordings, settings, segments, ShootingProblem::StartRows::kOnTheConstraints);
+                          IdleCores* idle, int* evaluations) {
+  const Shooting s(model, parameters, recordings, settings, segments, ShootingProblem::StartRows::kOnTheConstraints,
+                   idle);
   const OptimizerResult reached =
       MinimizeViolation(s.residuals, RowsOf(s.problem, settings), s.problem.Start(), s.lower, s.upper,
                         settings.optimizer);
@@ -178,9 +177,9 @@ std::vector<double> Reach(const Model<double>& model, const ParameterSet& parame
 
 // Single shooting from `model`'s values: the cost minimized subject to the inequality targets (SLSQP).
 OptimizerResult Polish(const Model<double>& model, const ParameterSet& parameters,
-                       const std::vector<Observations>& recordings, const IdentifySettings& settings,
+                       const std::vector<Observations>& recordings, const IdentifySettings& settings, IdleCores* idle,
                        std::vector<double>* estimate) {
-  const Shooting s(model, parameters, recordings, settings, 1, ShootingProblem::StartRows::kContinuityOnly);
+  const Shooting s(model, parameters, recordings, settings, 1, ShootingProblem::StartRows::kContinuityOnly, idle);
   OptimizerSettings polish = settings.optimizer;
   polish.max_evaluations = std::max(50, settings.optimizer.max_evaluations / kPolishShare);
   OptimizerResult result =
@@ -191,7 +190,7 @@ OptimizerResult Polish(const Model<double>& model, const ParameterSet& parameter
 
 // One start: reach by multiple shooting with `segments` (when > 1), reach by single shooting, polish.
 Attempt Run(const Model<double>& start, const ParameterSet& parameters, const std::vector<Observations>& recordings,
-            const IdentifySettings& settings, int segments) {
+            const IdentifySettings& settings, int segments, IdleCores* idle) {
   Attempt attempt;
   attempt.segments = segments;
   Model<double> model = start;
@@ -204,12 +203,12 @@ Attempt Run(const Model<double>& start, const ParameterSet& parameters, const st
   for (const int k : reaches) {
     if (k == 1 && settings.inequalities.empty()) break;  // nothing to reach: the polish fits the targets
     try {
-      parameters.Assign(Reach(model, parameters, recordings, settings, k, &evaluations), &model);
+      parameters.Assign(Reach(model, parameters, recordings, settings, k, idle, &evaluations), &model);
     } catch (const InputError&) {  // the start diverges: the polish says so below
     }
   }
   try {
-    attempt.optimizer = Polish(model, parameters, recordings, settings, &attempt.estimate);
+    attempt.optimizer = Polish(model, parameters, recordings, settings, idle, &attempt.estimate);
   } catch (const InputError& e) {  // single shooting cannot start from what multiple shooting found
     attempt.estimate = parameters.Values(model);
     attempt.optimizer.violation = INFINITY;
@@ -316,44 +315,30 @@ IdentifyResult FitTrajectory(const Model<double>& model, const ParameterSet& par
   IdentifySettings trial = settings;  // where fit chooses: single shooting first, on an eighth of the budget
   trial.optimizer.max_evaluations = std::max(50, settings.optimizer.max_evaluations / 8);
   std::vector<Attempt> attempts(starts.size());
-  std::atomic<int> next{0};
-  std::exception_ptr error;
-  std::mutex error_mutex;
-  const auto work = [&] {
-    for (int s = next++; s < static_cast<int>(starts.size()); s = next++) {
-      try {
-        Model<double> start = model;
-        parameters.Assign(starts[s], &start);
-        if (settings.segments > 0) {
-          attempts[s] = Run(start, parameters, recordings, settings, settings.segments);
-          continue;
-        }
-        attempts[s] = Run(start, parameters, recordings, trial, 1);
-        // met: polished on the whole budget from there; not met: multiple shooting from the start
-        const bool met = attempts[s].optimizer.violation <= 1.0;
-        Model<double> from = start;
-        if (met) parameters.Assign(attempts[s].estimate, &from);
-        Attempt next = Run(from, parameters, recordings, settings, met ? 1 : automatic);
-        next.optimizer.evaluations += attempts[s].optimizer.evaluations;
-        next.optimizer.seconds += attempts[s].optimizer.seconds;
-        if (Better(next, attempts[s])) attempts[s] = next;
-      } catch (...) {
-        std::lock_guard<std::mutex> lock(error_mutex);
-        if (!error) error = std::current_exception();
+  // each start a task; a core its thread leaves idle takes part in the Jacobians of the starts still running
+  IdleCores idle;
+  std::vector<std::function<void()>> tasks;
+  for (size_t s = 0; s < starts.size(); ++s) {
+    tasks.push_back([&, s] {
+      Model<double> start = model;
+      parameters.Assign(starts[s], &start);
+      if (settings.segments > 0) {
+        attempts[s] = Run(start, parameters, recordings, settings, settings.segments, &idle);
+        return;
       }
-    }
-  };
-  const int threads = std::min<int>(static_cast<int>(starts.size()), std::max(1u, std::thread::hardware_concurrency()));
-  std::vector<std::thread> pool;
-  try {
-    for (int t = 1; t < threads; ++t) pool.emplace_back(work);
-  } catch (const std::system_error&) {
-    // the system refused a thread (a process limit on threads): the starts run on those that did start and on
-    // this one (a joinable thread left behind by the exception would abort the process)
+      attempts[s] = Run(start, parameters, recordings, trial, 1, &idle);
+      // met: polished on the whole budget from there; not met: multiple shooting from the start
+      const bool met = attempts[s].optimizer.violation <= 1.0;
+      Model<double> from = start;
+      if (met) parameters.Assign(attempts[s].estimate, &from);
+      Attempt next = Run(from, parameters, recordings, settings, met ? 1 : automatic, &idle);
+      next.optimizer.evaluations += attempts[s].optimizer.evaluations;
+      next.optimizer.seconds += attempts[s].optimizer.seconds;
+      if (Better(next, attempts[s])) attempts[s] = next;
+    });
   }
-  work();
-  for (std::thread& t : pool) t.join();
-  if (error) std::rethrow_exception(error);
+  RunTasks(tasks, std::min<int>(static_cast<int>(starts.size()), std::max(1u, std::thread::hardware_concurrency())),
+           &idle);
 
   int best = 0;
   for (int s = 1; s < static_cast<int>(attempts.size()); ++s) {
