@@ -85,8 +85,8 @@ bool Met(const ConstraintRows& rows, const std::vector<double>& lower, const std
 // result is clamped into the box). It stops at the first point that meets every row (Met): minimizing on to zero
 // cost only pushes the inequalities deeper inside their bounds, which the polish does not need (on the acrobot
 // swing-up the single-shooting reach after the multiple-shooting one took up to 1000 evaluations; with the stop,
-// 10 to 52 on seven of the eight starts). Its steps may raise the cost for a while (non-monotonic steps): with monotonic ones, 5 of the
-// acrobot's 8 starts reached the upright, with them all 8.
+// 10 to 52 on seven of the eight starts). Its steps may raise the cost for a while (non-monotonic steps): with
+// monotonic ones, 5 of the acrobot's 8 starts reached the upright, with them all 8.
 OptimizerResult MinimizeViolation(const ResidualFunction& residuals, const ConstraintRows& rows,
                                   const std::vector<double>& start, const std::vector<double>& lower,
                                   const std::vector<double>& upper, const OptimizerSettings& settings) {
