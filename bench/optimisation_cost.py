@@ -5,9 +5,10 @@ in this one process (issue 38, part 5; README "Fit a trajectory", docs/performan
     /usr/bin/python3 bench/optimisation_cost.py [--build build] [--only NAME]
 
   acrobot     README's swing-up: scenes/acrobot.json, 41 elbow-torque knots, the tip within 9 mm of straight above
-              the shoulder written as the shoulder's angle and the tip's offset, 8 starts;
+              the shoulder written as the shoulder's angle and the tip's offset, 8 starts (swing_up.py's flags,
+              --form angle);
   acrobot_tip the same swing-up as a user first writes it: the tip's height at least 1.99 m, its offset within
-              1 cm, effort 1e-3, 8 starts;
+              1 cm, effort 1e-3, 8 starts (--form height);
   humanoid    README's identification of MuJoCo's humanoid's left forearm mass from its five joint encoders
               (docs/examples/humanoid; needs Debian's libmujoco-samples for the model).
 
@@ -26,8 +27,9 @@ import tempfile
 import time
 
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
-KNOTS = "/effects/1/schedule/values/*"
-RATES = ["upper.omega=-0.1@5", "lower.omega=-0.1@5"], ["upper.omega=0.1@5", "lower.omega=0.1@5"]
+sys.path.insert(0, os.path.join(ROOT, "docs", "examples", "acrobot"))
+import swing_up  # noqa: E402  (the two forms' flags, as swing_up.py runs them)
+
 HUMANOID = "/usr/share/mujoco/model/humanoid/humanoid.xml"
 
 
@@ -40,21 +42,34 @@ def plain_seconds(scene):
     return statistics.median(times)
 
 
-def acrobot(tether, tip_height):
+def fit_arguments(flags):
+    """tether.fit's keyword arguments for swing_up.py's command-line flags of one form."""
+    arguments = {"params": [], "bounds": {}, "at_least": [], "at_most": []}
+    for flag, value in zip(flags[::2], flags[1::2]):
+        if flag == "--param":
+            arguments["params"].append(value)
+        elif flag == "--bound":
+            pointer, interval = value.rsplit("=", 1)
+            arguments["bounds"][pointer] = tuple(float(b) for b in interval.split(":"))
+        elif flag in ("--at-least", "--at-most"):
+            arguments[flag[2:].replace("-", "_")].append(value)
+        elif flag == "--effort":
+            arguments["effort"] = float(value)
+        elif flag == "--starts":
+            arguments["starts"] = int(value)
+        else:
+            raise ValueError("swing_up.py's flag %s has no counterpart here" % flag)
+    return arguments
+
+
+def acrobot(tether, form):
     scene = tether.Scene.load(os.path.join(ROOT, "scenes", "acrobot.json"))
-    if tip_height:
-        at_least = ["tip.y=1.99@5", "tip.x=-0.01@5", RATES[0][0], RATES[0][1]]
-        at_most = ["tip.x=0.01@5", RATES[1][0], RATES[1][1]]
-        effort = 1e-3
-    else:
-        at_least = ["shoulder.angle=3.1016@5", "tip.x=-0.009@5", RATES[0][0], RATES[0][1]]
-        at_most = ["shoulder.angle=3.1816@5", "tip.x=0.009@5", RATES[1][0], RATES[1][1]]
-        effort = 0.01
+    arguments = fit_arguments(swing_up.FLAGS[form])
     begin = time.perf_counter()
-    report = tether.fit(scene, None, [KNOTS], bounds={KNOTS: (-6, 6)}, effort=effort, at_least=at_least,
-                        at_most=at_most, starts=8)
+    report = tether.fit(scene, None, **arguments)
     seconds = time.perf_counter() - begin
-    reached = "%d of 8 starts feasible, cost %.4f" % (report["starts"]["feasible"], report["final_cost"])
+    reached = "%d of %d starts feasible, cost %.4f" % (report["starts"]["feasible"], report["starts"]["count"],
+                                                       report["final_cost"])
     return seconds, plain_seconds(scene), reached
 
 
@@ -86,7 +101,7 @@ def main():
     args = parser.parse_args()
     sys.path.insert(0, os.path.join(os.path.abspath(args.build), "python"))
     import tether
-    tasks = {"acrobot": lambda: acrobot(tether, False), "acrobot_tip": lambda: acrobot(tether, True),
+    tasks = {"acrobot": lambda: acrobot(tether, "angle"), "acrobot_tip": lambda: acrobot(tether, "height"),
              "humanoid": lambda: humanoid(tether, args.build)}
     for name, task in tasks.items():
         if args.only and name != args.only:

@@ -17,9 +17,9 @@ sys.path.insert(0, os.path.dirname(HERE))
 import bench_json  # noqa: E402  (bench/bench_json.py)
 
 BINARY = os.path.join(os.path.dirname(os.path.dirname(HERE)), "build", "bench", "tether_vs_simbody")
-SCENES = {"double_pendulum": "double pendulum (2 rods), 5 s", "hinge_chain10": "3D hinge chain, 10 rods, 5 s", "hinge_chain200": "3D hinge chain, 200 rods, 1 s",
-          "humanoid": "humanoid-sized tree, 5 s", "rssr": "RSSR loop, 3 s",
-          "four_bar10": "N-four-bar, N = 10 (21 bars), 5 s"}
+SCENES = {"double_pendulum": "double pendulum (2 rods), 5 s", "hinge_chain10": "3D hinge chain, 10 rods, 5 s",
+          "hinge_chain200": "3D hinge chain, 200 rods, 1 s", "humanoid": "humanoid-sized tree, 5 s",
+          "rssr": "RSSR loop, 3 s", "four_bar10": "N-four-bar, N = 10 (21 bars), 5 s"}
 MODELS = {
     "tether": {"hinge_chain": "maximal coordinates, 5 rows a hinge", "humanoid": "maximal coordinates, 51 rows",
                "rssr": "maximal coordinates, 2 hinges + 2 ball joints (16 rows)",
@@ -48,7 +48,8 @@ def method_label(engine, method):
 
 
 def model_label(scene, engine):
-    kind = "hinge_chain" if scene.startswith(("hinge_chain", "double_pendulum")) else "four_bar" if scene.startswith("four_bar") else scene
+    kind = ("hinge_chain" if scene.startswith(("hinge_chain", "double_pendulum"))
+            else "four_bar" if scene.startswith("four_bar") else scene)
     return MODELS[engine][kind]
 
 
