@@ -11,22 +11,34 @@
 //
 // Symbolic phase (the constructor, once per run): the ordering; the elimination tree; for every row k the
 // pattern of L(k, :) (the reach of row k's entries up the tree, Davis's LDL), hence the storage of L by columns;
-// where each of S's stored values lands in it; and, for every column j, the list of entries its elimination
-// updates.
+// where each of S's stored values lands in it; and the supernodes: runs of consecutive columns j, j + 1, ... where
+// each column's rows are the next column and then that column's rows. A joint's rows couple each other and the
+// same neighbours, so they form one (a hinge's five, a ball's three). A run wider than six is cut into nearly equal
+// pieces, so that every loop over a supernode's columns is unrolled for its width (1 to 6).
 //
-// Numeric phase (Factor, every evaluation): right-looking, a column at a time,
-//   d_j = A(j, j),   A(r_p, r_q) -= L(r_p, j) d_j L(r_q, j) for the rows r_q <= r_p of column j,   L(., j) /= d_j
-// (A starts as S scattered into L's pattern, the fill-in at zero). Every update of a column is independent of the
-// others, so they pipeline; the up-looking order (a triangular solve per row, each update waiting for the one
-// before) took 1.09 us where this takes 0.83 us on the humanoid tree's 51 rows, which come in dense blocks of 3
-// to 5. Work: sum over the columns of L of count (count + 1) / 2, nnz(L) for a banded S without fill (a chain:
-// one entry per column, so O(n)); nothing is allocated or searched. Where the updates are too many to list (a hub
-// body's rows form a dense block: count^3 / 6 of them), each column's targets are found by walking the columns
-// it updates instead, in the same order and so with the same result; memory then stays O(nnz(L)).
+// Numeric phase (Factor, every evaluation), supernode by supernode in elimination order, with A starting as S
+// scattered into L's pattern (the fill-in at zero). The columns c of a supernode share its rows R, so L(R[i], c)
+// sits at a fixed offset from where column c starts:
+//   - left-looking inside the supernode, column k after the earlier ones,
+//       d_k = A(k, k) - sum_{c<k} L(k, c) d_c L(k, c),   L(i, k) = (A(i, k) - sum_{c<k} L(i, c) d_c L(k, c)) / d_k;
+//   - then right-looking out of it: the rows b below it update the later columns they name,
+//       A(b_p, b_q) -= sum_c L(b_p, c) d_c L(b_q, c),   b_p >= b_q,
+//     each at an entry listed once per run (where b_p sits among the rows of b_q's supernode, found by walking
+//     them), or, past a bound on the list (the dense block of a hub's rows), found by that walk as it goes.
+// The sums over a supernode's columns are unrolled, and a solve keeps a supernode's own entries in registers.
+// Where the supernodes are one or two columns wide on average (rows of particles), their bookkeeping costs more
+// than it saves, and the factorization goes column by column instead, each update's entry listed: CHOLMOD's choice
+// between its supernodal and simplicial factorizations. Work, either way: sum over the columns of L of
+// count (count + 1) / 2 multiply-adds (nnz(L) for a banded S without fill, O(n) for a chain).
+// Against the column-by-column factorization with a listed entry per update that it replaced (EvaluationPart in
+// bench/evaluation_bench.cc, medians of three): the humanoid tree's 51 rows in blocks of 3 to 5 factor in 0.61 us
+// instead of 0.81 and solve in 0.22 us instead of 0.38; the 10-rod hinge chain's 50, 0.68 and 0.28 us instead of
+// 1.00 and 0.50.
 //
 // Solve (x = S^-1 b in place): permute, forward substitution with L, divide by D, back substitution with L^T,
-// permute back; 2 nnz(L) + n multiply-adds. K right-hand sides at once (a Jet's derivative parts) take one pass
-// over L, each entry of L applied to the K of them side by side, in the same order as K solves of one.
+// permute back; 2 nnz(L) + n multiply-adds, a supernode at a time: its own triangle, then the rows below it. K
+// right-hand sides at once (a Jet's derivative parts) take one pass over L, each entry of L applied to the K of them
+// side by side, in the same order as K solves of one.
 #pragma once
 
 #include <Eigen/Core>
@@ -77,10 +89,25 @@ class SparseLdlt {
   // For the ordering chosen: where S's values land, the fill-in, every column's updates (their number is the
   // factorization's work, so they are listed only for the order kept), and the numeric storage.
   void PlanNumericPhase(const SchurPattern& pattern);
-  // Column j's updates found by walking L's columns (when they are too many to list), d_j^-1 = `inverse`.
-  void UpdateUnlisted(int j, double inverse);
-  // The two triangular solves with L's values `lower` and D^-1 `inverse_d`.
-  void Substitute(const double* lower, const double* inverse_d, Eigen::VectorXd* x);
+  // Factors supernode [first, first + kWidth)'s columns and applies their updates to the later ones (*target
+  // runs along their listed entries, when listed_updates_); false on a zero or non-finite pivot.
+  template <int kWidth>
+  bool FactorSupernode(int first, double pivot_floor, const int** target);
+  // The factorization column by column, where every supernode is one column (simplicial_).
+  bool FactorColumns(double pivot_floor);
+  // Where the rows below a supernode, from its q0-th on, sit in the supernode of column b_q0 (below_position_);
+  // returns the end of the run of those b_q that are its columns.
+  int LocateBelow(int first, int width, int q0);
+  // x = S^-1 x for x's K columns (row-major) with L's values `lower` and D^-1 `inverse_d`: the permutations
+  // around the two triangular solves below, on t = P x.
+  template <int K>
+  void Substitute(const double* lower, const double* inverse_d, double* x);
+  // t <- L^-1 t; kSkipZeros passes by the supernodes where t is still zero.
+  template <int K, bool kSkipZeros>
+  void ForwardSubstitute(const double* lower, double* t);
+  // t <- L^-T D^-1 t.
+  template <int K>
+  void BackSubstitute(const double* lower, const double* inverse_d, double* t);
 
   Eigen::VectorXd diagonal_;       // S's diagonal in elimination order (for a pivot floor)
   Eigen::VectorXi order_;          // elimination order: new index -> S's row
@@ -89,14 +116,18 @@ class SparseLdlt {
   std::vector<double> lower_value_;  // nnz(L) entries, then n slots for the diagonal during Factor
   std::vector<int> value_slot_;      // per stored value of S: its index in lower_value_
   std::vector<int> fill_slot_;       // the entries of L where S has none (they start at zero)
-  std::vector<int> update_target_;   // column by column, for its (p, q), q <= p in that order: the index in
-                                     // lower_value_ of the entry that pair updates (when listed_updates_)
-  std::int64_t updates_ = 0;
+  std::vector<int> supernode_start_;  // first columns of the supernodes, then n
+  std::vector<int> supernode_of_;     // per column
+  std::vector<int> below_position_;   // where each row below a supernode sits in the rows of a later one
+  std::vector<double> unscaled_;      // d_c L(r, c) on a supernode's rows, before the division by d_c
+  std::vector<int> update_target_;    // supernode by supernode, q by q: L(b_p, b_q)'s index for p > q (column by
+                                      // column, for p >= q, where simplicial_)
   bool listed_updates_ = true;
+  bool simplicial_ = false;
+  std::int64_t updates_ = 0;
   Eigen::VectorXd d_, inverse_d_;  // D and its inverse (so that the solves multiply)
   Eigen::VectorXd root_inverse_d_;  // D^-1/2 once a half solve has asked for it (empty after Factor)
-  Eigen::VectorXd work_;           // the permuted x of a solve
-  std::vector<double> columns_work_;  // the permuted x of a solve of several columns
+  std::vector<double> work_;        // the permuted x of a solve (n x K, row-major)
 };
 
 }  // namespace tether
