@@ -194,23 +194,23 @@ void SparseLdlt::Analyze(const SchurPattern& pattern, const Eigen::VectorXi& ord
   }
 }
 
+int SparseLdlt::Slot(int row, int column) const {
+  if (row == column) return nonzeros() + row;
+  const auto column_rows = lower_row_.begin() + column_start_[column];
+  const auto end = lower_row_.begin() + column_start_[column + 1];
+  return static_cast<int>(std::lower_bound(column_rows, end, row) - lower_row_.begin());
+}
+
 void SparseLdlt::PlanNumericPhase(const SchurPattern& pattern) {
   const int n = pattern.size();
   const int nnz = nonzeros();
   std::vector<int> new_index(n);
   for (int k = 0; k < n; ++k) new_index[order_[k]] = k;
-  // where L(row, column) is stored, or the diagonal slot nnz + row
-  auto slot = [&](int row, int column) {
-    if (row == column) return nnz + row;
-    const auto column_rows = lower_row_.begin() + column_start_[column];
-    const auto end = lower_row_.begin() + column_start_[column + 1];
-    return static_cast<int>(std::lower_bound(column_rows, end, row) - lower_row_.begin());
-  };
   value_slot_.resize(pattern.nonzeros());
   std::vector<bool> from_s(nnz + n, false);
   for (int v = 0; v < pattern.nonzeros(); ++v) {
     const int a = new_index[pattern.row_index()[v]], b = new_index[pattern.column_index()[v]];
-    value_slot_[v] = slot(std::max(a, b), std::min(a, b));
+    value_slot_[v] = Slot(std::max(a, b), std::min(a, b));
     from_s[value_slot_[v]] = true;
   }
   fill_slot_.clear();
@@ -222,9 +222,20 @@ void SparseLdlt::PlanNumericPhase(const SchurPattern& pattern) {
     const std::int64_t count = column_start_[j + 1] - column_start_[j];
     updates_ += count * (count + 1) / 2;
   }
-  // supernodes: column j + 1 joins column j's where column j's rows are j + 1 and then column j + 1's; one wider
-  // than kWidestSupernode is cut into as few pieces as there must be, of nearly equal widths (each piece's rows
-  // are then its own columns and those of the pieces after it, then the rows below)
+  lower_value_.assign(nnz + n, 0.0);
+  d_.setZero(n);  // size() from here on
+  inverse_d_.setZero(n);
+  diagonal_.setZero(n);
+  work_.assign(static_cast<size_t>(n) * kJetStride, 0.0);  // room for a Jet's parts: a solve allocates nothing
+  FindSupernodes();
+  ListUpdates();
+}
+
+// Column j + 1 joins column j's supernode where column j's rows are j + 1 and then column j + 1's. One wider than
+// kWidestSupernode is cut into as few pieces as there must be, of nearly equal widths (each piece's rows are then
+// its own columns, those of the pieces after it and the rows below).
+void SparseLdlt::FindSupernodes() {
+  const int n = size();
   supernode_start_.assign(1, 0);
   for (int j = 0; j < n; ++j) {
     const int count = column_start_[j + 1] - column_start_[j];
@@ -243,8 +254,27 @@ void SparseLdlt::PlanNumericPhase(const SchurPattern& pattern) {
     widest_below = std::max(widest_below, column_start_[first + 1] - column_start_[first] + 1 - width);
   }
   below_position_.assign(widest_below, 0);
-  // the entries the rows below each supernode update, listed where they are not too many (the factorization then
-  // needs no walk); L(b_p, b_q) for p > q, supernode by supernode, q by q
+  unscaled_.assign(static_cast<size_t>(widest_below + kWidestSupernode) * kWidestSupernode, 0.0);
+  // supernodes of one or two columns on average (rows that share few neighbours, as a chain of particles'):
+  // column by column, each update's entry listed, costs fewer instructions than the supernodes' bookkeeping (10% of
+  // a 10-particle chain's step); as CHOLMOD, which factors supernodally only where supernodes are wide
+  simplicial_ = 2 * (static_cast<int>(supernode_start_.size()) - 1) > n && updates_ <= kMaxListedUpdates;
+}
+
+// Column by column (simplicial_): for each column j and its rows r_q <= r_p, the entry (r_p, r_q). Supernode by
+// supernode: for each q and each p > q of the rows b below it, the entry (b_p, b_q), unless there are more than
+// kMaxListedUpdates of those (listed_updates_).
+void SparseLdlt::ListUpdates() {
+  update_target_.clear();
+  listed_updates_ = true;
+  if (simplicial_) {
+    for (int j = 0; j < size(); ++j) {
+      for (int p = column_start_[j]; p < column_start_[j + 1]; ++p) {
+        for (int q = column_start_[j]; q <= p; ++q) update_target_.push_back(Slot(lower_row_[p], lower_row_[q]));
+      }
+    }
+    return;
+  }
   std::int64_t listed = 0;
   for (size_t s = 0; s + 1 < supernode_start_.size(); ++s) {
     const std::int64_t below = column_start_[supernode_start_[s] + 1] - column_start_[supernode_start_[s]] + 1 -
@@ -252,17 +282,7 @@ void SparseLdlt::PlanNumericPhase(const SchurPattern& pattern) {
     listed += below * (below - 1) / 2;
   }
   listed_updates_ = listed <= kMaxListedUpdates;
-  update_target_.clear();
-  // supernodes of one or two columns on average (rows that share few neighbours, as a chain of particles'):
-  // column by column, each update's entry listed, costs fewer instructions than the supernodes' bookkeeping (10% of
-  // a 10-particle chain's step); as CHOLMOD, which factors supernodally only where supernodes are wide
-  simplicial_ = 2 * (static_cast<int>(supernode_start_.size()) - 1) > n && updates_ <= kMaxListedUpdates;
-  for (int j = 0; simplicial_ && j < n; ++j) {
-    for (int p = column_start_[j]; p < column_start_[j + 1]; ++p) {
-      for (int q = column_start_[j]; q <= p; ++q) update_target_.push_back(slot(lower_row_[p], lower_row_[q]));
-    }
-  }
-  for (size_t s = 0; !simplicial_ && listed_updates_ && s + 1 < supernode_start_.size(); ++s) {
+  for (size_t s = 0; listed_updates_ && s + 1 < supernode_start_.size(); ++s) {
     const int first = supernode_start_[s], width = supernode_start_[s + 1] - first;
     const int* b = lower_row_.data() + column_start_[first] + width - 1;
     const int below = column_start_[first + 1] - column_start_[first] + 1 - width;
@@ -276,12 +296,6 @@ void SparseLdlt::PlanNumericPhase(const SchurPattern& pattern) {
       q0 = q1;
     }
   }
-  unscaled_.assign(static_cast<size_t>(widest_below + kWidestSupernode) * kWidestSupernode, 0.0);
-  lower_value_.assign(nnz + n, 0.0);
-  d_.setZero(n);
-  inverse_d_.setZero(n);
-  diagonal_.setZero(n);
-  work_.assign(static_cast<size_t>(n) * kJetStride, 0.0);  // room for a Jet's parts: a solve allocates nothing
 }
 
 // Raw pointers marked __restrict: the arrays never overlap, and without the promise every store would force the

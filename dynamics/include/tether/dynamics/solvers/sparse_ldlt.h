@@ -86,9 +86,15 @@ class SparseLdlt {
  private:
   // The structure of L for one ordering (new index -> S's row): order_, column_start_, lower_row_.
   void Analyze(const SchurPattern& pattern, const Eigen::VectorXi& order);
-  // For the ordering chosen: where S's values land, the fill-in, every column's updates (their number is the
-  // factorization's work, so they are listed only for the order kept), and the numeric storage.
+  // For the ordering chosen: where S's values land, the fill-in, the supernodes, the listed updates and the
+  // numeric storage.
   void PlanNumericPhase(const SchurPattern& pattern);
+  // Where L(row, column) is stored in lower_value_ (nnz + row on the diagonal).
+  int Slot(int row, int column) const;
+  // supernode_start_, supernode_of_, the work arrays they size, and simplicial_.
+  void FindSupernodes();
+  // update_target_ and listed_updates_.
+  void ListUpdates();
   // Factors supernode [first, first + kWidth)'s columns and applies their updates to the later ones (*target
   // runs along their listed entries, when listed_updates_); false on a zero or non-finite pivot.
   template <int kWidth>
