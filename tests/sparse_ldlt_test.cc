@@ -203,7 +203,7 @@ TEST(SparseLdlt, AHubsDenseBlockIsFactoredInPiecesOfItsColumns) {
   EXPECT_EQ(ldlt.nonzeros(), 400 * 399 / 2);  // dense below the diagonal: one supernode of 400 columns
   EXPECT_EQ(ldlt.updates(), std::int64_t{400} * 401 * 399 / 6);
   ExpectAgreesWithDense(pattern, 9);
-  // 700 rows: the entries its pieces update would be a list of 9.6 million, past sparse_ldlt.cc's bound, so the
+  // 700 rows: the entries its pieces update would be a list of 9.4 million, past sparse_ldlt.cc's bound, so the
   // factorization finds them as it goes, with the same result
   ExpectAgreesWithDense(PatternOf(Star(700), 701), 10);
 }

@@ -99,7 +99,7 @@ class SparseLdlt {
   // runs along their listed entries, when listed_updates_); false on a zero or non-finite pivot.
   template <int kWidth>
   bool FactorSupernode(int first, double pivot_floor, const int** target);
-  // The factorization column by column, where every supernode is one column (simplicial_).
+  // The factorization column by column, where the supernodes are one or two columns wide on average (simplicial_).
   bool FactorColumns(double pivot_floor);
   // Where the rows below a supernode, from its q0-th on, sit in the supernode of column b_q0 (below_position_);
   // returns the end of the run of those b_q that are its columns.
