@@ -251,7 +251,7 @@ void SparseLdlt::FindSupernodes() {
   for (size_t s = 0; s + 1 < supernode_start_.size(); ++s) {
     const int first = supernode_start_[s], width = supernode_start_[s + 1] - first;
     for (int j = first; j < first + width; ++j) supernode_of_[j] = static_cast<int>(s);
-    widest_below = std::max(widest_below, column_start_[first + 1] - column_start_[first] + 1 - width);
+    widest_below = std::max(widest_below, CountBelow(first, width));
   }
   below_position_.assign(widest_below, 0);
   unscaled_.assign(static_cast<size_t>(widest_below + kWidestSupernode) * kWidestSupernode, 0.0);
@@ -277,15 +277,14 @@ void SparseLdlt::ListUpdates() {
   }
   std::int64_t listed = 0;
   for (size_t s = 0; s + 1 < supernode_start_.size(); ++s) {
-    const std::int64_t below = column_start_[supernode_start_[s] + 1] - column_start_[supernode_start_[s]] + 1 -
-                               (supernode_start_[s + 1] - supernode_start_[s]);
+    const std::int64_t below = CountBelow(supernode_start_[s], supernode_start_[s + 1] - supernode_start_[s]);
     listed += below * (below - 1) / 2;
   }
   listed_updates_ = listed <= kMaxListedUpdates;
   for (size_t s = 0; listed_updates_ && s + 1 < supernode_start_.size(); ++s) {
     const int first = supernode_start_[s], width = supernode_start_[s + 1] - first;
-    const int* b = lower_row_.data() + column_start_[first] + width - 1;
-    const int below = column_start_[first + 1] - column_start_[first] + 1 - width;
+    const int* b = RowsBelow(first, width);
+    const int below = CountBelow(first, width);
     for (int q0 = 0; q0 < below;) {
       const int q1 = LocateBelow(first, width, q0);
       for (int q = q0; q < q1; ++q) {
@@ -349,8 +348,8 @@ bool SparseLdlt::FactorColumns(double pivot_floor) {
 // Returns the end of the run of b_q in T, whose columns share these positions.
 int SparseLdlt::LocateBelow(int first, int width, int q0) {
   const int* __restrict row = lower_row_.data();
-  const int* __restrict b = row + column_start_[first] + width - 1;
-  const int below = column_start_[first + 1] - column_start_[first] + 1 - width;
+  const int* __restrict b = RowsBelow(first, width);
+  const int below = CountBelow(first, width);
   const int t = supernode_of_[b[q0]], t_first = supernode_start_[t];
   int q1 = q0 + 1;
   while (q1 < below && supernode_of_[b[q1]] == t) ++q1;
@@ -394,7 +393,7 @@ TETHER_HOT_INLINE bool SparseLdlt::FactorSupernode(int first, double pivot_floor
     if (pivot_floor > 0.0) pivot = std::max(pivot, pivot_floor * diagonal_[first + k]);
     if (pivot == 0.0 || !std::isfinite(pivot)) return false;
     const double inverse = 1.0 / pivot;
-    diagonal[k] = d[k] = pivot;
+    d[k] = pivot;
     inverse_d[k] = inverse_of[k] = inverse;
     double* __restrict l = column(k);
     for (int i = k + 1; i < rows; ++i) {
@@ -407,7 +406,7 @@ TETHER_HOT_INLINE bool SparseLdlt::FactorSupernode(int first, double pivot_floor
   }
 
   double* __restrict all_diagonal = f + nonzeros();
-  const int* __restrict b = lower_row_.data() + start[0] + kWidth - 1;  // the rows below, b[p] = R[kWidth + p]
+  const int* __restrict b = RowsBelow(first, kWidth);
   const int below = rows - kWidth;
   // (d_c L)^2 d_c^-1 from registers: L(b_q, c), just stored, would wait for its store on the way from one pivot to
   // the next; sums start from their first term (from a zero, one add more)
@@ -529,8 +528,8 @@ TETHER_HOT_INLINE void SparseLdlt::ForwardSubstitute(const double* lower, double
         }
         for (int r = 0; r < K; ++r) t[(first + c) * K + r] = own[c][r];
       }
-      const int below = start[1] - start[0] + 1 - kWidth;
-      const int* __restrict b = lower_row_.data() + start[0] + kWidth - 1;
+      const int below = CountBelow(first, kWidth);
+      const int* __restrict b = RowsBelow(first, kWidth);
       for (int p = 0; p < below; ++p) {
         double sum[K];
         for (int r = 0; r < K; ++r) sum[r] = column(0)[kWidth + p] * own[0][r];  // not from a zero: one add less
@@ -571,8 +570,8 @@ TETHER_HOT_INLINE void SparseLdlt::BackSubstitute(const double* lower, const dou
       for (int i = 0; i < kWidth; ++i) {
         for (int r = 0; r < K; ++r) own[i][r] = t[(first + i) * K + r] * inverse_d[first + i];
       }
-      const int below = start[1] - start[0] + 1 - kWidth;
-      const int* __restrict b = lower_row_.data() + start[0] + kWidth - 1;
+      const int below = CountBelow(first, kWidth);
+      const int* __restrict b = RowsBelow(first, kWidth);
       for (int p = 0; p < below; ++p) {
         for (int c = 0; c < kWidth; ++c) {
           for (int r = 0; r < K; ++r) own[c][r] -= column(c)[kWidth + p] * t[b[p] * K + r];

@@ -101,6 +101,10 @@ class SparseLdlt {
   bool FactorSupernode(int first, double pivot_floor, const int** target);
   // The factorization column by column, where the supernodes are one or two columns wide on average (simplicial_).
   bool FactorColumns(double pivot_floor);
+  // The rows b below supernode [first, first + width), b_p = R[width + p] (all rows of its first column past its
+  // own columns): how many, and where they start in lower_row_.
+  int CountBelow(int first, int width) const { return column_start_[first + 1] - column_start_[first] + 1 - width; }
+  const int* RowsBelow(int first, int width) const { return lower_row_.data() + column_start_[first] + width - 1; }
   // Where the rows below a supernode, from its q0-th on, sit in the supernode of column b_q0 (below_position_);
   // returns the end of the run of those b_q that are its columns.
   int LocateBelow(int first, int width, int q0);
