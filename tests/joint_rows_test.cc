@@ -5,11 +5,13 @@
 //       (body-frame angular velocity included) q (+) s v is the motion itself, so C'' = Jdot v there;
 //   (c) the joint coordinates' rates and gradients against differences of their values (for angles at states on
 //       the joint, where the relative angular velocity is along the axis: elsewhere the angle is not defined);
+// (d) the translations the rows announce before evaluation, and S assembled with them, bit for bit;
 // and the joint kinds (joint_kinds.h): each type listed once under its scene name, its rows exactly its parts'
 // rows, its coordinates as HasCoordinate reports them, and a range refused on a kind that takes none.
 #include <gtest/gtest.h>
 
 #include <Eigen/SVD>
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -20,6 +22,8 @@
 #include "tether/dynamics/model/configuration_space.h"
 #include "tether/dynamics/model/errors.h"
 #include "tether/dynamics/model/rotation.h"
+#include "tether/dynamics/solvers/schur_system.h"
+#include "tether/dynamics/solvers/workspace.h"
 
 namespace tether {
 namespace {
@@ -134,6 +138,65 @@ TEST_P(JointRowsTest, JacobianAndVelocityProductMatchDifferences) {
       ExpectNear(rows[i].bias, second, kSecondTolerance, what + " Jdot v");
     }
   }
+}
+
+// The translations DescribeRows announces (RowTranslation) are the evaluated rows' own; the point rows' blocks,
+// which skip the zeros of their directions (AxisGradient), are PointGradient's bit for bit; and S assembled with
+// the announced translations (schur_system.h) is S assembled from the evaluated ones, bit for bit.
+TEST_P(JointRowsTest, KnownTranslationsAreTheRowsOwnAndAssembleTheSameSchurComplement) {
+  const Case c = GetParam();
+  std::mt19937 random(23);
+  Model<double> model = TwoBodies(c.type, c.a, c.b, &random);
+  Joint<double> pin;  // body b then holds blocks as a row's first body and as its second, as in a chain
+  pin.type = JointType::kPin;
+  pin.name = "pin";
+  pin.a = {1, RandomVector(&random, 0.5)};
+  pin.b = {kWorld, RandomVector(&random, 0.5)};
+  AddJoint(&model, pin);
+  const ConstraintSet<double> set = BuildConstraintSet(model, RandomState(model, &random).q);
+  const State<double> s = RandomState(model, &random);
+  const std::vector<RowInfo> infos = DescribeRows(model, set);
+  const std::vector<ConstraintRow<double>> rows = Rows(model, set, s.q, s.v);
+  for (size_t i = 0; i < rows.size(); ++i) {
+    if (infos[i].translation == RowTranslation::kEvaluated) continue;
+    const Vec3<double> t = infos[i].translation == RowTranslation::kZero
+                               ? Vec3<double>(Vec3<double>::Zero())
+                               : Vec3<double>(Vec3<double>::Unit(TranslationAxis(infos[i].translation)));
+    const std::string what = std::string(JointTypeName(c.type)) + " row " + std::to_string(i);
+    if (rows[i].a.body != kWorld) EXPECT_TRUE(rows[i].a.translation == -t) << what;
+    if (rows[i].b.body != kWorld) EXPECT_TRUE(rows[i].b.translation == t) << what;
+  }
+  BodyFrames<double> frames;
+  UpdateFrames(model, s.q, s.v, true, &frames);
+  size_t row = set.distances.size();
+  for (const PointPrimitive<double>& point : set.points) {
+    const PointMotion<double> pa = MovePoint(model, frames, point.a, s.q, s.v, true);
+    const PointMotion<double> pb = MovePoint(model, frames, point.b, s.q, s.v, true);
+    for (int k = 0; k < 3; ++k, ++row) {
+      const Vec3<double> e = Vec3<double>::Unit(k);
+      EXPECT_TRUE(rows[row].a.rotation == PointGradient(model, frames, point.a.body, Vec3<double>(-e), pa).rotation);
+      EXPECT_TRUE(rows[row].b.rotation == PointGradient(model, frames, point.b.body, e, pb).rotation);
+    }
+  }
+  const std::vector<BodyLayout> layout = LayoutOf(model);
+  const InverseMass<double> inverse = BuildInverseMass(model);
+  auto assemble = [&](const std::vector<RowInfo>& described, bool* known) {
+    const SchurPattern pattern(described, layout);
+    for (const SchurPattern::DenseBody& dense : pattern.dense_bodies()) {
+      *known = *known || (dense.count > 0 && dense.known_translations);
+    }
+    std::vector<double> scratch, values(pattern.nonzeros());
+    AssembleSchur(layout, pattern, rows, inverse.diagonal, inverse.rotational, &scratch, &values);
+    return values;
+  };
+  std::vector<RowInfo> evaluated = infos;
+  for (RowInfo& info : evaluated) info.translation = RowTranslation::kEvaluated;
+  bool known = false, known_anyway = false;
+  EXPECT_EQ(assemble(infos, &known), assemble(evaluated, &known_anyway));
+  EXPECT_FALSE(known_anyway);
+  const bool all_known = std::all_of(
+      infos.begin(), infos.end(), [](const RowInfo& info) { return info.translation != RowTranslation::kEvaluated; });
+  if (all_known) EXPECT_TRUE(known) << "the known translations' path was not taken";
 }
 
 TEST_P(JointRowsTest, CoordinateRatesMatchDifferences) {

@@ -9,6 +9,42 @@
 #include "tether/dynamics/effects/effects.h"
 
 namespace tether {
+namespace {
+
+// Dot(model, g, x) for a row's block g on a 3D body whose translation is known (RowTranslation; kSign: -1 on the
+// row's first body, whose point-row block is -e_k, +1 on its second), with Dot's sum and its exact zero terms left
+// out: Dot adds (t_0 x_0 + t_1 x_1) + (((t_2 x_2 + r_0 x_3) + r_1 x_4) + r_2 x_5).
+template <int kSign, typename S, typename T>
+TETHER_HOT_INLINE T RowBlockDot(const Model<S>& model, const BodyVector<T>& g, RowTranslation translation,
+                                const VecX<T>& x) {
+  if (g.body == kWorld) return T(0.0);
+  const Body<S>& body = model.bodies[g.body];
+  if (translation == RowTranslation::kEvaluated || body.kind != BodyKind::kRigid3d) return Dot(model, g, x);
+  const T* x_b = x.data() + body.v_offset;
+  if (translation == RowTranslation::kZero)
+    return (g.rotation[0] * x_b[3] + g.rotation[1] * x_b[4]) + g.rotation[2] * x_b[5];
+  const int axis = TranslationAxis(translation);
+  const T along = kSign > 0 ? x_b[axis] : T(-x_b[axis]);
+  if (axis == 2) return ((along + g.rotation[0] * x_b[3]) + g.rotation[1] * x_b[4]) + g.rotation[2] * x_b[5];
+  return along + ((g.rotation[0] * x_b[3] + g.rotation[1] * x_b[4]) + g.rotation[2] * x_b[5]);
+}
+
+// AddScaled(model, g, scale, x) for such a block, without adding its zero terms.
+template <int kSign, typename S, typename T>
+TETHER_HOT_INLINE void AddScaledRowBlock(const Model<S>& model, const BodyVector<T>& g, RowTranslation translation,
+                                         const T& scale, VecX<T>* x) {
+  if (g.body == kWorld) return;
+  const Body<S>& body = model.bodies[g.body];
+  if (translation == RowTranslation::kEvaluated || body.kind != BodyKind::kRigid3d) {
+    AddScaled(model, g, scale, x);
+    return;
+  }
+  T* x_b = x->data() + body.v_offset;
+  if (translation != RowTranslation::kZero) x_b[TranslationAxis(translation)] += kSign > 0 ? scale : T(-scale);
+  for (int k = 0; k < 3; ++k) x_b[3 + k] += scale * g.rotation[k];
+}
+
+}  // namespace
 
 template <typename T>
 bool ComputeAcceleration(const Model<T>& model, double t, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws,
@@ -38,10 +74,11 @@ TETHER_FLATTEN bool KktAcceleration(const Model<S>& model, const std::vector<Bod
   ApplyInverseMass(model, inverse_mass, *force, a);  // unconstrained acceleration u = M^-1 f
   // J u + Jdot v + alpha J v + beta C, with the two products by J taken as one, J (u + alpha v)
   kkt->u_plus_alpha_v = *a + alpha * v;
+  const RowTranslation* translation = pattern.row_translations().data();
   for (size_t i = 0; i < rows.size(); ++i) {
     const ConstraintRow<T>& row = rows[i];
-    kkt->rhs[i] =
-        Dot(model, row.a, kkt->u_plus_alpha_v) + Dot(model, row.b, kkt->u_plus_alpha_v) + row.bias + beta * row.value;
+    kkt->rhs[i] = RowBlockDot<-1>(model, row.a, translation[i], kkt->u_plus_alpha_v) +
+                  RowBlockDot<1>(model, row.b, translation[i], kkt->u_plus_alpha_v) + row.bias + beta * row.value;
   }
   AssembleSchur(layout, pattern, rows, inverse_mass.diagonal, inverse_mass.rotational, &kkt->assembly_scratch,
                 &kkt->schur);
@@ -51,8 +88,8 @@ TETHER_FLATTEN bool KktAcceleration(const Model<S>& model, const std::vector<Bod
   }
   // v' = M^-1 (f - J^T lambda)
   for (size_t i = 0; i < rows.size(); ++i) {
-    AddScaled(model, rows[i].a, T(-kkt->lambda[i]), force);
-    AddScaled(model, rows[i].b, T(-kkt->lambda[i]), force);
+    AddScaledRowBlock<-1>(model, rows[i].a, translation[i], T(-kkt->lambda[i]), force);
+    AddScaledRowBlock<1>(model, rows[i].b, translation[i], T(-kkt->lambda[i]), force);
   }
   ApplyInverseMass(model, inverse_mass, *force, a);
   return true;

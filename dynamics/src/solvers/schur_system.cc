@@ -4,6 +4,17 @@
 #include <map>
 
 namespace tether {
+namespace {
+
+// t_p . t_q for two blocks (row, slot) whose translations are known: a point row's is -e_k on its first body (slot
+// 0) and +e_k on its second, an angle row's zero.
+double KnownTranslationProduct(const std::vector<RowInfo>& infos, std::pair<int, int> p, std::pair<int, int> q) {
+  const RowTranslation tp = infos[p.first].translation, tq = infos[q.first].translation;
+  if (tp == RowTranslation::kZero || tp != tq) return 0.0;
+  return p.second == q.second ? 1.0 : -1.0;
+}
+
+}  // namespace
 
 SchurPattern::SchurPattern(const std::vector<RowInfo>& infos, int num_bodies)
     : SchurPattern(infos, std::vector<BodyLayout>(num_bodies)) {}
@@ -16,6 +27,7 @@ SchurPattern::SchurPattern(const std::vector<RowInfo>& infos, const std::vector<
   for (int i = 0; i < size_; ++i) {
     if (infos[i].body_a != kWorld) touching[infos[i].body_a].push_back({i, 0});
     if (infos[i].body_b != kWorld) touching[infos[i].body_b].push_back({i, 1});
+    row_translations_.push_back(infos[i].translation);
   }
   // entries (i >= j) of the lower triangle, column by column with sorted rows; the diagonal is always stored
   std::vector<std::vector<int>> rows_of_column(size_);
@@ -46,11 +58,18 @@ SchurPattern::SchurPattern(const std::vector<RowInfo>& infos, const std::vector<
     const std::vector<std::pair<int, int>>& list = touching[body];  // rows in increasing order
     if (layout[body].kind == BodyKind::kRigid3d) {
       const int count = static_cast<int>(list.size());
-      dense_bodies_.push_back({body, static_cast<int>(blocks_.size()), count, static_cast<int>(entries_.size())});
+      const bool known = std::all_of(list.begin(), list.end(), [&infos](const std::pair<int, int>& block) {
+        return infos[block.first].translation != RowTranslation::kEvaluated;
+      });
+      dense_bodies_.push_back(
+          {body, static_cast<int>(blocks_.size()), count, static_cast<int>(entries_.size()), known});
       largest_dense_count_ = std::max(largest_dense_count_, count);
       blocks_.insert(blocks_.end(), list.begin(), list.end());
       for (int p = 0; p < count; ++p) {
-        for (int q = 0; q <= p; ++q) entries_.push_back(index.at({list[p].first, list[q].first}));
+        for (int q = 0; q <= p; ++q) {
+          entries_.push_back(index.at({list[p].first, list[q].first}));
+          translation_products_.push_back(known ? KnownTranslationProduct(infos, list[p], list[q]) : 0.0);
+        }
       }
       continue;
     }
@@ -71,6 +90,65 @@ std::vector<BodyLayout> LayoutOf(const Model<T>& model) {
   return layout;
 }
 
+namespace {
+
+// G (k x 6) of a 3D body gathered, W = G M_b^-1, and the lower triangle of G W^T added at its entries.
+template <typename T>
+TETHER_HOT_INLINE void AddDenseBody(const SchurPattern& pattern, const SchurPattern::DenseBody& dense,
+                                    const std::vector<ConstraintRow<T>>& rows, const T& inverse_mass,
+                                    const Mat3<T>& inverse_inertia, T* __restrict G, T* __restrict W,
+                                    T* __restrict value) {
+  for (int p = 0; p < dense.count; ++p) {
+    const auto [row, slot] = pattern.blocks()[dense.first_block + p];
+    const BodyVector<T>& g = slot == 0 ? rows[row].a : rows[row].b;
+    const Vec3<T> w = inverse_inertia * g.rotation;
+    for (int k = 0; k < 3; ++k) {
+      G[6 * p + k] = g.translation[k];
+      G[6 * p + 3 + k] = g.rotation[k];
+      W[6 * p + k] = g.translation[k] * inverse_mass;
+      W[6 * p + 3 + k] = w[k];
+    }
+  }
+  const int* entry = pattern.entries().data() + dense.first_entry;
+  for (int p = 0; p < dense.count; ++p) {
+    const T g0 = G[6 * p], g1 = G[6 * p + 1], g2 = G[6 * p + 2], g3 = G[6 * p + 3], g4 = G[6 * p + 4],
+            g5 = G[6 * p + 5];
+    for (int q = 0; q <= p; ++q) {
+      const T* wq = W + 6 * q;
+      value[*entry++] += (g0 * wq[0] + g1 * wq[1]) + (g2 * wq[2] + g3 * wq[3]) + (g4 * wq[4] + g5 * wq[5]);
+    }
+  }
+}
+
+// The same for a body whose translations are known: (t_p . t_q) / m + r_p . I^-1 r_q, its rotational parts r (k x
+// 3) gathered in G and I^-1 r in W. The sums are AddDenseBody's with its exact zero terms left out.
+template <typename T>
+TETHER_HOT_INLINE void AddKnownTranslationBody(const SchurPattern& pattern, const SchurPattern::DenseBody& dense,
+                                               const std::vector<ConstraintRow<T>>& rows, const T& inverse_mass,
+                                               const Mat3<T>& inverse_inertia, T* __restrict G, T* __restrict W,
+                                               T* __restrict value) {
+  for (int p = 0; p < dense.count; ++p) {
+    const auto [row, slot] = pattern.blocks()[dense.first_block + p];
+    const Vec3<T>& r = slot == 0 ? rows[row].a.rotation : rows[row].b.rotation;
+    const Vec3<T> w = inverse_inertia * r;
+    for (int k = 0; k < 3; ++k) {
+      G[3 * p + k] = r[k];
+      W[3 * p + k] = w[k];
+    }
+  }
+  const int* entry = pattern.entries().data() + dense.first_entry;
+  const double* translation = pattern.translation_products().data() + dense.first_entry;
+  for (int p = 0; p < dense.count; ++p) {
+    const T r0 = G[3 * p], r1 = G[3 * p + 1], r2 = G[3 * p + 2];
+    for (int q = 0; q <= p; ++q) {
+      const T* wq = W + 3 * q;
+      value[*entry++] += (*translation++ * inverse_mass + r0 * wq[0]) + (r1 * wq[1] + r2 * wq[2]);
+    }
+  }
+}
+
+}  // namespace
+
 template <typename T>
 void AssembleSchur(const std::vector<BodyLayout>& layout, const SchurPattern& pattern,
                    const std::vector<ConstraintRow<T>>& rows, const VecX<T>& inverse_diagonal,
@@ -83,27 +161,12 @@ void AssembleSchur(const std::vector<BodyLayout>& layout, const SchurPattern& pa
   T* __restrict W = G + 6 * pattern.largest_dense_count();
   T* __restrict value = values->data();
   for (const SchurPattern::DenseBody& dense : pattern.dense_bodies()) {
-    const T inverse_mass = inverse_diagonal[layout[dense.body].v_offset];
+    const T& inverse_mass = inverse_diagonal[layout[dense.body].v_offset];
     const Mat3<T>& inverse_inertia = inverse_rotational[dense.body];
-    for (int p = 0; p < dense.count; ++p) {
-      const auto [row, slot] = pattern.blocks()[dense.first_block + p];
-      const BodyVector<T>& g = slot == 0 ? rows[row].a : rows[row].b;
-      const Vec3<T> w = inverse_inertia * g.rotation;
-      for (int k = 0; k < 3; ++k) {
-        G[6 * p + k] = g.translation[k];
-        G[6 * p + 3 + k] = g.rotation[k];
-        W[6 * p + k] = g.translation[k] * inverse_mass;
-        W[6 * p + 3 + k] = w[k];
-      }
-    }
-    const int* entry = pattern.entries().data() + dense.first_entry;
-    for (int p = 0; p < dense.count; ++p) {
-      const T g0 = G[6 * p], g1 = G[6 * p + 1], g2 = G[6 * p + 2], g3 = G[6 * p + 3], g4 = G[6 * p + 4],
-              g5 = G[6 * p + 5];
-      for (int q = 0; q <= p; ++q) {
-        const T* wq = W + 6 * q;
-        value[*entry++] += (g0 * wq[0] + g1 * wq[1]) + (g2 * wq[2] + g3 * wq[3]) + (g4 * wq[4] + g5 * wq[5]);
-      }
+    if (dense.known_translations) {
+      AddKnownTranslationBody(pattern, dense, rows, inverse_mass, inverse_inertia, G, W, value);
+    } else {
+      AddDenseBody(pattern, dense, rows, inverse_mass, inverse_inertia, G, W, value);
     }
   }
   // particles and planar rigid bodies: term by term

@@ -61,15 +61,27 @@ struct ConstraintRow {
 // push, never pull.
 enum class RowLaw { kEquality, kGap };
 
-// What is known about a row before any evaluation: the constraint it belongs to, the bodies it touches and its
-// law. Rows of one primitive are consecutive; `part` counts the primitives, so that a constraint's violation is
-// the largest norm over its primitives (metres and radians are not added).
+// A row's translational Jacobian blocks where they are known before any evaluation, so that the assembly of S
+// skips their products (schur_system.h): zero on both bodies (angle rows), or a point row's world axis e_k
+// (-e_k on the first body, +e_k on the second). kEvaluated: whatever the evaluation gives.
+enum class RowTranslation : signed char { kEvaluated, kZero, kAxisX, kAxisY, kAxisZ };
+inline RowTranslation AxisTranslation(int k) {
+  return static_cast<RowTranslation>(static_cast<int>(RowTranslation::kAxisX) + k);
+}
+inline int TranslationAxis(RowTranslation translation) {  // k for kAxisX + k
+  return static_cast<int>(translation) - static_cast<int>(RowTranslation::kAxisX);
+}
+
+// What is known about a row before any evaluation: the constraint it belongs to, the bodies it touches, its law
+// and its translational Jacobian. Rows of one primitive are consecutive; `part` counts the primitives, so that a
+// constraint's violation is the largest norm over its primitives (metres and radians are not added).
 struct RowInfo {
   int scene_index = 0;
   int body_a = kWorld;
   int body_b = kWorld;
   int part = 0;
   RowLaw law = RowLaw::kEquality;
+  RowTranslation translation = RowTranslation::kEvaluated;
 };
 
 template <typename T>

@@ -49,6 +49,17 @@ TETHER_HOT_INLINE void EvaluateDistanceRow(const Model<T>& model, const BodyFram
   }
 }
 
+// A 3D point primitive's row along e_K.
+template <int K, typename T>
+TETHER_HOT_INLINE void PointAxisRow(const Model<T>& model, const BodyFrames<T>& frames, const PointPrimitive<T>& c,
+                                    const PointMotion<T>& pa, const PointMotion<T>& pb, bool velocity_terms,
+                                    ConstraintRow<T>* row) {
+  row->value = pb.position[K] - pa.position[K];
+  row->a = AxisGradient<K, -1>(model, frames, c.a.body, pa);
+  row->b = AxisGradient<K, 1>(model, frames, c.b.body, pb);
+  if (velocity_terms) row->bias = pb.centripetal[K] - pa.centripetal[K];
+}
+
 // A point primitive's rows (one per axis): C_k = e_k . (p_b - p_a), J = (-e_k, e_k) at the points,
 // Jdot v = e_k . (centripetal_b - centripetal_a). Returns the row after them.
 template <typename T>
@@ -57,6 +68,12 @@ TETHER_HOT_INLINE ConstraintRow<T>* EvaluatePointRows(const Model<T>& model, con
                                                       bool velocity_terms, ConstraintRow<T>* row) {
   const bool vt = velocity_terms;
   const PointMotion<T> pa = MovePoint(model, frames, c.a, q, v, vt), pb = MovePoint(model, frames, c.b, q, v, vt);
+  if (model.dimension == 3) {
+    PointAxisRow<0>(model, frames, c, pa, pb, velocity_terms, row);
+    PointAxisRow<1>(model, frames, c, pa, pb, velocity_terms, row + 1);
+    PointAxisRow<2>(model, frames, c, pa, pb, velocity_terms, row + 2);
+    return row + 3;
+  }
   for (int k = 0; k < model.dimension; ++k, ++row) {
     const Vec3<T> e = Vec3<T>::Unit(k);
     row->value = pb.position[k] - pa.position[k];
@@ -298,14 +315,22 @@ template <typename T>
 std::vector<RowInfo> DescribeRows(const Model<T>& model, const ConstraintSet<T>& set) {
   std::vector<RowInfo> infos;
   int part = 0;
-  auto add = [&](int scene_index, int a, int b, int count, RowLaw law = RowLaw::kEquality) {
-    for (int k = 0; k < count; ++k) infos.push_back({scene_index, a, b, part, law});
+  auto add = [&](int scene_index, int a, int b, int count, RowLaw law = RowLaw::kEquality,
+                 RowTranslation translation = RowTranslation::kEvaluated) {
+    for (int k = 0; k < count; ++k) infos.push_back({scene_index, a, b, part, law, translation});
     ++part;
   };
   for (const auto& c : set.distances) add(c.scene_index, c.a.body, c.b.body, 1);
-  for (const auto& c : set.points) add(c.scene_index, c.a.body, c.b.body, model.dimension);
+  for (const auto& c : set.points) {  // EvaluatePointRows: row k's blocks are -e_k and e_k
+    for (int k = 0; k < model.dimension; ++k) {
+      infos.push_back({c.scene_index, c.a.body, c.b.body, part, RowLaw::kEquality, AxisTranslation(k)});
+    }
+    ++part;
+  }
   for (const auto& c : set.lines) add(c.scene_index, c.a.body, c.b.body, c.rows);
-  for (const auto& c : set.angles) add(c.scene_index, c.body_a, c.body_b, c.rows);
+  for (const auto& c : set.angles) {  // EvaluateAngleRows: Turning, no translation
+    add(c.scene_index, c.body_a, c.body_b, c.rows, RowLaw::kEquality, RowTranslation::kZero);
+  }
   for (const auto& c : model.user_constraints) add(c.scene_index, c.body_a, c.body_b, c.residual->NumRows());
   for (const auto& c : set.limits) add(c.scene_index, c.body_a, c.body_b, 1, RowLaw::kGap);
   for (const auto& c : set.contacts) add(c.scene_index, c.body_a, c.body_b, 1, RowLaw::kGap);

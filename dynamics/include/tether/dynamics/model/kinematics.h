@@ -196,6 +196,31 @@ TETHER_HOT_INLINE BodyVector<T> PointGradient(const Model<T>& model, const BodyF
   return g;
 }
 
+// PointGradient for the direction +e_K (kSign = 1) or -e_K (kSign = -1), a 3D point row's, without the products by
+// the direction's zeros: on a 3D body arm x e_K has one zero, c_i = a_j and c_j = -a_i for (i, j) = (K + 1, K + 2)
+// mod 3, so R_WP^T c takes two rows of R_WP. The same values bit for bit: the terms left out are exact zeros.
+template <int K, int kSign, typename T>
+TETHER_HOT_INLINE BodyVector<T> AxisGradient(const Model<T>& model, const BodyFrames<T>& frames, int body,
+                                             const PointMotion<T>& point) {
+  const Vec3<T> direction = T(static_cast<double>(kSign)) * Vec3<T>::Unit(K);
+  if (body == kWorld || model.bodies[body].kind != BodyKind::kRigid3d) {
+    return PointGradient(model, frames, body, direction, point);
+  }
+  constexpr int i = (K + 1) % 3, j = (K + 2) % 3;
+  constexpr int low = i < j ? i : j, high = i < j ? j : i;  // TransposeTimes' order
+  const T c_i = kSign > 0 ? point.arm[j] : T(-point.arm[j]);
+  const T c_j = kSign > 0 ? T(-point.arm[i]) : point.arm[i];
+  const T& c_low = low == i ? c_i : c_j;
+  const T& c_high = low == i ? c_j : c_i;
+  const Mat3<T>& R_WP = frames[body].R_WP;
+  BodyVector<T> g;
+  g.body = body;
+  g.translation = direction;
+  g.rotation = Vec3<T>(R_WP(low, 0) * c_low + R_WP(high, 0) * c_high, R_WP(low, 1) * c_low + R_WP(high, 1) * c_high,
+                       R_WP(low, 2) * c_low + R_WP(high, 2) * c_high);
+  return g;
+}
+
 // g . x for the body's slice of a generalized vector x (velocities, accelerations, M^-1 f, ...).
 // (The kinds are tested in the order of how common they are in large systems: particles first.) Here and below
 // the model gives the bodies' layout only: its scalar S may differ from the values' T.

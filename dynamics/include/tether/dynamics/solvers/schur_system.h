@@ -15,7 +15,10 @@
 // assembly is then a loop over the scatter list with no allocation. A 3D rigid body, whose blocks have six
 // numbers each and which enters many entries (a hinge puts five rows on each of its bodies), is assembled as a
 // small dense product instead: its k blocks G (k x 6) are gathered once, W = G M_b^-1, and the k (k + 1) / 2
-// entries of G W^T are added where the pattern puts them.
+// entries of G W^T are added where the pattern puts them. Where every block's translation is known before the
+// evaluation (point and angle rows: RowTranslation), g_p . M_b^-1 g_q = (t_p . t_q) / m + r_p . I^-1 r_q with
+// t_p . t_q in {-1, 0, 1} from the pattern, and only the rotational parts r are gathered: three products a pair
+// instead of six, with the same sums bit for bit (the skipped products are exact zeros and ones).
 #pragma once
 
 #include <vector>
@@ -54,6 +57,8 @@ class SchurPattern {
   const std::vector<int>& row_index() const { return row_index_; }        // row of each stored value
   const std::vector<int>& column_index() const { return column_index_; }  // column of each stored value
   const std::vector<int>& diagonal() const { return diagonal_; }          // value index of S_ii
+  // RowInfo::translation of each row, for the products by J that skip the known zeros too
+  const std::vector<RowTranslation>& row_translations() const { return row_translations_; }
 
   // One term g_i . M_b^-1 g_j of entry `value` (slots: 0 = the row's first body block, 1 = its second).
   struct Term {
@@ -65,22 +70,27 @@ class SchurPattern {
   const std::vector<Term>& terms() const { return terms_; }  // the bodies that are not 3D rigid bodies
 
   // A 3D rigid body's share: its blocks blocks()[first_block, + count) as (row, slot), and the value indices
-  // entries()[first_entry, + count (count + 1) / 2) of the pairs (p, q), q <= p, in that order.
+  // entries()[first_entry, + count (count + 1) / 2) of the pairs (p, q), q <= p, in that order. Where its blocks'
+  // translations are all known, translation_products() holds t_p . t_q at the same indices.
   struct DenseBody {
     int body, first_block, count, first_entry;
+    bool known_translations;
   };
   const std::vector<DenseBody>& dense_bodies() const { return dense_bodies_; }
   const std::vector<std::pair<int, int>>& blocks() const { return blocks_; }
   const std::vector<int>& entries() const { return entries_; }
+  const std::vector<double>& translation_products() const { return translation_products_; }
   int largest_dense_count() const { return largest_dense_count_; }
 
  private:
   int size_ = 0;
   std::vector<int> column_start_, row_index_, column_index_, diagonal_;
+  std::vector<RowTranslation> row_translations_;
   std::vector<Term> terms_;
   std::vector<DenseBody> dense_bodies_;
   std::vector<std::pair<int, int>> blocks_;
   std::vector<int> entries_;
+  std::vector<double> translation_products_;
   int largest_dense_count_ = 0;
 };
 
