@@ -121,29 +121,40 @@ TETHER_HOT_INLINE void AddDenseBody(const SchurPattern& pattern, const SchurPatt
 }
 
 // The same for a body whose translations are known: (t_p . t_q) / m + r_p . I^-1 r_q, its rotational parts r (k x
-// 3) gathered in G and I^-1 r in W. The sums are AddDenseBody's with its exact zero terms left out.
+// 3) gathered in G and I^-1 r in W by component (W_c[q] at W[c k + q]), so that two pairs (p, q), (p, q + 1) are
+// summed side by side in one vector register. The sums are AddDenseBody's with its exact zero terms left out.
 template <typename T>
 TETHER_HOT_INLINE void AddKnownTranslationBody(const SchurPattern& pattern, const SchurPattern::DenseBody& dense,
                                                const std::vector<ConstraintRow<T>>& rows, const T& inverse_mass,
                                                const Mat3<T>& inverse_inertia, T* __restrict G, T* __restrict W,
                                                T* __restrict value) {
-  for (int p = 0; p < dense.count; ++p) {
+  const int count = dense.count;
+  for (int p = 0; p < count; ++p) {
     const auto [row, slot] = pattern.blocks()[dense.first_block + p];
     const Vec3<T>& r = slot == 0 ? rows[row].a.rotation : rows[row].b.rotation;
     const Vec3<T> w = inverse_inertia * r;
     for (int k = 0; k < 3; ++k) {
       G[3 * p + k] = r[k];
-      W[3 * p + k] = w[k];
+      W[k * count + p] = w[k];
     }
   }
+  using Two = Eigen::Array<T, 2, 1>;
+  const T* __restrict W0 = W;
+  const T* __restrict W1 = W + count;
+  const T* __restrict W2 = W + 2 * count;
   const int* entry = pattern.entries().data() + dense.first_entry;
   const double* translation = pattern.translation_products().data() + dense.first_entry;
-  for (int p = 0; p < dense.count; ++p) {
+  for (int p = 0; p < count; ++p, entry += p, translation += p) {
     const T r0 = G[3 * p], r1 = G[3 * p + 1], r2 = G[3 * p + 2];
-    for (int q = 0; q <= p; ++q) {
-      const T* wq = W + 3 * q;
-      value[*entry++] += (*translation++ * inverse_mass + r0 * wq[0]) + (r1 * wq[1] + r2 * wq[2]);
+    int q = 0;
+    for (; q < p; q += 2) {
+      const Two sum = (Eigen::Map<const Eigen::Array2d>(translation + q).template cast<T>() * inverse_mass +
+                       r0 * Eigen::Map<const Two>(W0 + q)) +
+                      (r1 * Eigen::Map<const Two>(W1 + q) + r2 * Eigen::Map<const Two>(W2 + q));
+      value[entry[q]] += sum[0];
+      value[entry[q + 1]] += sum[1];
     }
+    if (q == p) value[entry[p]] += (translation[p] * inverse_mass + r0 * W0[p]) + (r1 * W1[p] + r2 * W2[p]);
   }
 }
 
