@@ -63,7 +63,7 @@ void Part(benchmark::State& state, Mechanism mechanism, int size, const std::str
     if (part == "forces") {
       return [&] {
         ws.force.setZero();
-        AccumulateForces(e.model, ws.coordinates, ws.frames, 0.0, e.q, e.v, &ws.force);
+        AccumulateForces(e.model, ws.coordinates, ws.principal_inertia, ws.frames, 0.0, e.q, e.v, &ws.force);
       };
     }
     if (part == "rows") {

@@ -193,7 +193,7 @@ struct Forces {
     UpdateFrames(model, q, v, true, &frames);
     const JointCoordinates<T> coordinates = BuildJointCoordinates(model, InitialState(model).q);
     VecX<T> f = VecX<T>::Constant(v.size(), T(0.0));
-    AccumulateForces(model, coordinates, frames, 0.0, q, v, &f);
+    AccumulateForces(model, coordinates, PrincipalInertias(model), frames, 0.0, q, v, &f);
     return f;
   }
 };

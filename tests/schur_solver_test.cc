@@ -163,7 +163,7 @@ KktPieces<T> Pieces(const Model<T>& model, const VecX<T>& q, const VecX<T>& v) {
     if (body.kind == BodyKind::kPlanar) p.inverse_mass[body.v_offset + 2] = T(1.0) / body.inertia;
   }
   p.force = VecX<T>::Zero(n);
-  AccumulateForces(model, JointCoordinates<T>{}, frames, 0.0, q, v, &p.force);
+  AccumulateForces(model, JointCoordinates<T>{}, PrincipalInertias(model), frames, 0.0, q, v, &p.force);
   const VecX<T> velocity = p.jacobian * v;
   p.gamma.resize(m);
   for (int i = 0; i < m; ++i) p.gamma[i] = -(rows[i].bias + T(kAlpha) * velocity[i] + T(kBeta) * rows[i].value);

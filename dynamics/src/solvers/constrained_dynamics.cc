@@ -51,7 +51,7 @@ bool ComputeAcceleration(const Model<T>& model, double t, const VecX<T>& q, cons
                          VecX<T>* a) {
   UpdateFrames(model, q, v, true, &ws->frames);
   ws->force.setZero();
-  AccumulateForces(model, ws->coordinates, ws->frames, t, q, v, &ws->force);
+  AccumulateForces(model, ws->coordinates, ws->principal_inertia, ws->frames, t, q, v, &ws->force);
   if (ws->rows.empty()) {
     ApplyInverseMass(model, ws->inverse_mass, ws->force, a);  // v' = M^-1 f
     return true;

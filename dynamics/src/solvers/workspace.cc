@@ -70,6 +70,7 @@ Workspace<T>::Workspace(const Model<T>& model, const VecX<T>& q_start, bool fact
       pattern(&shapes[0].second->pattern),
       solver(&shapes[0].second->solver),
       inverse_mass(BuildInverseMass(model)),
+      principal_inertia(PrincipalInertias(model)),
       rows(infos.size()),
       kkt(*pattern, model.NumVelocities()) {
   const int nq = model.NumCoordinates(), nv = model.NumVelocities();

@@ -11,6 +11,8 @@
 // visited; an empty list costs nothing.
 #pragma once
 
+#include <vector>
+
 #include "tether/dynamics/constraints/joint_coordinates.h"
 
 namespace tether {
@@ -24,10 +26,17 @@ Mat3<T> PrincipalInertia(const Body<T>& body) {
   return PrincipalInertia(body.inertia_tensor, body.principal_axes);
 }
 
-// f += the generalized force at time t and state (q, v); frames updated there with velocities.
+// PrincipalInertia of every body (zero for those that are not 3D rigid bodies): taken once per run, as M^-1 is,
+// so that an evaluation's gyroscopic torques do not turn each body's tensor into its principal axes again.
 template <typename T>
-void AccumulateForces(const Model<T>& model, const JointCoordinates<T>& coordinates, const BodyFrames<T>& frames,
-                      double t, const VecX<T>& q, const VecX<T>& v, VecX<T>* f);
+std::vector<Mat3<T>> PrincipalInertias(const Model<T>& model);
+
+// f += the generalized force at time t and state (q, v); frames updated there with velocities; principal_inertia
+// as PrincipalInertias(model).
+template <typename T>
+void AccumulateForces(const Model<T>& model, const JointCoordinates<T>& coordinates,
+                      const std::vector<Mat3<T>>& principal_inertia, const BodyFrames<T>& frames, double t,
+                      const VecX<T>& q, const VecX<T>& v, VecX<T>* f);
 
 // 1/2 v^T M v, J.
 template <typename T>

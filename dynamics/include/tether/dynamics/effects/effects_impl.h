@@ -21,9 +21,16 @@ Mat3<T> PrincipalInertia(const Mat3<T>& inertia_tensor, const Vec4<double>& prin
 }
 
 template <typename T>
+std::vector<Mat3<T>> PrincipalInertias(const Model<T>& model) {
+  std::vector<Mat3<T>> inertias(model.bodies.size(), Mat3<T>::Zero());
+  for (int index : model.spatial_bodies) inertias[index] = PrincipalInertia(model.bodies[index]);
+  return inertias;
+}
+
+template <typename T>
 TETHER_FLATTEN void AccumulateForces(const Model<T>& model, const JointCoordinates<T>& coordinates,
-                                     const BodyFrames<T>& frames, double t, const VecX<T>& q, const VecX<T>& v,
-                                     VecX<T>* f) {
+                                     const std::vector<Mat3<T>>& principal_inertia, const BodyFrames<T>& frames,
+                                     double t, const VecX<T>& q, const VecX<T>& v, VecX<T>* f) {
   const EffectContext<T> context{model, coordinates, frames, t, q, v};
   ForEachEffectList(
       [&context, f](const auto& list) {
@@ -34,7 +41,7 @@ TETHER_FLATTEN void AccumulateForces(const Model<T>& model, const JointCoordinat
   for (int index : model.spatial_bodies) {
     const Body<T>& body = model.bodies[index];
     const Vec3<T> w_P = v.template segment<3>(body.v_offset + 3);
-    f->template segment<3>(body.v_offset + 3) -= w_P.cross(Vec3<T>(PrincipalInertia(body) * w_P));
+    f->template segment<3>(body.v_offset + 3) -= w_P.cross(Vec3<T>(principal_inertia[index] * w_P));
   }
 }
 

@@ -84,6 +84,7 @@ struct Workspace {
   SchurPattern* pattern;             // of S = J M^-1 J^T for the current rows (in shapes)
   SchurSolver* solver;               // its factorization
   InverseMass<T> inverse_mass;
+  std::vector<Mat3<T>> principal_inertia;  // of each body (PrincipalInertias), for the gyroscopic torques
   JointCoordinates<T> coordinates;  // from q_start; the Stepper builds them again from the assembled state
   T alpha = T(0.0), beta = T(0.0);  // Baumgarte gains in use (0 unless the method is baumgarte)
 
