@@ -13,10 +13,11 @@ namespace {
 
 // Dot(model, g, x) for a row's block g on a 3D body whose translation is known (RowTranslation; kSign: -1 on the
 // row's first body, whose point-row block is -e_k, +1 on its second), with Dot's sum and its exact zero terms left
-// out: Dot adds (t_0 x_0 + t_1 x_1) + (((t_2 x_2 + r_0 x_3) + r_1 x_4) + r_2 x_5).
-template <int kSign, typename S, typename T>
+// out: Dot adds (t_0 x_0 + t_1 x_1) + (((t_2 x_2 + r_0 x_3) + r_1 x_4) + r_2 x_5). kKnown false: Dot itself.
+template <int kSign, bool kKnown, typename S, typename T>
 TETHER_HOT_INLINE T RowBlockDot(const Model<S>& model, const BodyVector<T>& g, RowTranslation translation,
                                 const VecX<T>& x) {
+  if constexpr (!kKnown) return Dot(model, g, x);
   if (g.body == kWorld) return T(0.0);
   const Body<S>& body = model.bodies[g.body];
   if (translation == RowTranslation::kEvaluated || body.kind != BodyKind::kRigid3d) return Dot(model, g, x);
@@ -30,18 +31,45 @@ TETHER_HOT_INLINE T RowBlockDot(const Model<S>& model, const BodyVector<T>& g, R
 }
 
 // AddScaled(model, g, scale, x) for such a block, without adding its zero terms.
-template <int kSign, typename S, typename T>
+template <int kSign, bool kKnown, typename S, typename T>
 TETHER_HOT_INLINE void AddScaledRowBlock(const Model<S>& model, const BodyVector<T>& g, RowTranslation translation,
                                          const T& scale, VecX<T>* x) {
-  if (g.body == kWorld) return;
-  const Body<S>& body = model.bodies[g.body];
-  if (translation == RowTranslation::kEvaluated || body.kind != BodyKind::kRigid3d) {
-    AddScaled(model, g, scale, x);
-    return;
+  if constexpr (kKnown) {
+    if (g.body == kWorld) return;
+    const Body<S>& body = model.bodies[g.body];
+    if (translation != RowTranslation::kEvaluated && body.kind == BodyKind::kRigid3d) {
+      T* x_b = x->data() + body.v_offset;
+      if (translation != RowTranslation::kZero) x_b[TranslationAxis(translation)] += kSign > 0 ? scale : T(-scale);
+      for (int k = 0; k < 3; ++k) x_b[3 + k] += scale * g.rotation[k];
+      return;
+    }
   }
-  T* x_b = x->data() + body.v_offset;
-  if (translation != RowTranslation::kZero) x_b[TranslationAxis(translation)] += kSign > 0 ? scale : T(-scale);
-  for (int k = 0; k < 3; ++k) x_b[3 + k] += scale * g.rotation[k];
+  AddScaled(model, g, scale, x);
+}
+
+// rhs = J x + Jdot v + beta C, row by row (x = u + alpha v).
+template <bool kKnown, typename S, typename T>
+TETHER_HOT_INLINE void SchurRightHandSide(const Model<S>& model, const SchurPattern& pattern,
+                                          const std::vector<ConstraintRow<T>>& rows, const VecX<T>& x, const T& beta,
+                                          VecX<T>* rhs) {
+  const RowTranslation* translation = pattern.row_translations().data();
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const ConstraintRow<T>& row = rows[i];
+    (*rhs)[i] = RowBlockDot<-1, kKnown>(model, row.a, translation[i], x) +
+                RowBlockDot<1, kKnown>(model, row.b, translation[i], x) + row.bias + beta * row.value;
+  }
+}
+
+// f -= J^T lambda.
+template <bool kKnown, typename S, typename T>
+TETHER_HOT_INLINE void SubtractReaction(const Model<S>& model, const SchurPattern& pattern,
+                                        const std::vector<ConstraintRow<T>>& rows, const VecX<T>& lambda,
+                                        VecX<T>* force) {
+  const RowTranslation* translation = pattern.row_translations().data();
+  for (size_t i = 0; i < rows.size(); ++i) {
+    AddScaledRowBlock<-1, kKnown>(model, rows[i].a, translation[i], T(-lambda[i]), force);
+    AddScaledRowBlock<1, kKnown>(model, rows[i].b, translation[i], T(-lambda[i]), force);
+  }
 }
 
 }  // namespace
@@ -74,11 +102,12 @@ TETHER_FLATTEN bool KktAcceleration(const Model<S>& model, const std::vector<Bod
   ApplyInverseMass(model, inverse_mass, *force, a);  // unconstrained acceleration u = M^-1 f
   // J u + Jdot v + alpha J v + beta C, with the two products by J taken as one, J (u + alpha v)
   kkt->u_plus_alpha_v = *a + alpha * v;
-  const RowTranslation* translation = pattern.row_translations().data();
-  for (size_t i = 0; i < rows.size(); ++i) {
-    const ConstraintRow<T>& row = rows[i];
-    kkt->rhs[i] = RowBlockDot<-1>(model, row.a, translation[i], kkt->u_plus_alpha_v) +
-                  RowBlockDot<1>(model, row.b, translation[i], kkt->u_plus_alpha_v) + row.bias + beta * row.value;
+  // the known translations' zeros skipped where a 3D body has them; elsewhere (particles, planar bodies) Dot as it is
+  const bool known = pattern.known_translations_on_3d_bodies();
+  if (known) {
+    SchurRightHandSide<true>(model, pattern, rows, kkt->u_plus_alpha_v, beta, &kkt->rhs);
+  } else {
+    SchurRightHandSide<false>(model, pattern, rows, kkt->u_plus_alpha_v, beta, &kkt->rhs);
   }
   AssembleSchur(layout, pattern, rows, inverse_mass.diagonal, inverse_mass.rotational, &kkt->assembly_scratch,
                 &kkt->schur);
@@ -87,9 +116,10 @@ TETHER_FLATTEN bool KktAcceleration(const Model<S>& model, const std::vector<Bod
     return false;
   }
   // v' = M^-1 (f - J^T lambda)
-  for (size_t i = 0; i < rows.size(); ++i) {
-    AddScaledRowBlock<-1>(model, rows[i].a, translation[i], T(-kkt->lambda[i]), force);
-    AddScaledRowBlock<1>(model, rows[i].b, translation[i], T(-kkt->lambda[i]), force);
+  if (known) {
+    SubtractReaction<true>(model, pattern, rows, kkt->lambda, force);
+  } else {
+    SubtractReaction<false>(model, pattern, rows, kkt->lambda, force);
   }
   ApplyInverseMass(model, inverse_mass, *force, a);
   return true;

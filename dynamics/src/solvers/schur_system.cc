@@ -28,6 +28,10 @@ SchurPattern::SchurPattern(const std::vector<RowInfo>& infos, const std::vector<
     if (infos[i].body_a != kWorld) touching[infos[i].body_a].push_back({i, 0});
     if (infos[i].body_b != kWorld) touching[infos[i].body_b].push_back({i, 1});
     row_translations_.push_back(infos[i].translation);
+    const auto spatial = [&layout](int body) { return body != kWorld && layout[body].kind == BodyKind::kRigid3d; };
+    if (infos[i].translation != RowTranslation::kEvaluated && (spatial(infos[i].body_a) || spatial(infos[i].body_b))) {
+      known_translations_on_3d_bodies_ = true;
+    }
   }
   // entries (i >= j) of the lower triangle, column by column with sorted rows; the diagonal is always stored
   std::vector<std::vector<int>> rows_of_column(size_);

@@ -59,6 +59,8 @@ class SchurPattern {
   const std::vector<int>& diagonal() const { return diagonal_; }          // value index of S_ii
   // RowInfo::translation of each row, for the products by J that skip the known zeros too
   const std::vector<RowTranslation>& row_translations() const { return row_translations_; }
+  // whether some row with a known translation touches a 3D rigid body (the products that can skip it)
+  bool known_translations_on_3d_bodies() const { return known_translations_on_3d_bodies_; }
 
   // One term g_i . M_b^-1 g_j of entry `value` (slots: 0 = the row's first body block, 1 = its second).
   struct Term {
@@ -86,6 +88,7 @@ class SchurPattern {
   int size_ = 0;
   std::vector<int> column_start_, row_index_, column_index_, diagonal_;
   std::vector<RowTranslation> row_translations_;
+  bool known_translations_on_3d_bodies_ = false;
   std::vector<Term> terms_;
   std::vector<DenseBody> dense_bodies_;
   std::vector<std::pair<int, int>> blocks_;
