@@ -16,6 +16,8 @@
 
 #include "tether/dynamics/integration/simulator.h"
 #include "tether/dynamics/io/scene_reader.h"
+#include "tether/dynamics/solvers/constrained_dynamics.h"
+#include "tether/dynamics/solvers/workspace.h"
 
 namespace tether {
 namespace {
@@ -127,6 +129,63 @@ TEST(LongChain, ThousandParticlesHoldTheirLinksAndEnergy) {
   EXPECT_LT(worst, 1e-9 * link * kParticles);
   EXPECT_LT(drift, 1e-6 * kGravity * 1.0);  // against the chain's weight (1 kg) times 1 m
   EXPECT_LT(lowest, -1e-3);                  // it did fall
+}
+
+// A rod hanging from a universal joint (its pin and the angle between the world's x axis and the rod's y axis),
+// and the same joint split into two hinges through an intermediate body of 1e-6 of the rod's mass and inertia, as
+// `tether import --split-joints` makes it. The light body dominates its rows' diagonals of S, and their pivot
+// ratios d_i / S_ii fall far below kNearSingularPivotRatio, yet nothing is near a singular configuration: read against
+// the rows' smallest body shares (schur_solver.h, "Light bodies") the solver sees no near-singular configuration and
+// solves S itself, the split run retakes no step, and it moves as the universal joint does.
+nlohmann::json HangingRod(bool split) {
+  const nlohmann::json rod = {{"name", "rod"},
+                              {"type", "rigid"},
+                              {"mass", 2.0},
+                              {"inertia", {0.17, 0.17, 0.01}},
+                              {"position", {0, 0, -0.5}},
+                              {"velocity", {-1.0, 1.5, 0.0}},
+                              {"angular_velocity", {3.0, 2.0, 0.0}}};
+  const nlohmann::json top = {{0, 0, 0}, {0, 0, 0.5}};  // the pivot, in the world and on the rod
+  nlohmann::json scene = {
+      {"dimension", 3},
+      {"effects", nlohmann::json::array({{{"type", "gravity"}, {"acceleration", {0.0, 0.0, -kGravity}}}})},
+      {"simulation", {{"integrator", "rk4"}, {"step", 1e-3}, {"duration", 1.0}}}};
+  if (!split) {
+    scene["bodies"] = nlohmann::json::array({rod});
+    scene["constraints"] = nlohmann::json::array(
+        {{{"type", "universal"}, {"bodies", {"world", "rod"}}, {"points", top}, {"axes", {{1, 0, 0}, {0, 1, 0}}}}});
+    return scene;
+  }
+  const nlohmann::json link = {{"name", "link"},        {"type", "rigid"},
+                               {"mass", 2e-6},          {"inertia", {1.2e-7, 1.2e-7, 1.2e-7}},
+                               {"position", {0, 0, 0}}, {"angular_velocity", {3.0, 0.0, 0.0}}};
+  scene["bodies"] =
+      nlohmann::json::array({rod, link});  // the rod first: its coordinates where the universal scene has them
+  scene["constraints"] =
+      nlohmann::json::array({{{"type", "hinge"}, {"bodies", {"world", "link"}}, {"axis", {1, 0, 0}}},
+                             {{"type", "hinge"}, {"bodies", {"link", "rod"}}, {"points", top}, {"axis", {0, 1, 0}}}});
+  return scene;
+}
+
+TEST(LightBodies, ASplitJointIsNoSingularConfiguration) {
+  const Model<double> model = ParseScene(HangingRod(true), "split.json").model;
+  RunReport report;
+  const State<double> start = AssembledInitialState(model, &report);
+  Workspace<double> ws(model, start.q);
+  VecX<double> a(start.v.size());
+  ASSERT_TRUE(ComputeAcceleration(model, 0.0, start.q, start.v, &ws, &a));
+  EXPECT_FALSE(ws.solver->saw_near_singular());
+  EXPECT_FALSE(ws.solver->starts_regularized());  // S itself was solved
+
+  VecX<double> universal, split;
+  const RunReport whole = Simulate<double>(ParseScene(HangingRod(false), "universal.json").model, RunOptions{},
+                                           [&](const Sample<double>& s) { universal = s.q.head<7>(); });
+  const RunReport through_link = Simulate<double>(ParseScene(HangingRod(true), "split.json").model, RunOptions{},
+                                                  [&](const Sample<double>& s) { split = s.q.head<7>(); });
+  EXPECT_EQ(whole.retaken_steps, 0);
+  EXPECT_EQ(through_link.retaken_steps, 0);
+  EXPECT_GT((universal.head<3>() - Vec3<double>(0, 0, -0.5)).norm(), 0.1);  // it swung
+  EXPECT_LT((split - universal).norm(), 1e-6);
 }
 
 }  // namespace

@@ -233,7 +233,7 @@ TEST(SchurSolver, HalfSolvesGiveTheProductsOfAFullSolve) {
     Eigen::VectorXd b(m), c = Eigen::VectorXd::Zero(m), x;
     for (Eigen::Index i = 0; i < m; ++i) b[i] = uniform(random);
     c[m / 2] = 1.5;
-    ASSERT_TRUE(ws.solver->SolveAgain(ws.kkt.schur, c, &x));  // S^-1 c
+    ASSERT_TRUE(ws.solver->SolveAgain(ws.kkt.schur, c, &x, SchurSourceOf(ws)));  // S^-1 c
     Eigen::VectorXd y = b, z = c;
     ASSERT_TRUE(ws.solver->HalfSolveInPlace(&y));
     ASSERT_TRUE(ws.solver->HalfSolveInPlace(&z));

@@ -41,7 +41,7 @@ ProjectionResult ProjectPositions(const Model<T>& model, double tolerance, Works
     MultiplyJacobian(model, ws->reaction, ws);
     for (size_t i = 0; i < ws->rows.size(); ++i) ws->kkt.rhs[i] = ws->rows[i].value - ws->kkt.rhs[i];
     AssembleSchur(ws);
-    if (!ws->solver->Solve(ws->kkt.schur, ws->kkt.rhs, &ws->kkt.lambda)) break;
+    if (!ws->solver->Solve(ws->kkt.schur, ws->kkt.rhs, &ws->kkt.lambda, SchurSourceOf(*ws))) break;
     ApplyReaction(model, ws, &ws->reaction);
     Integrate(model, ws->projection_q, ws->reaction, -1.0, q);
   }
@@ -79,7 +79,7 @@ ProjectionResult ProjectPositionsRobustly(const Model<T>& model, double toleranc
       for (int d : ws->pattern->diagonal()) ws->kkt.schur[d] *= T(1.0 + damping);
       for (size_t i = 0; i < rows.size(); ++i) ws->kkt.rhs[i] = rows[i].value;
       ws->rows = rows;
-      if (!ws->solver->Solve(ws->kkt.schur, ws->kkt.rhs, &ws->kkt.lambda)) break;
+      if (!ws->solver->Solve(ws->kkt.schur, ws->kkt.rhs, &ws->kkt.lambda, SchurSourceOf(*ws))) break;
       ApplyReaction(model, ws, &ws->reaction);
       Integrate(model, ws->projection_q, ws->reaction, -1.0, q);
       EvaluateRows(model, *q, unused_velocity, false, ws);
@@ -110,7 +110,7 @@ bool ProjectVelocities(const Model<T>& model, const VecX<T>& q, Workspace<T>* ws
   EvaluateRows(model, q, *v, false, ws);
   MultiplyJacobian(model, *v, ws);
   AssembleSchur(ws);
-  if (!ws->solver->Solve(ws->kkt.schur, ws->kkt.rhs, &ws->kkt.lambda)) return false;
+  if (!ws->solver->Solve(ws->kkt.schur, ws->kkt.rhs, &ws->kkt.lambda, SchurSourceOf(*ws))) return false;
   ApplyReaction(model, ws, &ws->reaction);
   *v -= ws->reaction;
   return true;

@@ -255,7 +255,7 @@ std::vector<double> UnilateralEvents<T>::Impulse(const std::vector<int>& impacti
           ws->kkt.rhs[r] = side ? wanted[active_order_[r - first]] - ws->kkt.rhs[r] : T(0.0);
         }
         AssembleSchur(ws);
-        if (!ws->solver->Solve(ws->kkt.schur, ws->kkt.rhs, &ws->kkt.lambda)) return false;
+        if (!ws->solver->Solve(ws->kkt.schur, ws->kkt.rhs, &ws->kkt.lambda, SchurSourceOf(*ws))) return false;
         work = 0.0;  // what the kept rows' impulses do on their drift J v: energy they may add
         for (size_t r = 0; r < drift.size(); ++r) work += std::abs(Value(ws->kkt.lambda[r]) * drift[r]);
         *sides = active_order_;

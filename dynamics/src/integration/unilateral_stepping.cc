@@ -232,7 +232,8 @@ bool UnilateralEvents<T>::Delassus(bool factor, Workspace<T>* ws) {
     ApplyInverseMass(model_, ws->inverse_mass, x, &x);
     if (m == 0) continue;
     CouplingOf(c, *ws, &ws->kkt.rhs);
-    if (factor && c == 0 && !ws->solver->Solve(ws->kkt.schur, ws->kkt.rhs, &ws->kkt.lambda)) return false;
+    if (factor && c == 0 && !ws->solver->Solve(ws->kkt.schur, ws->kkt.rhs, &ws->kkt.lambda, SchurSourceOf(*ws)))
+      return false;
     if constexpr (std::is_same_v<T, double>) {
       halves = halves && ws->solver->HalfSolveInPlace(&ws->kkt.rhs);
       if (halves) {
@@ -242,7 +243,7 @@ bool UnilateralEvents<T>::Delassus(bool factor, Workspace<T>* ws) {
       CouplingOf(c, *ws, &ws->kkt.rhs);
     }
     couplings_.col(c) = ws->kkt.rhs;
-    if (!ws->solver->SolveAgain(ws->kkt.schur, ws->kkt.rhs, &ws->kkt.lambda)) return false;
+    if (!ws->solver->SolveAgain(ws->kkt.schur, ws->kkt.rhs, &ws->kkt.lambda, SchurSourceOf(*ws))) return false;
     reactions_.col(c) = ws->kkt.lambda;
   }
   if (halves && m > 0) {
@@ -281,7 +282,7 @@ VecX<T> UnilateralEvents<T>::VelocityChange(const VecX<T>& impulses, Workspace<T
     ws->kkt.lambda = reactions_ * impulses;
   } else {  // S^-1 G X p
     MultiplyJacobian(model_, dv, ws);
-    ws->solver->SolveAgain(ws->kkt.schur, ws->kkt.rhs, &ws->kkt.lambda);
+    ws->solver->SolveAgain(ws->kkt.schur, ws->kkt.rhs, &ws->kkt.lambda, SchurSourceOf(*ws));
   }
   ApplyReaction(model_, ws, &ws->reaction);
   return dv - ws->reaction;

@@ -111,7 +111,8 @@ TETHER_FLATTEN bool KktAcceleration(const Model<S>& model, const std::vector<Bod
   }
   AssembleSchur(layout, pattern, rows, inverse_mass.diagonal, inverse_mass.rotational, &kkt->assembly_scratch,
                 &kkt->schur);
-  if (!solver->Solve(kkt->schur, kkt->rhs, &kkt->lambda)) {
+  if (!solver->Solve(kkt->schur, kkt->rhs, &kkt->lambda,
+                     {layout, rows, inverse_mass.diagonal, inverse_mass.rotational})) {
     a->setConstant(T(std::numeric_limits<double>::quiet_NaN()));
     return false;
   }
@@ -170,9 +171,9 @@ Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> RegularizedSlidingSchur(const M
 }  // namespace
 
 template <typename S, typename T>
-int SlidingKktAcceleration(const Model<S>& model, SchurSolver* solver, const std::vector<ConstraintRow<T>>& rows,
-                           const std::vector<SlidingRow<T>>& sliding, const InverseMass<T>& inverse_mass,
-                           VecX<T>* force, KktSystem<T>* kkt, VecX<T>* a) {
+int SlidingKktAcceleration(const Model<S>& model, const std::vector<BodyLayout>& layout, SchurSolver* solver,
+                           const std::vector<ConstraintRow<T>>& rows, const std::vector<SlidingRow<T>>& sliding,
+                           const InverseMass<T>& inverse_mass, VecX<T>* force, KktSystem<T>* kkt, VecX<T>* a) {
   const int m = static_cast<int>(rows.size()), k = static_cast<int>(sliding.size());
   const bool redundant = solver->starts_regularized();               // the factorization of S just made was regularized
   std::vector<VecX<T>> friction_columns(k, VecX<T>(force->size()));  // M^-1 (mu J_s)_j^T
@@ -189,7 +190,9 @@ int SlidingKktAcceleration(const Model<S>& model, SchurSolver* solver, const std
       for (int i = 0; i < m; ++i) {
         w[i] = Dot(model, rows[i].a, friction_columns[j]) + Dot(model, rows[i].b, friction_columns[j]);
       }
-      if (!solver->Solve(kkt->schur, w, &solved)) return sliding[j].row;
+      if (!solver->Solve(kkt->schur, w, &solved, {layout, rows, inverse_mass.diagonal, inverse_mass.rotational})) {
+        return sliding[j].row;
+      }
       z.col(j) = solved;
     }
     VecX<T> lambda_k(k);
@@ -220,8 +223,8 @@ bool SolveKkt(const Model<T>& model, const VecX<T>& v, Workspace<T>* ws, VecX<T>
   bool solved = KktAcceleration(model, ws->layout, *ws->pattern, ws->solver, ws->rows, ws->inverse_mass, v, ws->alpha,
                                 ws->beta, &ws->force, &ws->kkt, a);
   if (solved && !ws->sliding.empty()) {
-    ws->painleve =
-        SlidingKktAcceleration(model, ws->solver, ws->rows, ws->sliding, ws->inverse_mass, &ws->force, &ws->kkt, a);
+    ws->painleve = SlidingKktAcceleration(model, ws->layout, ws->solver, ws->rows, ws->sliding, ws->inverse_mass,
+                                          &ws->force, &ws->kkt, a);
     solved = ws->painleve < 0;
   }
   if constexpr (std::is_same_v<T, double>) {

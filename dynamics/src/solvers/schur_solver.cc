@@ -29,13 +29,14 @@ SchurSolver::SchurSolver(const SchurPattern& pattern, KktSolver kind, bool facto
   regularized_jets_.reserve(pattern.nonzeros());
 }
 
-bool SchurSolver::Factor(const std::vector<double>& values) {
+template <typename T>
+bool SchurSolver::Factor(const std::vector<double>& values, const SchurSource<T>& source) {
   close_to_pass_ = false;
-  if (!regularized_ && FactorAsGiven(values) && WellConditioned(values, false)) return true;
+  if (!regularized_ && FactorAsGiven(values) && WellConditioned(values, false, source)) return true;
   regularized_values_ = values;
   Regularize(*pattern_, &regularized_values_);
   if (!FactorAsGiven(regularized_values_, pass_floor_ ? kPassPivotFloor : 0.0)) return false;
-  regularized_ = !WellConditioned(regularized_values_, true);
+  regularized_ = !WellConditioned(regularized_values_, true, source);
   // out of a near-singular stretch: S itself again, when it factors (it should, being well conditioned)
   if (!regularized_ && !FactorAsGiven(values)) {
     regularized_ = true;
@@ -77,18 +78,23 @@ void SchurSolver::SolveWith(const Factorization& factorization, Eigen::VectorXd*
 }
 
 // pivot i belongs to row order[i] of S (the identity for the dense Cholesky)
-bool SchurSolver::WellConditioned(const std::vector<double>& values, bool note_near_singular) {
+template <typename T>
+bool SchurSolver::WellConditioned(const std::vector<double>& values, bool note_near_singular,
+                                  const SchurSource<T>& source) {
   const bool sparse = kind_ == KktSolver::kSparse;
   const Eigen::VectorXd& pivots = sparse ? sparse_factor_.pivots() : pivots_;
   const std::vector<int>& diagonal = pattern_->diagonal();
   bool all_above = true, near_singular = false, close_to_pass = false;
   for (int i = 0; i < pivots.size(); ++i) {
-    const double s_ii = values[diagonal[sparse ? sparse_factor_.order()[i] : i]];  // > 0 once factored
+    const int row = sparse ? sparse_factor_.order()[i] : i;
+    const double s_ii = values[diagonal[row]];  // > 0 once factored
     if (pivots[i] >= kNearSingularPivotRatio * s_ii) continue;
+    const double scale = std::min(s_ii, kLightShareSpread * source.SmallestShare(row));  // light bodies (header)
+    if (pivots[i] >= kNearSingularPivotRatio * scale) continue;
     all_above = false;
     if (!note_near_singular) return false;
     if (pivots[i] > kRedundantPivotRatio * s_ii) near_singular = true;
-    if (pivots[i] <= kSingularPassRatio * s_ii) close_to_pass = true;
+    if (pivots[i] <= kSingularPassRatio * scale) close_to_pass = true;
   }
   if (note_near_singular) NoteConditioning(near_singular, close_to_pass);
   return all_above;
@@ -118,19 +124,21 @@ const std::vector<Jet>& SchurSolver::FactoredJets(const std::vector<Jet>& values
 }
 
 template <>
-bool SchurSolver::Solve<double>(const std::vector<double>& values, const VecX<double>& b, VecX<double>* x) {
-  if (!Factor(values)) return false;
+bool SchurSolver::Solve<double>(const std::vector<double>& values, const VecX<double>& b, VecX<double>* x,
+                                const SchurSource<double>& source) {
+  if (!Factor(values, source)) return false;
   *x = b;
   SolveInPlace(x);
   return true;
 }
 
 template <>
-bool SchurSolver::Solve<Jet>(const std::vector<Jet>& values, const VecX<Jet>& b, VecX<Jet>* x) {
-  if (factor_jet_matrices_) return SolveByFactoringJets(values, b, x);
+bool SchurSolver::Solve<Jet>(const std::vector<Jet>& values, const VecX<Jet>& b, VecX<Jet>* x,
+                             const SchurSource<Jet>& source) {
+  if (factor_jet_matrices_) return SolveByFactoringJets(values, b, x, source);
   value_part_.resize(values.size());
   for (size_t k = 0; k < values.size(); ++k) value_part_[k] = values[k].a;
-  if (!Factor(value_part_)) return false;
+  if (!Factor(value_part_, source)) return false;
   const int n = pattern_->size();
   x0_.resize(n);
   for (int i = 0; i < n; ++i) x0_[i] = b[i].a;
@@ -161,14 +169,15 @@ bool SchurSolver::Solve<Jet>(const std::vector<Jet>& values, const VecX<Jet>& b,
 // off-diagonal value standing for S_ij and S_ji. The regularization adds eps S_ii to a diagonal value (the floor
 // is a constant, as for Jets).
 template <>
-bool SchurSolver::Solve<Rev>(const std::vector<Rev>& values, const VecX<Rev>& b, VecX<Rev>* x) {
+bool SchurSolver::Solve<Rev>(const std::vector<Rev>& values, const VecX<Rev>& b, VecX<Rev>* x,
+                             const SchurSource<Rev>& source) {
   value_part_.resize(values.size());
   bool recorded = false;
   for (size_t k = 0; k < values.size(); ++k) {
     value_part_[k] = values[k].a;
     recorded = recorded || values[k].index >= 0;
   }
-  if (!Factor(value_part_)) return false;
+  if (!Factor(value_part_, source)) return false;
   const int n = pattern_->size();
   x0_.resize(n);
   for (int i = 0; i < n; ++i) {
@@ -209,10 +218,11 @@ bool SchurSolver::Solve<Rev>(const std::vector<Rev>& values, const VecX<Rev>& b,
 // The oracle's substitutions are written out: Eigen's triangular solves skip right-hand-side entries that
 // compare equal to zero, and a Jet compares by its value only, so a zero value with non-zero derivatives would
 // lose them. It regularizes where the double path does (the conditioning of the value part decides).
-bool SchurSolver::SolveByFactoringJets(const std::vector<Jet>& given, const VecX<Jet>& b, VecX<Jet>* x) {
+bool SchurSolver::SolveByFactoringJets(const std::vector<Jet>& given, const VecX<Jet>& b, VecX<Jet>* x,
+                                       const SchurSource<Jet>& source) {
   value_part_.resize(given.size());
   for (size_t k = 0; k < given.size(); ++k) value_part_[k] = given[k].a;
-  if (!Factor(value_part_)) return false;
+  if (!Factor(value_part_, source)) return false;
   const std::vector<Jet>& values = FactoredJets(given);
   const int n = pattern_->size();
   const std::vector<int>& row = pattern_->row_index();

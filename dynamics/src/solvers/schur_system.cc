@@ -1,6 +1,7 @@
 #include "tether/dynamics/solvers/schur_system.h"
 
 #include <algorithm>
+#include <limits>
 #include <map>
 
 namespace tether {
@@ -197,6 +198,20 @@ void AssembleSchur(const std::vector<BodyLayout>& layout, const SchurPattern& pa
 }
 
 template <typename T>
+double SchurSource<T>::SmallestShare(int row) const {
+  double smallest = std::numeric_limits<double>::infinity();
+  for (const BodyVector<T>* g : {&rows[row].a, &rows[row].b}) {
+    if (g->body == kWorld) continue;
+    const BodyLayout& body = layout[g->body];
+    T share = g->translation.squaredNorm() * inverse_diagonal[body.v_offset];  // as AssembleSchur takes it
+    if (body.kind == BodyKind::kRigid3d) share += g->rotation.dot(inverse_rotational[g->body] * g->rotation);
+    if (body.kind == BodyKind::kPlanar) share += g->rotation[2] * g->rotation[2] * inverse_diagonal[body.v_offset + 2];
+    smallest = std::min(smallest, Value(share));
+  }
+  return smallest;
+}
+
+template <typename T>
 void Regularize(const SchurPattern& pattern, std::vector<T>* values) {
   double largest = 0.0;
   for (int d : pattern.diagonal()) largest = std::max(largest, Value((*values)[d]));
@@ -222,6 +237,7 @@ void MultiplySymmetric(const SchurPattern& pattern, const std::vector<S>& values
   template void AssembleSchur<T>(const std::vector<BodyLayout>&, const SchurPattern&,                               \
                                  const std::vector<ConstraintRow<T>>&, const VecX<T>&, const std::vector<Mat3<T>>&, \
                                  std::vector<T>*, std::vector<T>*);                                                 \
+  template struct SchurSource<T>;                                                                                   \
   template void Regularize<T>(const SchurPattern&, std::vector<T>*);                                                \
   template void MultiplySymmetric<T, T>(const SchurPattern&, const std::vector<T>&, const VecX<T>&, VecX<T>*);
 TETHER_FOR_EACH_SCALAR(TETHER_INSTANTIATE_SCHUR_SYSTEM)

@@ -38,9 +38,9 @@ bool KktAcceleration(const Model<S>& model, const std::vector<BodyLayout>& layou
 // The sliding contacts' part (above), after KktAcceleration's solve of S lambda0 = rhs (in kkt->lambda): lambda
 // and v' turned by their friction. Returns the sliding row where det(1 - Z_K) <= 0 (Painleve), else -1.
 template <typename S, typename T>
-int SlidingKktAcceleration(const Model<S>& model, SchurSolver* solver, const std::vector<ConstraintRow<T>>& rows,
-                           const std::vector<SlidingRow<T>>& sliding, const InverseMass<T>& inverse_mass,
-                           VecX<T>* force, KktSystem<T>* kkt, VecX<T>* a);
+int SlidingKktAcceleration(const Model<S>& model, const std::vector<BodyLayout>& layout, SchurSolver* solver,
+                           const std::vector<ConstraintRow<T>>& rows, const std::vector<SlidingRow<T>>& sliding,
+                           const InverseMass<T>& inverse_mass, VecX<T>* force, KktSystem<T>* kkt, VecX<T>* a);
 
 // KktAcceleration on the workspace's rows, force and gains; for Rev, recorded as one operation. A double run
 // with a KKT log (ws->kkt_log) keeps each solve there, and a recorded replay takes them back (kkt_log.h).

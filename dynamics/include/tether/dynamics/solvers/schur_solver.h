@@ -55,6 +55,17 @@
 // come close to the pass"): a lower detection mark lets steps with stages 1e-4 rad from the pass through
 // unrefined (6e-5 rad lost at 0.8 ms), and a floor at 1e-6 loses accuracy where a scene stays near singular (a
 // humanoid whose ball joints are split into hinges).
+// Light bodies. The ratio d_i / S_ii is also small where one light body dominates S_ii and the rows before i
+// hold that body already: a split joint's intermediate body of 1e-6 of a body's mass between two hinges, a light
+// particle between two heavy ones. The nearly lost direction then moves the heavier bodies at their own scale
+// (for two rows through a light body K between A and B, d_i ~ g_A M_A^-1 g_A + g_B M_B^-1 g_B), so it is no
+// singular configuration and no multiplier grows in it: such a scene was projected and had every step retaken in
+// substeps (a split humanoid: 16 times its step's cost, for the same motion to 1e-9). So a small ratio is read again
+// against the row's smallest body share s_i (SchurSource::SmallestShare: the share of S_ii its heaviest body
+// brings, the whole of S_ii for a row on one body): the row counts as near dependence only where d_i is also small
+// against min(S_ii, kLightShareSpread s_i). Rows whose bodies' shares lie within kLightShareSpread of each other
+// (every shipped scene, A02, the four-bars) are read exactly as before; the redundant mark stays relative to S_ii,
+// where the regularization puts its floor. Asked only of rows whose ratio is small, it costs nothing elsewhere.
 // For Jets the value part decides, and the derivative parts are solved with the same matrix (a floor's E is a
 // constant).
 #pragma once
@@ -74,6 +85,7 @@ inline constexpr double kNearSingularPivotRatio = 1e-4;
 inline constexpr double kRedundantPivotRatio = 1e-9;
 inline constexpr double kSingularPassRatio = 1e-6;
 inline constexpr double kPassPivotFloor = 1e-8;
+inline constexpr double kLightShareSpread = 1e3;
 
 inline constexpr int kDenseBlockRows = 128;
 
@@ -113,20 +125,20 @@ class SchurSolver {
     NoteConditioning(near_singular, close_to_pass);
   }
 
-  // x = S^-1 b, S given by its stored values (AssembleSchur). Returns false, leaving x unchanged, when the
-  // factorization fails (a non-finite or indefinite matrix: the run is diverging).
+  // x = S^-1 b, S given by its stored values (AssembleSchur from `source`). Returns false, leaving x unchanged,
+  // when the factorization fails (a non-finite or indefinite matrix: the run is diverging).
   template <typename T>
-  bool Solve(const std::vector<T>& values, const VecX<T>& b, VecX<T>* x);
+  bool Solve(const std::vector<T>& values, const VecX<T>& b, VecX<T>* x, const SchurSource<T>& source);
   // The same after a Solve with the same values: in double a further right-hand side costs a back substitution,
   // not a factorization (Jets and Rev, whose solves carry the derivatives of S, solve again).
   template <typename T>
-  bool SolveAgain(const std::vector<T>& values, const VecX<T>& b, VecX<T>* x) {
+  bool SolveAgain(const std::vector<T>& values, const VecX<T>& b, VecX<T>* x, const SchurSource<T>& source) {
     if constexpr (std::is_same_v<T, double>) {
       *x = b;
       SolveInPlace(x);
       return true;
     } else {
-      return Solve(values, b, x);
+      return Solve(values, b, x, source);
     }
   }
 
@@ -146,12 +158,15 @@ class SchurSolver {
 
  private:
   // Factors S, or S + eps D where S's rows are close to dependence (above); regularized_ says which.
-  bool Factor(const std::vector<double>& values);
+  template <typename T>
+  bool Factor(const std::vector<double>& values, const SchurSource<T>& source);
   // Factors `values` as given (with SparseLdlt's pivot floor); false on a failed factorization.
   bool FactorAsGiven(const std::vector<double>& values, double pivot_floor = 0.0);
-  // Over the last factorization of `values`: whether every pivot ratio is at least kNearSingularPivotRatio, and
-  // (with note_near_singular) records a ratio between the redundant and the near-singular marks.
-  bool WellConditioned(const std::vector<double>& values, bool note_near_singular);
+  // Over the last factorization of `values`: whether every pivot ratio is at least kNearSingularPivotRatio (read
+  // against the light bodies' scale where it is not, above), and (with note_near_singular) records a ratio between
+  // the redundant and the near-singular marks.
+  template <typename T>
+  bool WellConditioned(const std::vector<double>& values, bool note_near_singular, const SchurSource<T>& source);
   void NoteConditioning(bool near_singular, bool close_to_pass) {
     close_to_pass_ = close_to_pass;
     saw_near_singular_ = saw_near_singular_ || near_singular;
@@ -161,7 +176,8 @@ class SchurSolver {
   void SolveInPlace(Eigen::VectorXd* x);
   // The values of the matrix factored last: `values` itself, or regularized_jets_ after a regularized factorization.
   const std::vector<Jet>& FactoredJets(const std::vector<Jet>& values);
-  bool SolveByFactoringJets(const std::vector<Jet>& values, const VecX<Jet>& b, VecX<Jet>* x);
+  bool SolveByFactoringJets(const std::vector<Jet>& values, const VecX<Jet>& b, VecX<Jet>* x,
+                            const SchurSource<Jet>& source);
 
   const SchurPattern* pattern_;
   KktSolver kind_;

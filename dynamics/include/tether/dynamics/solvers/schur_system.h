@@ -105,6 +105,20 @@ void AssembleSchur(const std::vector<BodyLayout>& layout, const SchurPattern& pa
                    const std::vector<ConstraintRow<T>>& rows, const VecX<T>& inverse_diagonal,
                    const std::vector<Mat3<T>>& inverse_rotational, std::vector<T>* scratch, std::vector<T>* values);
 
+// What S was assembled from (AssembleSchur's rows and M^-1), for the solver's conditioning test: where one light
+// body dominates a row's diagonal S_ii, the test reads the row's pivot against the row's smallest body share
+// instead (schur_solver.h, "Light bodies").
+template <typename T>
+struct SchurSource {
+  const std::vector<BodyLayout>& layout;
+  const std::vector<ConstraintRow<T>>& rows;
+  const VecX<T>& inverse_diagonal;
+  const std::vector<Mat3<T>>& inverse_rotational;
+  // min over the bodies b the row touches of its share g_b . M_b^-1 g_b of S_ii (value parts); for a row on one
+  // body, S_ii itself
+  double SmallestShare(int row) const;
+};
+
 // values (a stored S, pattern order) += the regularization above, on the diagonal.
 template <typename T>
 void Regularize(const SchurPattern& pattern, std::vector<T>* values);

@@ -106,6 +106,12 @@ struct Workspace {
 template <typename T>
 void AssembleSchur(Workspace<T>* ws);
 
+// What AssembleSchur(ws) assembles ws->kkt.schur from, for the solver's conditioning test.
+template <typename T>
+SchurSource<T> SchurSourceOf(const Workspace<T>& ws) {
+  return {ws.layout, ws.rows, ws.inverse_mass.diagonal, ws.inverse_mass.rotational};
+}
+
 // ws->kkt.rhs = J x for the rows in ws (x v-shaped).
 template <typename T>
 void MultiplyJacobian(const Model<T>& model, const VecX<T>& x, Workspace<T>* ws);
