@@ -1,8 +1,9 @@
 # Instrumented builds (docs/robustness.md), set up before any target so that every library, the command line
 # and the tests are compiled the same way:
-#   TETHER_SANITIZE  AddressSanitizer + UndefinedBehaviorSanitizer (scripts/dev sanitize, build-asan/)
+#   TETHER_SANITIZE  AddressSanitizer + UndefinedBehaviorSanitizer
 #   TETHER_FUZZ      the same sanitizers plus libFuzzer's coverage instrumentation, and the targets in fuzz/
-#                    (clang only; scripts/dev fuzz, build-fuzz/)
+#                    (clang only)
+# scripts/dev sanitize and scripts/dev fuzz share one clang build with both (build-asan/).
 # Any undefined behaviour is fatal (-fno-sanitize-recover), so a report fails the test or the fuzzing run.
 option(TETHER_SANITIZE "Build with -fsanitize=address,undefined" OFF)
 option(TETHER_FUZZ "Build the libFuzzer targets in fuzz/ (clang only; implies the sanitizers)" OFF)
