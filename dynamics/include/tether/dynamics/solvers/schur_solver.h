@@ -54,18 +54,20 @@
 // A02 with N = 20, 39, 40 and 41 parallelograms and steps of 0.8, 1 and 1.25 ms (docs/numerics.md, "Steps that
 // come close to the pass"): a lower detection mark lets steps with stages 1e-4 rad from the pass through
 // unrefined (6e-5 rad lost at 0.8 ms), and a floor at 1e-6 loses accuracy where a scene stays near singular (a
-// humanoid whose ball joints are split into hinges).
+// humanoid whose ball joints were split into hinges, read as near singular at every step before light bodies were
+// told apart, below).
 // Light bodies. The ratio d_i / S_ii is also small where one light body dominates S_ii and the rows before i
 // hold that body already: a split joint's intermediate body of 1e-6 of a body's mass between two hinges, a light
 // particle between two heavy ones. The nearly lost direction then moves the heavier bodies at their own scale
 // (for two rows through a light body K between A and B, d_i ~ g_A M_A^-1 g_A + g_B M_B^-1 g_B), so it is no
 // singular configuration and no multiplier grows in it: such a scene was projected and had every step retaken in
-// substeps (a split humanoid: 16 times its step's cost, for the same motion to 1e-9). So a small ratio is read again
+// substeps (a split humanoid took 22 times as long, for the same motion to 4e-13 m). So a small ratio is read again
 // against the row's smallest body share s_i (SchurSource::SmallestShare: the share of S_ii its heaviest body
 // brings, the whole of S_ii for a row on one body): the row counts as near dependence only where d_i is also small
 // against min(S_ii, kLightShareSpread s_i). Rows whose bodies' shares lie within kLightShareSpread of each other
-// (every shipped scene, A02, the four-bars) are read exactly as before; the redundant mark stays relative to S_ii,
-// where the regularization puts its floor. Asked only of rows whose ratio is small, it costs nothing elsewhere.
+// are read exactly as before (the shipped scenes and the imported humanoid run bit for bit as they did); the
+// redundant mark stays relative to S_ii, where the regularization puts its floor. Asked only of rows whose ratio
+// is small, it costs nothing elsewhere.
 // For Jets the value part decides, and the derivative parts are solved with the same matrix (a floor's E is a
 // constant).
 #pragma once
