@@ -134,9 +134,9 @@ TEST(LongChain, ThousandParticlesHoldTheirLinksAndEnergy) {
 // A rod hanging from a universal joint (its pin and the angle between the world's x axis and the rod's y axis),
 // and the same joint split into two hinges through an intermediate body of 1e-6 of the rod's mass and inertia, as
 // `tether import --split-joints` makes it. The light body dominates its rows' diagonals of S, and their pivot
-// ratios d_i / S_ii fall far below kNearSingularPivotRatio, yet nothing is near a singular configuration: read against
-// the rows' smallest body shares (schur_solver.h, "Light bodies") the solver sees no near-singular configuration and
-// solves S itself, the split run retakes no step, and it moves as the universal joint does.
+// ratios d_i / S_ii fall below kNearSingularPivotRatio, yet nothing is near a singular configuration: read
+// against the rows' smallest body shares (schur_solver.h, "Light bodies") the solver sees no near-singular
+// configuration and solves S itself, the split run retakes no step, and it moves as the universal joint does.
 nlohmann::json HangingRod(bool split) {
   const nlohmann::json rod = {{"name", "rod"},
                               {"type", "rigid"},
@@ -159,8 +159,8 @@ nlohmann::json HangingRod(bool split) {
   const nlohmann::json link = {{"name", "link"},        {"type", "rigid"},
                                {"mass", 2e-6},          {"inertia", {1.2e-7, 1.2e-7, 1.2e-7}},
                                {"position", {0, 0, 0}}, {"angular_velocity", {3.0, 0.0, 0.0}}};
-  scene["bodies"] =
-      nlohmann::json::array({rod, link});  // the rod first: its coordinates where the universal scene has them
+  // the rod first: its coordinates where the universal scene has them
+  scene["bodies"] = nlohmann::json::array({rod, link});
   scene["constraints"] =
       nlohmann::json::array({{{"type", "hinge"}, {"bodies", {"world", "link"}}, {"axis", {1, 0, 0}}},
                              {{"type", "hinge"}, {"bodies", {"link", "rod"}}, {"points", top}, {"axis", {0, 1, 0}}}});
