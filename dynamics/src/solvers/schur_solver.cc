@@ -83,18 +83,25 @@ bool SchurSolver::WellConditioned(const std::vector<double>& values, bool note_n
                                   const SchurSource<T>& source) {
   const bool sparse = kind_ == KktSolver::kSparse;
   const Eigen::VectorXd& pivots = sparse ? sparse_factor_.pivots() : pivots_;
-  const std::vector<int>& diagonal = pattern_->diagonal();
+  const double* __restrict pivot = pivots.data();
+  const double* __restrict value = values.data();
+  const int* __restrict diagonal = pattern_->diagonal().data();
+  const int* __restrict order = sparse ? sparse_factor_.order().data() : nullptr;
+  const int n = static_cast<int>(pivots.size());
+  // the plain test alone up to the first small ratio (in most scenes every row passes it): no call in that loop
+  int i = 0;
+  while (i < n && pivot[i] >= kNearSingularPivotRatio * value[diagonal[sparse ? order[i] : i]]) ++i;
   bool all_above = true, near_singular = false, close_to_pass = false;
-  for (int i = 0; i < pivots.size(); ++i) {
-    const int row = sparse ? sparse_factor_.order()[i] : i;
-    const double s_ii = values[diagonal[row]];  // > 0 once factored
-    if (pivots[i] >= kNearSingularPivotRatio * s_ii) continue;
+  for (; i < n; ++i) {
+    const int row = sparse ? order[i] : i;
+    const double s_ii = value[diagonal[row]];  // > 0 once factored
+    if (pivot[i] >= kNearSingularPivotRatio * s_ii) continue;
     const double scale = std::min(s_ii, kLightShareSpread * source.SmallestShare(row));  // light bodies (header)
-    if (pivots[i] >= kNearSingularPivotRatio * scale) continue;
+    if (pivot[i] >= kNearSingularPivotRatio * scale) continue;
     all_above = false;
     if (!note_near_singular) return false;
-    if (pivots[i] > kRedundantPivotRatio * s_ii) near_singular = true;
-    if (pivots[i] <= kSingularPassRatio * scale) close_to_pass = true;
+    if (pivot[i] > kRedundantPivotRatio * s_ii) near_singular = true;
+    if (pivot[i] <= kSingularPassRatio * scale) close_to_pass = true;
   }
   if (note_near_singular) NoteConditioning(near_singular, close_to_pass);
   return all_above;
