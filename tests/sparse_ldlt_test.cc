@@ -9,14 +9,19 @@
 //   - a binary tree of 5000 rows, whose breadth-first order from the root would fill L almost densely, is analysed
 //     in its minimum-degree order with little fill;
 //   - a hub's rows (a star) form one dense block, factored in pieces with the same result, and kAuto factors such a
-//     block densely (schur_solver.h).
+//     block densely (schur_solver.h);
+//   - S stored in its factorization's order (SchurSolver::StoreInFactorOrder) is the same matrix: assembled,
+//   multiplied,
+//     ordered and factored, it gives every number of the first storage to the bit.
 #include "tether/dynamics/solvers/sparse_ldlt.h"
 
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <random>
 #include <utility>
 #include <vector>
@@ -215,6 +220,96 @@ TEST(SparseLdlt, AutoFactorsAHubsDenseBlockDenselyAndAChainSparsely) {
             KktSolver::kSparse);  // small blocks stay on the path tuned for them
   EXPECT_EQ(SchurSolver(PatternOf(Chain(5000), 5000), KktSolver::kAuto).kind(), KktSolver::kSparse);
   EXPECT_EQ(SchurSolver(PatternOf(Star(300), 301), KktSolver::kSparse).kind(), KktSolver::kSparse);  // as asked
+}
+
+// 3D bodies in a chain, each held to the previous one by a joint of five rows with random Jacobian blocks: the
+// assembly's dense per-body products (schur_system.h).
+struct RigidChain {
+  explicit RigidChain(int bodies) {
+    std::mt19937 random(11);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    for (int k = 0; k < bodies; ++k) {
+      layout.push_back({BodyKind::kRigid3d, 6 * k});
+      const Eigen::Matrix3d a = Eigen::Matrix3d::NullaryExpr([&] { return unit(random); });
+      inverse_rotational.push_back(a * a.transpose() + Eigen::Matrix3d::Identity());
+      for (int r = 0; r < 5; ++r) infos.push_back({static_cast<int>(infos.size()), k - 1, k});
+    }
+    inverse_diagonal = Eigen::VectorXd::NullaryExpr(6 * bodies, [&] { return 1.5 + unit(random); });
+    rows.resize(infos.size());
+    for (size_t i = 0; i < infos.size(); ++i) {
+      for (BodyVector<double>* block : {&rows[i].a, &rows[i].b}) {
+        block->translation = Eigen::Vector3d::NullaryExpr([&] { return unit(random); });
+        block->rotation = Eigen::Vector3d::NullaryExpr([&] { return unit(random); });
+      }
+    }
+  }
+  std::vector<double> Assemble(const SchurPattern& pattern) const {
+    std::vector<double> scratch, values(pattern.nonzeros());
+    AssembleSchur(layout, pattern, rows, inverse_diagonal, inverse_rotational, &scratch, &values);
+    return values;
+  }
+  std::vector<BodyLayout> layout;
+  std::vector<RowInfo> infos;
+  std::vector<ConstraintRow<double>> rows;
+  Eigen::VectorXd inverse_diagonal;
+  std::vector<Eigen::Matrix3d> inverse_rotational;
+};
+
+void ExpectFactorOrderChangesNothing(const SchurPattern& pattern, const std::vector<double>& values) {
+  SCOPED_TRACE(pattern.size());
+  SparseLdlt first(pattern);
+  SchurPattern stored = pattern;
+  SparseLdlt ldlt(stored);
+  const std::vector<int> position = ldlt.FactorOrder();
+  stored.StoreValuesAt(position);
+  ldlt.StoreValuesAt(position);
+  std::vector<double> moved(values.size());
+  for (size_t v = 0; v < values.size(); ++v) moved[position[v]] = values[v];
+  EXPECT_EQ(Dense(stored, moved), Dense(pattern, values));
+  for (int i = 0; i < pattern.size(); ++i) EXPECT_EQ(moved[stored.diagonal()[i]], values[pattern.diagonal()[i]]);
+
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(pattern.size(), -1.0, 2.0);
+  Eigen::VectorXd product, moved_product;
+  MultiplySymmetric(pattern, values, b, &product);
+  MultiplySymmetric(stored, moved, b, &moved_product);
+  EXPECT_EQ(moved_product, product);
+
+  ASSERT_TRUE(first.Factor(values));
+  ASSERT_TRUE(ldlt.Factor(moved));
+  EXPECT_EQ(ldlt.pivots(), first.pivots());
+  Eigen::VectorXd x = b, moved_x = b;
+  first.SolveInPlace(&x);
+  ldlt.SolveInPlace(&moved_x);
+  EXPECT_EQ(moved_x, x);
+  // the stored pattern analysed afresh orders its rows as the first did (the order does not read the storage),
+  // and so does one stored in a random order
+  SparseLdlt fresh(stored);
+  EXPECT_EQ(fresh.order(), first.order());
+  ASSERT_TRUE(fresh.Factor(moved));
+  EXPECT_EQ(fresh.pivots(), first.pivots());
+  std::vector<int> shuffle(values.size());
+  std::iota(shuffle.begin(), shuffle.end(), 0);
+  std::shuffle(shuffle.begin(), shuffle.end(), std::mt19937(13));
+  SchurPattern shuffled = pattern;
+  shuffled.StoreValuesAt(shuffle);
+  EXPECT_EQ(SparseLdlt(shuffled).order(), first.order());
+}
+
+TEST(SparseLdlt, SStoredInItsFactorOrderIsTheSameMatrix) {
+  for (const SchurPattern& pattern : {PatternOf(Chain(50), 50), PatternOf(Tree(63), 63, 3), PatternOf(Wheel(20), 21),
+                                      PatternOf(Star(30), 31), PatternOf(Chain(10), 10, 5)}) {
+    ExpectFactorOrderChangesNothing(pattern, RandomValues(pattern, 12));
+  }
+  // the dense products of 3D bodies write to the moved entries
+  const RigidChain chain(10);
+  const SchurPattern pattern(chain.infos, chain.layout);
+  SchurPattern stored = pattern;
+  SchurSolver solver(stored, KktSolver::kSparse);
+  const std::vector<int> position = SparseLdlt(pattern).FactorOrder();
+  solver.StoreInFactorOrder(&stored);
+  const std::vector<double> values = chain.Assemble(pattern), moved = chain.Assemble(stored);
+  for (size_t v = 0; v < values.size(); ++v) EXPECT_EQ(moved[position[v]], values[v]) << "value " << v;
+  ExpectFactorOrderChangesNothing(pattern, values);
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <stdexcept>
 
 namespace tether {
 
@@ -27,6 +28,14 @@ SchurSolver::SchurSolver(const SchurPattern& pattern, KktSolver kind, bool facto
   }
   regularized_values_.reserve(pattern.nonzeros());  // a step allocates nothing, regularized or not
   regularized_jets_.reserve(pattern.nonzeros());
+}
+
+void SchurSolver::StoreInFactorOrder(SchurPattern* pattern) {
+  if (pattern != pattern_) throw std::logic_error("StoreInFactorOrder: not the solver's pattern");
+  if (kind_ != KktSolver::kSparse) return;
+  const std::vector<int> position = sparse_factor_.FactorOrder();
+  pattern->StoreValuesAt(position);
+  sparse_factor_.StoreValuesAt(position);
 }
 
 template <typename T>

@@ -45,17 +45,16 @@ SchurPattern::SchurPattern(const std::vector<RowInfo>& infos, const std::vector<
     }
   }
   std::map<std::pair<int, int>, int> index;  // (row, column) -> value index
-  column_start_.push_back(0);
   for (int j = 0; j < size_; ++j) {
     std::vector<int>& rows = rows_of_column[j];
     std::sort(rows.begin(), rows.end());
     rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
     for (int i : rows) {
       index[{i, j}] = static_cast<int>(row_index_.size());
+      by_column_.push_back(static_cast<int>(row_index_.size()));
       row_index_.push_back(i);
       column_index_.push_back(j);
     }
-    column_start_.push_back(static_cast<int>(row_index_.size()));
   }
   diagonal_.resize(size_);
   for (int i = 0; i < size_; ++i) diagonal_[i] = index.at({i, i});
@@ -86,6 +85,21 @@ SchurPattern::SchurPattern(const std::vector<RowInfo>& infos, const std::vector<
   }
   // visit values in storage order: friendlier to the cache during assembly
   std::sort(terms_.begin(), terms_.end(), [](const Term& x, const Term& y) { return x.value < y.value; });
+}
+
+void SchurPattern::StoreValuesAt(const std::vector<int>& position) {
+  std::vector<int> row(row_index_.size()), column(column_index_.size());
+  for (size_t v = 0; v < position.size(); ++v) {
+    row[position[v]] = row_index_[v];
+    column[position[v]] = column_index_[v];
+  }
+  row_index_.swap(row);
+  column_index_.swap(column);
+  for (int& d : diagonal_) d = position[d];
+  for (int& k : by_column_) k = position[k];
+  for (int& e : entries_) e = position[e];
+  for (Term& term : terms_) term.value = position[term.value];
+  std::stable_sort(terms_.begin(), terms_.end(), [](const Term& x, const Term& y) { return x.value < y.value; });
 }
 
 template <typename T>
@@ -225,7 +239,7 @@ void MultiplySymmetric(const SchurPattern& pattern, const std::vector<S>& values
   y->setZero(pattern.size());
   const std::vector<int>& row = pattern.row_index();
   const std::vector<int>& column = pattern.column_index();
-  for (size_t k = 0; k < values.size(); ++k) {
+  for (int k : pattern.by_column()) {
     const int i = row[k], j = column[k];
     (*y)[i] += values[k] * x[j];
     if (i != j) (*y)[j] += values[k] * x[i];

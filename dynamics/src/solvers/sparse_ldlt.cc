@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <numeric>
 #include <queue>
 #include <type_traits>
 
@@ -44,7 +45,7 @@ Eigen::VectorXi MinimumDegreeOrder(const SchurPattern& pattern) {
 Eigen::VectorXi BreadthFirstOrder(const SchurPattern& pattern) {
   const int n = pattern.size();
   std::vector<std::vector<int>> neighbours(n);
-  for (int k = 0; k < pattern.nonzeros(); ++k) {
+  for (int k : pattern.by_column()) {  // not the storage order, which the factorization itself sets (schur_solver.h)
     const int a = pattern.row_index()[k], b = pattern.column_index()[k];
     if (a == b) continue;
     neighbours[a].push_back(b);
@@ -213,6 +214,7 @@ void SparseLdlt::PlanNumericPhase(const SchurPattern& pattern) {
     value_slot_[v] = Slot(std::max(a, b), std::min(a, b));
     from_s[value_slot_[v]] = true;
   }
+  FindValueRuns();
   fill_slot_.clear();
   for (int position = 0; position < nnz; ++position) {
     if (!from_s[position]) fill_slot_.push_back(position);
@@ -303,8 +305,7 @@ bool SparseLdlt::Factor(const std::vector<double>& values, double pivot_floor) {
   root_inverse_d_.resize(0);
   double* __restrict f = lower_value_.data();
   const double* __restrict value = values.data();
-  const int* __restrict slot = value_slot_.data();
-  for (size_t v = 0; v < values.size(); ++v) f[slot[v]] = value[v];
+  for (const ValueRun& run : value_runs_) std::copy(value + run.value, value + run.value + run.count, f + run.slot);
   for (int position : fill_slot_) f[position] = 0.0;
   if (pivot_floor > 0.0) diagonal_ = Eigen::Map<const Eigen::VectorXd>(f + nonzeros(), size());
   if (simplicial_) return FactorColumns(pivot_floor);
@@ -316,6 +317,36 @@ bool SparseLdlt::Factor(const std::vector<double>& values, double pivot_floor) {
     if (!factored) return false;
   }
   return true;
+}
+
+std::vector<int> SparseLdlt::FactorOrder() const {
+  std::vector<int> by_slot(value_slot_.size());
+  std::iota(by_slot.begin(), by_slot.end(), 0);
+  std::sort(by_slot.begin(), by_slot.end(), [this](int x, int y) { return value_slot_[x] < value_slot_[y]; });
+  std::vector<int> position(value_slot_.size());
+  for (size_t k = 0; k < by_slot.size(); ++k) position[by_slot[k]] = static_cast<int>(k);
+  return position;
+}
+
+void SparseLdlt::StoreValuesAt(const std::vector<int>& position) {
+  std::vector<int> slot(value_slot_.size());
+  for (size_t v = 0; v < position.size(); ++v) slot[position[v]] = value_slot_[v];
+  value_slot_.swap(slot);
+  FindValueRuns();
+}
+
+void SparseLdlt::FindValueRuns() {
+  value_runs_.clear();
+  for (int v = 0; v < static_cast<int>(value_slot_.size()); ++v) {
+    if (!value_runs_.empty()) {
+      ValueRun& last = value_runs_.back();
+      if (v == last.value + last.count && value_slot_[v] == last.slot + last.count) {
+        ++last.count;
+        continue;
+      }
+    }
+    value_runs_.push_back({v, value_slot_[v], 1});
+  }
 }
 
 // Column by column, right-looking: d_j = A(j, j), A(r_p, r_q) -= L(r_p, j) d_j L(r_q, j) for the rows r_q <= r_p of

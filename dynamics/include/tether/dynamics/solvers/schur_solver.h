@@ -106,6 +106,9 @@ class SchurSolver {
   SchurSolver(const SchurPattern& pattern, KktSolver kind, bool factor_jet_matrices = false);
 
   KktSolver kind() const { return kind_; }
+  // Stores `pattern` (the one this solver was made with) in the order the sparse factorization reads it, so that
+  // a factorization starts from one block copy of S (sparse_ldlt.h); nothing where the path is dense.
+  void StoreInFactorOrder(SchurPattern* pattern);
 
   // Whether a factorization since the last call to ForgetConditioning() was near a singular configuration.
   bool saw_near_singular() const { return saw_near_singular_; }

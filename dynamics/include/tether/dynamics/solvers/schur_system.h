@@ -11,7 +11,8 @@
 // For redundant rows (a duplicated rod, a parallelogram's extra bar) it selects the multipliers of least norm, as
 // Tikhonov regularization does when eps -> 0, instead of dividing by a round-off pivot.
 //
-// The pattern (lower triangle, compressed columns, rows sorted) and the scatter list are built once per model;
+// The pattern (lower triangle, built column by column with sorted rows, then stored in the order its factorization
+// reads it) and the scatter list are built once per model;
 // assembly is then a loop over the scatter list with no allocation. A 3D rigid body, whose blocks have six
 // numbers each and which enters many entries (a hinge puts five rows on each of its bodies), is assembled as a
 // small dense product instead: its k blocks G (k x 6) are gathered once, W = G M_b^-1, and the k (k + 1) / 2
@@ -53,10 +54,11 @@ class SchurPattern {
 
   int size() const { return size_; }
   int nonzeros() const { return static_cast<int>(row_index_.size()); }
-  const std::vector<int>& column_start() const { return column_start_; }  // size() + 1 entries
   const std::vector<int>& row_index() const { return row_index_; }        // row of each stored value
   const std::vector<int>& column_index() const { return column_index_; }  // column of each stored value
   const std::vector<int>& diagonal() const { return diagonal_; }          // value index of S_ii
+  // the value indices column by column, rows increasing (the order products with S sum in, whatever the storage)
+  const std::vector<int>& by_column() const { return by_column_; }
   // RowInfo::translation of each row, for the products by J that skip the known zeros too
   const std::vector<RowTranslation>& row_translations() const { return row_translations_; }
   // whether some row with a known translation touches a 3D rigid body (the products that can skip it)
@@ -84,9 +86,14 @@ class SchurPattern {
   const std::vector<double>& translation_products() const { return translation_products_; }
   int largest_dense_count() const { return largest_dense_count_; }
 
+  // Moves stored value v to index position[v] (a permutation of the stored values), so that S is stored in the
+  // order its factorization reads it (SchurSolver::StoreInFactorOrder). The rows, columns, by_column() and every
+  // index into the values follow, so nothing computed from the pattern changes, to the bit.
+  void StoreValuesAt(const std::vector<int>& position);
+
  private:
   int size_ = 0;
-  std::vector<int> column_start_, row_index_, column_index_, diagonal_;
+  std::vector<int> row_index_, column_index_, diagonal_, by_column_;
   std::vector<RowTranslation> row_translations_;
   bool known_translations_on_3d_bodies_ = false;
   std::vector<Term> terms_;

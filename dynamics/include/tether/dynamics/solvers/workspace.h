@@ -52,7 +52,9 @@ struct KktSystem {
 struct SchurShape {
   SchurShape(const std::vector<RowInfo>& infos, const std::vector<BodyLayout>& layout, KktSolver kind,
              bool factor_jet_matrices)
-      : pattern(infos, layout), solver(pattern, kind, factor_jet_matrices) {}
+      : pattern(infos, layout), solver(pattern, kind, factor_jet_matrices) {
+    solver.StoreInFactorOrder(&pattern);
+  }
   SchurShape(const SchurShape&) = delete;
   SchurShape& operator=(const SchurShape&) = delete;
   SchurPattern pattern;
