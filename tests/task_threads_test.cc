@@ -1,10 +1,11 @@
-// RunTasks and IdleCores (tuning/src/task_threads.h), which run fit's starts and, on the cores finished starts
-// give back, the Jet runs of the Jacobians of the starts still running:
+// StartThreads, RunTasks and IdleCores (tether/tuning/task_threads.h), which run fit's starts and, on the cores
+// finished starts give back, the Jet runs of the Jacobians of the starts still running (and a study's rows):
+//   - StartThreads starts as many threads as asked, each running the work once (none for a count of zero);
 //   - every task runs exactly once, on as many threads as asked, and each thread gives its core back at the end;
 //   - a task's exception is rethrown once all the other tasks have run;
 //   - RunTasksOnIdleCores takes no more idle cores than it has tasks beyond the first, and gives them all back,
 //     after an exception too.
-#include "task_threads.h"
+#include "tether/tuning/task_threads.h"
 
 #include <gtest/gtest.h>
 
@@ -18,6 +19,16 @@
 
 namespace tether {
 namespace {
+
+TEST(TaskThreads, StartThreadsStartsAsManyAsAskedEachRunningTheWorkOnce) {
+  for (int count : {0, 1, 4}) {
+    std::atomic<int> runs{0};
+    std::vector<std::thread> pool = StartThreads(count, [&runs] { ++runs; });
+    EXPECT_EQ(static_cast<int>(pool.size()), count);
+    for (std::thread& t : pool) t.join();
+    EXPECT_EQ(runs, count);
+  }
+}
 
 TEST(TaskThreads, EveryTaskRunsOnceAndEachThreadGivesItsCoreBack) {
   std::vector<std::atomic<int>> runs(100);

@@ -11,7 +11,6 @@
 #include <map>
 #include <mutex>
 #include <sstream>
-#include <system_error>
 #include <thread>
 
 #include "tether/dynamics/integration/default_gains.h"
@@ -23,6 +22,7 @@
 #include "tether/tuning/gain_objective.h"
 #include "tether/tuning/gain_tuning.h"
 #include "tether/tuning/reference.h"
+#include "tether/tuning/task_threads.h"
 
 namespace tether {
 namespace {
@@ -150,15 +150,9 @@ void RunRows(const StudySpec& spec, const std::vector<int>& indices, int threads
       ready.notify_one();
     }
   };
-  std::vector<std::thread> pool;
-  const int workers = std::max(1, std::min(threads, static_cast<int>(indices.size())));
-  try {
-    for (int t = 0; t < workers && !indices.empty(); ++t) pool.emplace_back(work);
-  } catch (const std::system_error&) {
-    // the system refused a thread (a process limit on threads): the rows run on those that did start, or on this
-    // one when none did (a joinable thread left behind by the exception would abort the process)
-    if (pool.empty()) work();
-  }
+  const int workers = std::min(std::max(1, threads), static_cast<int>(indices.size()));
+  std::vector<std::thread> pool = StartThreads(workers, work);
+  if (pool.empty()) work();  // the system refused every thread (a process limit): the rows run on this one
   // the calling thread hands rows on as they come, until every row is in (or one failed)
   for (size_t handed = 0; handed < indices.size();) {
     if (Interrupted()) stop = true;

@@ -37,11 +37,11 @@
 #include <utility>
 #include <vector>
 
-#include "task_threads.h"
 #include "tether/autodiff/observations.h"
 #include "tether/autodiff/parameters.h"
 #include "tether/dynamics/scalars/scalar.h"
 #include "tether/tuning/identification.h"
+#include "tether/tuning/task_threads.h"
 
 namespace tether {
 

@@ -1,4 +1,4 @@
-#include "task_threads.h"
+#include "tether/tuning/task_threads.h"
 
 #include <algorithm>
 #include <atomic>
@@ -20,6 +20,16 @@ int IdleCores::Take(int wanted) {
   return taken;
 }
 
+std::vector<std::thread> StartThreads(int count, const std::function<void()>& work) {
+  std::vector<std::thread> pool;
+  try {
+    for (int t = 0; t < count; ++t) pool.emplace_back(work);
+  } catch (const std::system_error&) {
+    // refused: the work runs on those that did start
+  }
+  return pool;
+}
+
 void RunTasks(const std::vector<std::function<void()>>& tasks, int threads, IdleCores* idle) {
   std::atomic<size_t> next{0};
   std::exception_ptr error;
@@ -35,14 +45,8 @@ void RunTasks(const std::vector<std::function<void()>>& tasks, int threads, Idle
     }
     if (idle) idle->Give(1);
   };
-  std::vector<std::thread> pool;
-  try {
-    for (int t = 1; t < threads; ++t) pool.emplace_back(work);
-  } catch (const std::system_error&) {
-    // the system refused a thread (a process limit on threads): the tasks run on those that did start and on
-    // this one (a joinable thread left behind by the exception would abort the process)
-  }
-  work();
+  std::vector<std::thread> pool = StartThreads(threads - 1, work);
+  work();  // on this thread too, so that the tasks run where the system refused every thread
   for (std::thread& t : pool) t.join();
   if (error) std::rethrow_exception(error);
 }

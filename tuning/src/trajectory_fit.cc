@@ -12,9 +12,9 @@
 
 #include "fit_judgement.h"
 #include "shooting_problem.h"
-#include "task_threads.h"
 #include "tether/dynamics/integration/simulator.h"
 #include "tether/dynamics/model/errors.h"
+#include "tether/tuning/task_threads.h"
 
 namespace tether {
 namespace {
