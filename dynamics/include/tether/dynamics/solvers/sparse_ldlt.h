@@ -10,16 +10,17 @@
 // any singularity (1.6e-8 on a 200-rod hinge chain, against 0.067 breadth first).
 //
 // Symbolic phase (the constructor, once per run): the ordering (of S's entries column by column, whatever order its
-// values are stored in); the elimination tree; for every row k the
-// pattern of L(k, :) (the reach of row k's entries up the tree, Davis's LDL), hence the storage of L by columns;
-// where each of S's stored values lands in it; and the supernodes: runs of consecutive columns j, j + 1, ... where
-// each column's rows are the next column and then that column's rows. A joint's rows couple each other and the
-// same neighbours, so they form one (a hinge's five, a ball's three). A run wider than six is cut into nearly equal
-// pieces, so that every loop over a supernode's columns is unrolled for its width (1 to 6).
+// values are stored in); the elimination tree; for every row k the pattern of L(k, :) (the reach of row k's entries
+// up the tree, Davis's LDL), hence the storage of L by columns; where each of S's stored values lands in it; and the
+// supernodes: runs of consecutive columns j, j + 1, ... where each column's rows are the next column and then that
+// column's rows. A joint's rows couple each other and the same neighbours, so they form one (a hinge's five, a
+// ball's three). A run wider than six is cut into nearly equal pieces, so that every loop over a supernode's columns
+// is unrolled for its width (1 to 6).
 //
 // Numeric phase (Factor, every evaluation), supernode by supernode in elimination order, with A starting as S
 // placed in L's pattern (the fill-in at zero). A simulation stores S in that order (SchurSolver::StoreInFactorOrder),
-// so S arrives as one block copy where L has no fill and a few where it has: 0.92 -> 0.82 us for the 10-rod hinge
+// so S arrives as one block copy where L has no fill, and as a copy per run of 16 or more consecutive values where it
+// has (shorter runs value by value, through their slots, as before): 0.92 -> 0.82 us for the 10-rod hinge
 // chain's factorization, 1.14 -> 1.04 us for humanoid.xml's (EvaluationPart, minima of three alternated runs), where
 // placing its values one by one through a list of slots took a fifth of it. The columns c of a supernode share its
 // rows R, so L(R[i], c) sits at a fixed offset from where column c starts:
