@@ -314,7 +314,7 @@ bool SparseLdlt::Factor(const std::vector<double>& values, double pivot_floor) {
   for (const ValueRun& run : value_runs_) {
     if (run.count >= kCopiedRun) {
       std::copy(value + run.value, value + run.value + run.count, f + run.slot);
-    } else {
+    } else {  // through the slots, which the compiler cannot turn into the memmove call this avoids
       for (int v = run.value; v < run.value + run.count; ++v) f[slot[v]] = value[v];
     }
   }

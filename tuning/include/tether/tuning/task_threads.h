@@ -1,9 +1,8 @@
 // Running independent tasks on the cores: fit's starts (trajectory_fit.cc), and within a start the Jet runs of a
 // Jacobian (shooting_problem.cc) on the cores that starts have left idle; a study's rows (studies' row_runner.cc)
-// start their threads here too. Near the end of a batch of starts fewer
-// starts are left than cores; the last start's Jacobians then take up the cores the finished ones gave back
-// (on the acrobot's tip-height swing-up the fit's CPU use rose from 172% to 191% of its wall time, which fell from
-// 17.6 to 15.5 s).
+// start their threads here too. Near the end of a batch of starts fewer starts are left than cores; the last
+// start's Jacobians then take up the cores the finished ones gave back (on the acrobot's tip-height swing-up the
+// fit's CPU use rose from 172% to 191% of its wall time, which fell from 17.6 to 15.5 s).
 #pragma once
 
 #include <functional>
