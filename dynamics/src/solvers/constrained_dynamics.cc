@@ -30,23 +30,6 @@ TETHER_HOT_INLINE T RowBlockDot(const Model<S>& model, const BodyVector<T>& g, R
   return along + ((g.rotation[0] * x_b[3] + g.rotation[1] * x_b[4]) + g.rotation[2] * x_b[5]);
 }
 
-// AddScaled(model, g, scale, x) for such a block, without adding its zero terms.
-template <int kSign, bool kKnown, typename S, typename T>
-TETHER_HOT_INLINE void AddScaledRowBlock(const Model<S>& model, const BodyVector<T>& g, RowTranslation translation,
-                                         const T& scale, VecX<T>* x) {
-  if constexpr (kKnown) {
-    if (g.body == kWorld) return;
-    const Body<S>& body = model.bodies[g.body];
-    if (translation != RowTranslation::kEvaluated && body.kind == BodyKind::kRigid3d) {
-      T* x_b = x->data() + body.v_offset;
-      if (translation != RowTranslation::kZero) x_b[TranslationAxis(translation)] += kSign > 0 ? scale : T(-scale);
-      for (int k = 0; k < 3; ++k) x_b[3 + k] += scale * g.rotation[k];
-      return;
-    }
-  }
-  AddScaled(model, g, scale, x);
-}
-
 // rhs = J x + Jdot v + beta C, row by row (x = u + alpha v).
 template <bool kKnown, typename S, typename T>
 TETHER_HOT_INLINE void SchurRightHandSide(const Model<S>& model, const SchurPattern& pattern,
@@ -60,15 +43,71 @@ TETHER_HOT_INLINE void SchurRightHandSide(const Model<S>& model, const SchurPatt
   }
 }
 
-// f -= J^T lambda.
+// A 3D body's share of f -= J^T lambda, its blocks' terms summed in registers (f_b + sum_p s_p g_p with s_p = -lambda
+// of block p's row). Its blocks come in row order, so each component takes the same terms in the same order as row by
+// row through memory, to the bit, without one block's store waiting on the one before. kKnown: RowBlockDot's known
+// translations (+-s on one axis, or none) without their zero terms.
+template <bool kKnown, typename S, typename T>
+TETHER_HOT_INLINE void SubtractBodyReaction(const Model<S>& model, const SchurPattern& pattern,
+                                            const SchurPattern::DenseBody& dense,
+                                            const std::vector<ConstraintRow<T>>& rows, const VecX<T>& lambda,
+                                            VecX<T>* force) {
+  T* f_b = force->data() + model.bodies[dense.body].v_offset;
+  T t0 = f_b[0], t1 = f_b[1], t2 = f_b[2], r0 = f_b[3], r1 = f_b[4], r2 = f_b[5];
+  const RowTranslation* translation = pattern.row_translations().data();
+  const std::pair<int, int>* block = pattern.blocks().data() + dense.first_block;
+  for (int p = 0; p < dense.count; ++p) {
+    const auto [row, slot] = block[p];
+    const BodyVector<T>& g = slot == 0 ? rows[row].a : rows[row].b;
+    const T scale = -lambda[row];
+    if (kKnown && translation[row] != RowTranslation::kEvaluated) {
+      const T along = slot == 0 ? T(-scale) : scale;
+      switch (translation[row]) {
+        case RowTranslation::kAxisX:
+          t0 += along;
+          break;
+        case RowTranslation::kAxisY:
+          t1 += along;
+          break;
+        case RowTranslation::kAxisZ:
+          t2 += along;
+          break;
+        default:
+          break;  // kZero
+      }
+    } else {
+      t0 += scale * g.translation[0];
+      t1 += scale * g.translation[1];
+      t2 += scale * g.translation[2];
+    }
+    r0 += scale * g.rotation[0];
+    r1 += scale * g.rotation[1];
+    r2 += scale * g.rotation[2];
+  }
+  f_b[0] = t0;
+  f_b[1] = t1;
+  f_b[2] = t2;
+  f_b[3] = r0;
+  f_b[4] = r1;
+  f_b[5] = r2;
+}
+
+// f -= J^T lambda: 3D bodies body by body, particles and planar bodies (the pattern's terms) row by row.
 template <bool kKnown, typename S, typename T>
 TETHER_HOT_INLINE void SubtractReaction(const Model<S>& model, const SchurPattern& pattern,
                                         const std::vector<ConstraintRow<T>>& rows, const VecX<T>& lambda,
                                         VecX<T>* force) {
-  const RowTranslation* translation = pattern.row_translations().data();
+  const bool spatial = !pattern.dense_bodies().empty();
+  for (const SchurPattern::DenseBody& dense : pattern.dense_bodies()) {
+    SubtractBodyReaction<kKnown>(model, pattern, dense, rows, lambda, force);
+  }
+  if (pattern.terms().empty()) return;
+  const auto planar_or_particle = [&model](const BodyVector<T>& g) {
+    return g.body != kWorld && model.bodies[g.body].kind != BodyKind::kRigid3d;
+  };
   for (size_t i = 0; i < rows.size(); ++i) {
-    AddScaledRowBlock<-1, kKnown>(model, rows[i].a, translation[i], T(-lambda[i]), force);
-    AddScaledRowBlock<1, kKnown>(model, rows[i].b, translation[i], T(-lambda[i]), force);
+    if (!spatial || planar_or_particle(rows[i].a)) AddScaled(model, rows[i].a, T(-lambda[i]), force);
+    if (!spatial || planar_or_particle(rows[i].b)) AddScaled(model, rows[i].b, T(-lambda[i]), force);
   }
 }
 

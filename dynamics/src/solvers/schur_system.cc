@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <limits>
 #include <map>
+#include <type_traits>
 
 namespace tether {
 namespace {
@@ -111,8 +112,31 @@ std::vector<BodyLayout> LayoutOf(const Model<T>& model) {
 
 namespace {
 
-// G (k x 6) of a 3D body gathered, W = G M_b^-1, and the lower triangle of G W^T added at its entries.
+// Whether a scalar is zero with every derivative it carries (a recorded reverse-mode value may carry any: never).
+bool ExactZero(double x) { return x == 0.0; }
+bool ExactZero(const Jet& x) { return x.a == 0.0 && (x.v.array() == 0.0).all(); }
+bool ExactZero(const Rev&) { return false; }
+
+// I_P^-1 of a 3D body has exact zeros off its diagonal where its inertia tensor is diagonal in body axes (the
+// principal axes are the body's): its products then take the diagonal alone. The sums lose only terms that are
+// products by zero, so they are the same to the bit but for the sign of a zero.
 template <typename T>
+bool ExactlyDiagonal(const Mat3<T>& m) {
+  return ExactZero(m(1, 0)) && ExactZero(m(2, 0)) && ExactZero(m(0, 1)) && ExactZero(m(2, 1)) && ExactZero(m(0, 2)) &&
+         ExactZero(m(1, 2));
+}
+
+template <bool kDiagonal, typename T>
+TETHER_HOT_INLINE Vec3<T> InverseInertiaTimes(const Mat3<T>& inverse_inertia, const Vec3<T>& r) {
+  if constexpr (kDiagonal) {
+    return Vec3<T>(inverse_inertia(0, 0) * r[0], inverse_inertia(1, 1) * r[1], inverse_inertia(2, 2) * r[2]);
+  } else {
+    return inverse_inertia * r;
+  }
+}
+
+// G (k x 6) of a 3D body gathered, W = G M_b^-1, and the lower triangle of G W^T added at its entries.
+template <bool kDiagonal, typename T>
 TETHER_HOT_INLINE void AddDenseBody(const SchurPattern& pattern, const SchurPattern::DenseBody& dense,
                                     const std::vector<ConstraintRow<T>>& rows, const T& inverse_mass,
                                     const Mat3<T>& inverse_inertia, T* __restrict G, T* __restrict W,
@@ -120,7 +144,7 @@ TETHER_HOT_INLINE void AddDenseBody(const SchurPattern& pattern, const SchurPatt
   for (int p = 0; p < dense.count; ++p) {
     const auto [row, slot] = pattern.blocks()[dense.first_block + p];
     const BodyVector<T>& g = slot == 0 ? rows[row].a : rows[row].b;
-    const Vec3<T> w = inverse_inertia * g.rotation;
+    const Vec3<T> w = InverseInertiaTimes<kDiagonal>(inverse_inertia, g.rotation);
     for (int k = 0; k < 3; ++k) {
       G[6 * p + k] = g.translation[k];
       G[6 * p + 3 + k] = g.rotation[k];
@@ -142,7 +166,7 @@ TETHER_HOT_INLINE void AddDenseBody(const SchurPattern& pattern, const SchurPatt
 // The same for a body whose translations are known: (t_p . t_q) / m + r_p . I^-1 r_q, its rotational parts r (k x
 // 3) gathered in G and I^-1 r in W by component (W_c[q] at W[c k + q]), so that two pairs (p, q), (p, q + 1) are
 // summed side by side in one vector register. The sums are AddDenseBody's with its exact zero terms left out.
-template <typename T>
+template <bool kDiagonal, typename T>
 TETHER_HOT_INLINE void AddKnownTranslationBody(const SchurPattern& pattern, const SchurPattern::DenseBody& dense,
                                                const std::vector<ConstraintRow<T>>& rows, const T& inverse_mass,
                                                const Mat3<T>& inverse_inertia, T* __restrict G, T* __restrict W,
@@ -151,7 +175,7 @@ TETHER_HOT_INLINE void AddKnownTranslationBody(const SchurPattern& pattern, cons
   for (int p = 0; p < count; ++p) {
     const auto [row, slot] = pattern.blocks()[dense.first_block + p];
     const Vec3<T>& r = slot == 0 ? rows[row].a.rotation : rows[row].b.rotation;
-    const Vec3<T> w = inverse_inertia * r;
+    const Vec3<T> w = InverseInertiaTimes<kDiagonal>(inverse_inertia, r);
     for (int k = 0; k < 3; ++k) {
       G[3 * p + k] = r[k];
       W[k * count + p] = w[k];
@@ -193,10 +217,18 @@ void AssembleSchur(const std::vector<BodyLayout>& layout, const SchurPattern& pa
   for (const SchurPattern::DenseBody& dense : pattern.dense_bodies()) {
     const T& inverse_mass = inverse_diagonal[layout[dense.body].v_offset];
     const Mat3<T>& inverse_inertia = inverse_rotational[dense.body];
-    if (dense.known_translations) {
-      AddKnownTranslationBody(pattern, dense, rows, inverse_mass, inverse_inertia, G, W, value);
+    const auto add = [&](auto diagonal) {
+      constexpr bool kDiagonal = decltype(diagonal)::value;
+      if (dense.known_translations) {
+        AddKnownTranslationBody<kDiagonal>(pattern, dense, rows, inverse_mass, inverse_inertia, G, W, value);
+      } else {
+        AddDenseBody<kDiagonal>(pattern, dense, rows, inverse_mass, inverse_inertia, G, W, value);
+      }
+    };
+    if (ExactlyDiagonal(inverse_inertia)) {
+      add(std::true_type());
     } else {
-      AddDenseBody(pattern, dense, rows, inverse_mass, inverse_inertia, G, W, value);
+      add(std::false_type());
     }
   }
   // particles and planar rigid bodies: term by term
