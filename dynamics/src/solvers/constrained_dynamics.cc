@@ -259,6 +259,13 @@ int SlidingKktAcceleration(const Model<S>& model, const std::vector<BodyLayout>&
 template <typename T>
 bool SolveKkt(const Model<T>& model, const VecX<T>& v, Workspace<T>* ws, VecX<T>* a) {
   if (const std::optional<bool> recorded = RecordedKktAcceleration(model, v, ws, a)) return *recorded;
+  if constexpr (!std::is_same_v<T, Rev>) {  // a tree's elimination, unless the adjoint keeps this solve
+    if (ws->tree != nullptr && ws->kkt_log == nullptr &&
+        TreeAcceleration(model, *ws->tree, ws->rows, ws->principal_inertia, v, ws->alpha, ws->beta, ws->force,
+                         &ws->tree_work, a)) {
+      return true;
+    }
+  }
   bool solved = KktAcceleration(model, ws->layout, *ws->pattern, ws->solver, ws->rows, ws->inverse_mass, v, ws->alpha,
                                 ws->beta, &ws->force, &ws->kkt, a);
   if (solved && !ws->sliding.empty()) {

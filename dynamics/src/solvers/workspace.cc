@@ -69,6 +69,7 @@ Workspace<T>::Workspace(const Model<T>& model, const VecX<T>& q_start, bool fact
       shapes(FirstShape(infos, layout, model.simulation.solver, factor_jet_matrices)),
       pattern(&shapes[0].second->pattern),
       solver(&shapes[0].second->solver),
+      tree(shapes[0].second->tree ? &*shapes[0].second->tree : nullptr),
       inverse_mass(BuildInverseMass(model)),
       principal_inertia(PrincipalInertias(model)),
       rows(infos.size()),
@@ -94,6 +95,7 @@ void Workspace<T>::SetActiveGaps(const Model<T>& model, const std::vector<LimitP
   }
   pattern = &shape->second->pattern;
   solver = &shape->second->solver;
+  tree = shape->second->tree ? &*shape->second->tree : nullptr;
   rows.assign(infos.size(), ConstraintRow<T>());
   kkt = KktSystem<T>(*pattern, model.NumVelocities());
 }

@@ -19,6 +19,7 @@
 #include "tether/dynamics/constraints/joint_coordinates.h"
 #include "tether/dynamics/solvers/kkt_log.h"
 #include "tether/dynamics/solvers/schur_solver.h"
+#include "tether/dynamics/solvers/tree_elimination.h"
 
 namespace tether {
 
@@ -48,17 +49,22 @@ struct KktSystem {
   VecX<T> u_plus_alpha_v;           // M^-1 f + alpha v: J of it serves the Schur right-hand side (size nv)
 };
 
-// The Schur pattern of one row layout and its solver (which points into it), at a fixed address.
+// The Schur pattern of one row layout and its solver (which points into it), at a fixed address; and where the
+// layout is a tree and the solver is left to tether (KktSolver::kAuto), its elimination plan (tree_elimination.h),
+// which the evaluations take first.
 struct SchurShape {
   SchurShape(const std::vector<RowInfo>& infos, const std::vector<BodyLayout>& layout, KktSolver kind,
              bool factor_jet_matrices)
-      : pattern(infos, layout), solver(pattern, kind, factor_jet_matrices) {
+      : pattern(infos, layout),
+        solver(pattern, kind, factor_jet_matrices),
+        tree(kind == KktSolver::kAuto ? TreePlan::Of(infos, layout) : std::nullopt) {
     solver.StoreInFactorOrder(&pattern);
   }
   SchurShape(const SchurShape&) = delete;
   SchurShape& operator=(const SchurShape&) = delete;
   SchurPattern pattern;
   SchurSolver solver;
+  std::optional<TreePlan> tree;
 };
 
 // Every row layout's pattern and solver met in a run, by its active sides (unilateral_events.h).
@@ -85,6 +91,7 @@ struct Workspace {
   SchurShapes shapes;                // the first without active limits
   SchurPattern* pattern;             // of S = J M^-1 J^T for the current rows (in shapes)
   SchurSolver* solver;               // its factorization
+  const TreePlan* tree;              // the current rows' tree elimination (in shapes), or nullptr
   InverseMass<T> inverse_mass;
   std::vector<Mat3<T>> principal_inertia;  // of each body (PrincipalInertias), for the gyroscopic torques
   JointCoordinates<T> coordinates;  // from q_start; the Stepper builds them again from the assembled state
@@ -95,6 +102,7 @@ struct Workspace {
   std::vector<SlidingRow<T>> sliding;  // the sliding contacts' friction at the last evaluation (contact_friction.h)
   int painleve = -1;                   // the sliding contact's row where a solve met Painleve's paradox, or -1
   KktSystem<T> kkt;                    // S, its right-hand side and the multipliers at the last solve
+  TreeWork<T> tree_work;               // the tree elimination's blocks at the last evaluation that took it
   VecX<T> force;                       // generalized force f (size nv)
   VecX<T> reaction;                    // M^-1 J^T lambda (size nv)
   // The adjoint's log of a step's KKT solves (kkt_log.h), or nullptr: a double run keeps its solves there, a

@@ -1,0 +1,101 @@
+// The KKT system of a tree of 3D rigid bodies, solved body by body in the joints' free directions (Featherstone's
+// articulated-body algorithm, written over tether's rows in maximal coordinates).
+//
+// Each body C of the tree hangs from its parent P (another body, or the world) by the rows of one body pair,
+//   J_P a_P + J_C a_C = gamma,     gamma = -(Jdot v + alpha J v + beta C)       (m rows, J_C of rank m <= 6),
+// with a = v' over the body's velocities (world translation, rotation in its principal axes). Every a_C that keeps
+// them is
+//   a_C = T a_P + S qdd + b,       J_C S = 0 (S: 6 x k, k = 6 - m),   T = -R J_P,   b = R gamma,
+// for a right inverse R of J_C (J_C R = 1) and the k free accelerations qdd. A body's equation M_C a_C = f_C -
+// J_C^T lambda_C - sum over its children c of J_Pc^T lambda_c, projected on S, loses its own joint's reaction (S^T
+// J_C^T = 0); a child's reaction on it is -J_Pc^T lambda_c = T_c^T J_Cc^T lambda_c = T_c^T (p_c - I_c a_c). So, with
+// I the articulated inertia and p the articulated force of a body (its M and f, plus its children's shares):
+//   backward, children first:  z = p - I b,   U = I S,   D = S^T U = L L^T,   W = U L^-T,   y = L^-1 S^T z,
+//                              I_P += T^T (I - W W^T) T,   p_P += T^T (z - W y);
+//   forward, parents first:    qdd = L^-T (y - W^T T a_P),   a_C = T a_P + S qdd + b   (a_P = 0 for the world).
+// In exact arithmetic this is the Schur path's acceleration (schur_system.h): the same unique solution of the KKT
+// system, in O(bodies) with 6 x 6 blocks and k unknowns a joint instead of m multipliers, and no multipliers at all.
+//
+// A joint made of a point part (three rows, translations -e_k on the first body and e_k on the second) and 0 to 3
+// angle rows (no translation), such as a hinge, a ball, a universal or a weld, gives T and S in closed form. With s
+// = 1 where the child is the rows' second body (-1 where it is the first), X the point rows' rotational blocks, Y
+// the angle rows' and c = Y_C^+ gamma_angle (Y_C^+ = Y_C^T (Y_C Y_C^T)^-1, N a basis of Y_C's null space):
+//   T = [1 E; 0 K],   K = -Y_C^+ Y_P,   E = -s (X_P + X_C K),   S = [-s X_C N; N],
+//   b = [s (gamma_point - X_C c); c],
+// so that T^T I T takes 3 x 3 products. Any other pair of bodies (lines, distances, a double hinge) takes R and S
+// from a QR factorization of J_C^T.
+//
+// Where a joint's rows are close to dependent (a universal joint near its gimbal lock: Y_C Y_C^T's pivot below
+// kTreePivot; a QR pivot below kTreePivot times the largest), the evaluation fails and the Schur path, which
+// regularizes such rows (schur_solver.h), takes it.
+//
+// The plan is made once per row layout (SchurShape); a layout is a tree when every body is a 3D rigid body, every
+// row is an equality (no active limit or contact) and the body pairs that rows join form a forest rooted at the world.
+#pragma once
+
+#include <array>
+#include <optional>
+#include <vector>
+
+#include "tether/dynamics/constraints/constraint_rows.h"
+#include "tether/dynamics/solvers/schur_system.h"
+
+namespace tether {
+
+inline constexpr double kTreePivot = 1e-12;
+
+// One body of the tree and the rows that hang it from its parent.
+struct TreeJoint {
+  int child = 0;                       // the body
+  int parent = kWorld;                 // its parent body, or kWorld
+  int parent_joint = -1;               // the parent's index in TreePlan::joints(), -1 for the world
+  int child_v = 0;                     // the child's first velocity
+  int parent_v = 0;                    // the parent's (unused for the world)
+  bool point_and_angles = true;        // rows = the point rows along x, y and z, then the angle rows (closed form)
+  int count = 0;                       // rows in use
+  std::array<int, 6> rows{};           // row indices
+  std::array<bool, 6> child_second{};  // per row: the child is its second body (b)
+};
+
+class TreePlan {
+ public:
+  // The plan of a row layout, or none when it is not a tree (above).
+  static std::optional<TreePlan> Of(const std::vector<RowInfo>& infos, const std::vector<BodyLayout>& layout);
+
+  const std::vector<TreeJoint>& joints() const { return joints_; }      // parents before their children
+  const std::vector<int>& free_bodies() const { return free_bodies_; }  // bodies no row touches: a = M^-1 f
+
+ private:
+  std::vector<TreeJoint> joints_;
+  std::vector<int> free_bodies_;
+};
+
+// What one elimination computes into, per joint (sized by TreeWork::Resize).
+template <typename T>
+struct TreeJointWork {
+  using Mat6 = Eigen::Matrix<T, 6, 6>;
+  using Vec6 = Eigen::Matrix<T, 6, 1>;
+  Mat6 inertia;                       // I, articulated
+  Vec6 force;                         // p, then z
+  Mat6 transport;                     // T (rows other than point and angle rows); else E and K:
+  Mat3<T> e, k;                       //   T = [1 E; 0 K]
+  int free = 0;                       // k
+  Eigen::Matrix<T, 6, 5> directions;  // S
+  Eigen::Matrix<T, 6, 5> w;           // W = U L^-T
+  Eigen::Matrix<T, 5, 5> l;           // L
+  Eigen::Matrix<T, 5, 1> y;           // y = L^-1 S^T z
+  Vec6 offset;                        // b
+  Vec6 acceleration;                  // a_C
+};
+
+template <typename T>
+using TreeWork = std::vector<TreeJointWork<T>>;
+
+// v' for the plan's bodies from the rows (evaluated at (q, v)), the generalized force f, the bodies' principal
+// inertias and masses, the gains; false (with *a untouched) where a joint's rows are close to dependent (above).
+template <typename S, typename T>
+bool TreeAcceleration(const Model<S>& model, const TreePlan& plan, const std::vector<ConstraintRow<T>>& rows,
+                      const std::vector<Mat3<T>>& principal_inertia, const VecX<T>& v, const T& alpha, const T& beta,
+                      const VecX<T>& force, TreeWork<T>* work, VecX<T>* a);
+
+}  // namespace tether
