@@ -1,6 +1,6 @@
 #include "tether/dynamics/solvers/tree_elimination.h"
 
-#include <Eigen/QR>
+#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -33,7 +33,7 @@ std::optional<TreePlan> TreePlan::Of(const std::vector<RowInfo>& infos, const st
         continue;
       }
       const int child = a == parent ? b : a;
-      if (child == kWorld || reached[child] || it->second.size() > 6) return std::nullopt;  // a loop
+      if (child == kWorld || reached[child]) return std::nullopt;  // a loop
       reached[child] = true;
       frontier.push_back(child);
       TreeJoint joint;
@@ -42,26 +42,24 @@ std::optional<TreePlan> TreePlan::Of(const std::vector<RowInfo>& infos, const st
       joint.parent_joint = parent == kWorld ? -1 : joint_of[parent];
       joint.child_v = layout[child].v_offset;
       joint.parent_v = parent == kWorld ? 0 : layout[parent].v_offset;
-      joint.count = static_cast<int>(it->second.size());
-      int axes = 0, angles = 0;
-      for (size_t r = 0; r < it->second.size(); ++r) joint.child_second[r] = infos[it->second[r]].body_b == child;
-      const bool one_way = std::all_of(joint.child_second.begin(), joint.child_second.begin() + joint.count,
-                                       [&joint](bool second) { return second == joint.child_second[0]; });
+      joint.child_second = infos[it->second[0]].body_b == child;
+      int axes = 0;
       for (int row : it->second) {
-        const RowTranslation translation = infos[row].translation;
-        if (translation == RowTranslation::kZero) {
-          joint.rows[3 + angles++] = row;
-        } else if (translation != RowTranslation::kEvaluated && !(axes >> TranslationAxis(translation) & 1)) {
-          axes |= 1 << TranslationAxis(translation);
-          joint.rows[TranslationAxis(translation)] = row;
+        const RowInfo& info = infos[row];
+        const int axis = info.translation == RowTranslation::kZero || info.translation == RowTranslation::kEvaluated
+                             ? -1
+                             : TranslationAxis(info.translation);
+        if ((info.body_b == child) != joint.child_second) return std::nullopt;  // rows of both orientations
+        if (info.translation == RowTranslation::kZero && joint.angles < 3) {
+          joint.rows[3 + joint.angles++] = row;
+        } else if (axis >= 0 && !(axes >> axis & 1)) {
+          axes |= 1 << axis;
+          joint.rows[axis] = row;
         } else {
-          axes = -1;
-          break;
+          return std::nullopt;  // not a point part and angle rows
         }
       }
-      joint.point_and_angles = one_way && axes == 7 && angles <= 3;
-      if (!joint.point_and_angles) std::copy(it->second.begin(), it->second.end(), joint.rows.begin());
-      if (joint.point_and_angles) joint.child_second.fill(joint.child_second[0]);
+      if (axes != 7) return std::nullopt;
       joint_of[child] = static_cast<int>(plan.joints_.size());
       plan.joints_.push_back(joint);
       it = pairs.erase(it);
@@ -78,27 +76,6 @@ namespace {
 
 template <typename T>
 using Vec6 = Eigen::Matrix<T, 6, 1>;
-
-// A row's block on the child and on the parent (zero for the world) as 6-vectors.
-template <typename T>
-Vec6<T> Block(const BodyVector<T>& g) {
-  Vec6<T> out;
-  if (g.body == kWorld) {
-    out.setZero();
-  } else {
-    out << g.translation, g.rotation;
-  }
-  return out;
-}
-
-// gamma_i = -(Jdot_i v + alpha J_i v + beta C_i)
-template <typename T>
-T Gamma(const ConstraintRow<T>& row, const Vec6<T>& child_block, const Vec6<T>& parent_block, const T* v_child,
-        const T* v_parent, const T& alpha, const T& beta) {
-  T rate = child_block.dot(Eigen::Map<const Vec6<T>>(v_child));
-  if (v_parent != nullptr) rate += parent_block.dot(Eigen::Map<const Vec6<T>>(v_parent));
-  return -(row.bias + alpha * rate + beta * row.value);
-}
 
 // Two vectors spanning the plane normal to y (not unit): y x e_j for the axis e_j least aligned with y, and y x that.
 template <typename T>
@@ -117,7 +94,7 @@ template <int kAngles, typename T>
 bool PointAndAngles(const TreeJoint& joint, const std::vector<ConstraintRow<T>>& rows, const VecX<T>& v, const T& alpha,
                     const T& beta, TreeJointWork<T>* w) {
   constexpr int kFree = 3 - kAngles;
-  const double s = joint.child_second[0] ? 1.0 : -1.0;
+  const double s = joint.child_second ? 1.0 : -1.0;
   const bool world = joint.parent == kWorld;
   // the rows' rotational blocks (their translations are s e_k on the child and -s e_k on the parent for the point
   // rows, zero for the angle rows), and gamma from their rates J v
@@ -125,8 +102,8 @@ bool PointAndAngles(const TreeJoint& joint, const std::vector<ConstraintRow<T>>&
   Vec3<T> rest_point;  // Jdot v + beta C
   for (int k = 0; k < 3; ++k) {
     const ConstraintRow<T>& row = rows[joint.rows[k]];
-    x_child.row(k) = (joint.child_second[0] ? row.b : row.a).rotation.transpose();
-    x_parent.row(k) = (joint.child_second[0] ? row.a : row.b).rotation.transpose();
+    x_child.row(k) = (joint.child_second ? row.b : row.a).rotation.transpose();
+    x_parent.row(k) = (joint.child_second ? row.a : row.b).rotation.transpose();
     rest_point[k] = row.bias + beta * row.value;
   }
   const Vec3<T> v_child = v.template segment<3>(joint.child_v), w_child = v.template segment<3>(joint.child_v + 3);
@@ -140,8 +117,8 @@ bool PointAndAngles(const TreeJoint& joint, const std::vector<ConstraintRow<T>>&
     Eigen::Matrix<T, kAngles, 1> rest_angle;
     for (int i = 0; i < kAngles; ++i) {
       const ConstraintRow<T>& row = rows[joint.rows[3 + i]];
-      y_child.row(i) = (joint.child_second[0] ? row.b : row.a).rotation.transpose();
-      y_parent.row(i) = (joint.child_second[0] ? row.a : row.b).rotation.transpose();
+      y_child.row(i) = (joint.child_second ? row.b : row.a).rotation.transpose();
+      y_parent.row(i) = (joint.child_second ? row.a : row.b).rotation.transpose();
       rest_angle[i] = row.bias + beta * row.value;
     }
     gamma_angle = -(rest_angle + alpha * (y_child * w_child + y_parent * w_parent));
@@ -191,60 +168,17 @@ bool PointAndAngles(const TreeJoint& joint, const std::vector<ConstraintRow<T>>&
   return true;
 }
 
-// T, S and b of any other joint (kRows rows), from a QR factorization of J_C^T; false where J_C is close to rank
-// deficient.
-template <int kRows, typename T>
-bool AnyRows(const TreeJoint& joint, const std::vector<ConstraintRow<T>>& rows, const VecX<T>& v, const T& alpha,
-             const T& beta, TreeJointWork<T>* w) {
-  const Vec6<T> v_child = v.template segment<6>(joint.child_v);
-  const Vec6<T> v_parent = joint.parent == kWorld ? Vec6<T>::Zero() : Vec6<T>(v.template segment<6>(joint.parent_v));
-  Eigen::Matrix<T, 6, kRows> child_t;  // J_C^T
-  Eigen::Matrix<T, kRows, 6> parent;   // J_P
-  Eigen::Matrix<T, kRows, 1> gamma;
-  for (int i = 0; i < kRows; ++i) {
-    const ConstraintRow<T>& row = rows[joint.rows[i]];
-    const Vec6<T> c = Block(joint.child_second[i] ? row.b : row.a), p = Block(joint.child_second[i] ? row.a : row.b);
-    child_t.col(i) = c;
-    parent.row(i) = p.transpose();
-    gamma[i] = -(row.bias + alpha * (c.dot(v_child) + p.dot(v_parent)) + beta * row.value);
-  }
-  const Eigen::HouseholderQR<Eigen::Matrix<T, 6, kRows>> qr(child_t);
-  const Eigen::Matrix<T, 6, kRows>& packed = qr.matrixQR();
-  double largest = 0.0;
-  for (int i = 0; i < kRows; ++i) largest = std::max(largest, std::abs(Value(packed(i, i))));
-  for (int i = 0; i < kRows; ++i) {
-    if (!(std::abs(Value(packed(i, i))) > kTreePivot * largest)) return false;
-  }
-  const Eigen::Matrix<T, 6, 6> q = qr.householderQ();
-  // the right inverse Q_1 R^-T (6 x m), kept transposed: J_C Q_1 R^-T = R^T Q_1^T Q_1 R^-T = 1
-  Eigen::Matrix<T, kRows, 6> right_inverse_t = q.template leftCols<kRows>().transpose();
-  packed.template topRows<kRows>().template triangularView<Eigen::Upper>().solveInPlace(right_inverse_t);
-  w->transport.noalias() = -right_inverse_t.transpose() * parent;
-  w->free = 6 - kRows;
-  if constexpr (kRows < 6) w->directions.template leftCols<6 - kRows>() = q.template rightCols<6 - kRows>();
-  w->offset.noalias() = right_inverse_t.transpose() * gamma;
-  return true;
-}
-
-// y += T^T x for a joint's T.
+// y += T^T x for a joint's T = [1 E; 0 K].
 template <typename T>
-void AddTransportTransposed(const TreeJoint& joint, const TreeJointWork<T>& w, const Vec6<T>& x, Vec6<T>* y) {
-  if (!joint.point_and_angles) {
-    y->noalias() += w.transport.transpose() * x;
-    return;
-  }
+void AddTransportTransposed(const TreeJointWork<T>& w, const Vec6<T>& x, Vec6<T>* y) {
   y->template head<3>() += x.template head<3>();
   y->template tail<3>().noalias() += w.e.transpose() * x.template head<3>() + w.k.transpose() * x.template tail<3>();
 }
 
-// I_P += T^T I T for a joint's T (with T = [1 E; 0 K]: 3 x 3 products).
+// I_P += T^T I T for a joint's T = [1 E; 0 K], in 3 x 3 products.
 template <typename T>
-void AddTransportedInertia(const TreeJoint& joint, const TreeJointWork<T>& w, const Eigen::Matrix<T, 6, 6>& inertia,
+void AddTransportedInertia(const TreeJointWork<T>& w, const Eigen::Matrix<T, 6, 6>& inertia,
                            Eigen::Matrix<T, 6, 6>* out) {
-  if (!joint.point_and_angles) {
-    out->noalias() += w.transport.transpose() * inertia * w.transport;
-    return;
-  }
   const auto a = inertia.template topLeftCorner<3, 3>();
   const auto b = inertia.template topRightCorner<3, 3>();
   const auto c = inertia.template bottomRightCorner<3, 3>();
@@ -257,16 +191,15 @@ void AddTransportedInertia(const TreeJoint& joint, const TreeJointWork<T>& w, co
   out->template bottomRightCorner<3, 3>().noalias() += w.e.transpose() * top + w.k.transpose() * bottom;
 }
 
-// T x for a joint's T.
+// T x for a joint's T = [1 E; 0 K].
 template <typename T>
-Vec6<T> Transport(const TreeJoint& joint, const TreeJointWork<T>& w, const Vec6<T>& x) {
-  if (!joint.point_and_angles) return w.transport * x;
+Vec6<T> Transport(const TreeJointWork<T>& w, const Vec6<T>& x) {
   Vec6<T> out;
   out << x.template head<3>() + w.e * x.template tail<3>(), w.k * x.template tail<3>();
   return out;
 }
 
-// Calls f(std::integral_constant<int, k>) for k = free in [0, 5], so that a joint's blocks have fixed sizes.
+// Calls f(std::integral_constant<int, k>) for k = free in [0, 3], so that a joint's blocks have fixed sizes.
 template <typename F>
 bool WithFreeCount(int free, F f) {
   switch (free) {
@@ -276,12 +209,8 @@ bool WithFreeCount(int free, F f) {
       return f(std::integral_constant<int, 1>());
     case 2:
       return f(std::integral_constant<int, 2>());
-    case 3:
-      return f(std::integral_constant<int, 3>());
-    case 4:
-      return f(std::integral_constant<int, 4>());
     default:
-      return f(std::integral_constant<int, 5>());
+      return f(std::integral_constant<int, 3>());
   }
 }
 
@@ -351,32 +280,11 @@ bool TreeAcceleration(const Model<S>& model, const TreePlan& plan, const std::ve
     const TreeJoint& joint = joints[j];
     TreeJointWork<T>& w = (*work)[j];
     bool made;
-    if (!joint.point_and_angles) {
-      switch (joint.count) {
-        case 1:
-          made = AnyRows<1>(joint, rows, v, alpha, beta, &w);
-          break;
-        case 2:
-          made = AnyRows<2>(joint, rows, v, alpha, beta, &w);
-          break;
-        case 3:
-          made = AnyRows<3>(joint, rows, v, alpha, beta, &w);
-          break;
-        case 4:
-          made = AnyRows<4>(joint, rows, v, alpha, beta, &w);
-          break;
-        case 5:
-          made = AnyRows<5>(joint, rows, v, alpha, beta, &w);
-          break;
-        default:
-          made = AnyRows<6>(joint, rows, v, alpha, beta, &w);
-          break;
-      }
-    } else if (joint.count == 5) {
+    if (joint.angles == 2) {
       made = PointAndAngles<2>(joint, rows, v, alpha, beta, &w);
-    } else if (joint.count == 3) {
+    } else if (joint.angles == 0) {
       made = PointAndAngles<0>(joint, rows, v, alpha, beta, &w);
-    } else if (joint.count == 4) {
+    } else if (joint.angles == 1) {
       made = PointAndAngles<1>(joint, rows, v, alpha, beta, &w);
     } else {
       made = PointAndAngles<3>(joint, rows, v, alpha, beta, &w);
@@ -393,14 +301,14 @@ bool TreeAcceleration(const Model<S>& model, const TreePlan& plan, const std::ve
     if (!WithFreeCount(w.free, [&](auto k) { return Eliminate<k()>(&w); })) return false;
     if (joint.parent == kWorld) continue;
     TreeJointWork<T>& parent = (*work)[joint.parent_joint];
-    AddTransportedInertia(joint, w, w.inertia, &parent.inertia);
-    AddTransportTransposed(joint, w, w.force, &parent.force);
+    AddTransportedInertia(w, w.inertia, &parent.inertia);
+    AddTransportTransposed(w, w.force, &parent.force);
   }
   for (size_t j = 0; j < joints.size(); ++j) {  // parents first
     const TreeJoint& joint = joints[j];
     TreeJointWork<T>& w = (*work)[j];
     Vec6<T> transported = Vec6<T>::Zero();
-    if (joint.parent != kWorld) transported = Transport(joint, w, (*work)[joint.parent_joint].acceleration);
+    if (joint.parent != kWorld) transported = Transport(w, (*work)[joint.parent_joint].acceleration);
     WithFreeCount(w.free, [&](auto k) { return Accelerate<k()>(transported, &w); });
     a->template segment<6>(joint.child_v) = w.acceleration;
   }

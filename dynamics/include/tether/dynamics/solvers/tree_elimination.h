@@ -16,21 +16,23 @@
 // In exact arithmetic this is the Schur path's acceleration (schur_system.h): the same unique solution of the KKT
 // system, in O(bodies) with 6 x 6 blocks and k unknowns a joint instead of m multipliers, and no multipliers at all.
 //
-// A joint made of a point part (three rows, translations -e_k on the first body and e_k on the second) and 0 to 3
-// angle rows (no translation), such as a hinge, a ball, a universal or a weld, gives T and S in closed form. With s
-// = 1 where the child is the rows' second body (-1 where it is the first), X the point rows' rotational blocks, Y
-// the angle rows' and c = Y_C^+ gamma_angle (Y_C^+ = Y_C^T (Y_C Y_C^T)^-1, N a basis of Y_C's null space):
+// The joints it takes are made of a point part (three rows, translations -e_k on the first body and e_k on the second)
+// and 0 to 3 angle rows (no translation): hinges, balls, universal joints and welds. With s = 1 where the child is
+// the rows' second body (-1 where it is the first), X the point rows' rotational blocks, Y the angle rows' and c =
+// Y_C^+ gamma_angle (Y_C^+ = Y_C^T (Y_C Y_C^T)^-1, N a basis of Y_C's null space), T and S take a closed form:
 //   T = [1 E; 0 K],   K = -Y_C^+ Y_P,   E = -s (X_P + X_C K),   S = [-s X_C N; N],
 //   b = [s (gamma_point - X_C c); c],
-// so that T^T I T takes 3 x 3 products. Any other pair of bodies (lines, distances, a double hinge) takes R and S
-// from a QR factorization of J_C^T.
+// so that T^T I T takes 3 x 3 products. (Lines, distances and double hinges keep the Schur path: a right inverse and
+// a null space from a QR factorization of J_C^T served them, and made humanoid.xml's step, with its two double
+// hinges, 7% slower than the Schur path's; docs/performance.md.)
 //
-// Where a joint's rows are close to dependent (a universal joint near its gimbal lock: Y_C Y_C^T's pivot below
-// kTreePivot; a QR pivot below kTreePivot times the largest), the evaluation fails and the Schur path, which
+// Where a joint's rows are close to dependent (a universal joint near its gimbal lock: a pivot of Y_C Y_C^T below
+// kTreePivot times max(1, its largest diagonal)), the evaluation fails and the Schur path, which
 // regularizes such rows (schur_solver.h), takes it.
 //
 // The plan is made once per row layout (SchurShape); a layout is a tree when every body is a 3D rigid body, every
-// row is an equality (no active limit or contact) and the body pairs that rows join form a forest rooted at the world.
+// row is an equality (no active limit or contact), the body pairs that rows join form a forest rooted at the world,
+// and each pair's rows are such a joint's.
 #pragma once
 
 #include <array>
@@ -51,10 +53,9 @@ struct TreeJoint {
   int parent_joint = -1;               // the parent's index in TreePlan::joints(), -1 for the world
   int child_v = 0;                     // the child's first velocity
   int parent_v = 0;                    // the parent's (unused for the world)
-  bool point_and_angles = true;        // rows = the point rows along x, y and z, then the angle rows (closed form)
-  int count = 0;                       // rows in use
-  std::array<int, 6> rows{};           // row indices
-  std::array<bool, 6> child_second{};  // per row: the child is its second body (b)
+  bool child_second = true;            // the child is its rows' second body (b)
+  int angles = 0;                      // angle rows, 0 to 3
+  std::array<int, 6> rows{};           // the point rows along x, y and z, then the angle rows
 };
 
 class TreePlan {
@@ -77,13 +78,12 @@ struct TreeJointWork {
   using Vec6 = Eigen::Matrix<T, 6, 1>;
   Mat6 inertia;                       // I, articulated
   Vec6 force;                         // p, then z
-  Mat6 transport;                     // T (rows other than point and angle rows); else E and K:
-  Mat3<T> e, k;                       //   T = [1 E; 0 K]
-  int free = 0;                       // k
-  Eigen::Matrix<T, 6, 5> directions;  // S
-  Eigen::Matrix<T, 6, 5> w;           // W = U L^-T
-  Eigen::Matrix<T, 5, 5> l;           // L
-  Eigen::Matrix<T, 5, 1> y;           // y = L^-1 S^T z
+  Mat3<T> e, k;                       // T = [1 E; 0 K]
+  int free = 0;                       // k = 3 - angle rows
+  Eigen::Matrix<T, 6, 3> directions;  // S
+  Eigen::Matrix<T, 6, 3> w;           // W = U L^-T
+  Mat3<T> l;                          // L
+  Vec3<T> y;                          // y = L^-1 S^T z
   Vec6 offset;                        // b
   Vec6 acceleration;                  // a_C
 };
