@@ -261,8 +261,8 @@ bool SolveKkt(const Model<T>& model, const VecX<T>& v, Workspace<T>* ws, VecX<T>
   if (const std::optional<bool> recorded = RecordedKktAcceleration(model, v, ws, a)) return *recorded;
   if constexpr (!std::is_same_v<T, Rev>) {  // a tree's elimination, unless the adjoint keeps this solve
     if (ws->tree != nullptr && ws->kkt_log == nullptr &&
-        TreeAcceleration(model, *ws->tree, ws->rows, ws->principal_inertia, v, ws->alpha, ws->beta, ws->force,
-                         &ws->tree_work, a)) {
+        TreeAcceleration(model, *ws->tree, ws->rows, ws->principal_inertia, ws->inverse_mass.diagonal,
+                         ws->inverse_mass.rotational, v, ws->alpha, ws->beta, ws->force, &ws->tree_work, a)) {
       return true;
     }
   }

@@ -74,20 +74,6 @@ std::optional<TreePlan> TreePlan::Of(const std::vector<RowInfo>& infos, const st
 
 namespace {
 
-template <typename T>
-using Vec6 = Eigen::Matrix<T, 6, 1>;
-
-// Two vectors spanning the plane normal to y (not unit): y x e_j for the axis e_j least aligned with y, and y x that.
-template <typename T>
-void NormalPlane(const Vec3<T>& y, Vec3<T>* n1, Vec3<T>* n2) {
-  int j = 0;
-  for (int i = 1; i < 3; ++i) {
-    if (std::abs(Value(y[i])) < std::abs(Value(y[j]))) j = i;
-  }
-  *n1 = y.cross(Vec3<T>::Unit(j));
-  *n2 = y.cross(*n1);
-}
-
 // T, S and b of a point-and-angle joint with kAngles angle rows (the closed form of tree_elimination.h); false where
 // Y_C Y_C^T is close to singular.
 template <int kAngles, typename T>
@@ -133,7 +119,7 @@ bool PointAndAngles(const TreeJoint& joint, const std::vector<ConstraintRow<T>>&
     if (!(Value(g) > kTreePivot)) return false;
     pseudo_inverse = y_child.transpose() / g;
     Vec3<T> n1, n2;
-    NormalPlane<T>(y_child.transpose(), &n1, &n2);
+    AxisNormals<T>(3, y_child.transpose(), &n1, &n2);
     null << n1, n2;
   } else if constexpr (kAngles == 2) {
     const Vec3<T> y0 = y_child.row(0).transpose(), y1 = y_child.row(1).transpose();
@@ -272,7 +258,8 @@ bool Accelerate(const Vec6<T>& transported, TreeJointWork<T>* w) {
 
 template <typename S, typename T>
 bool TreeAcceleration(const Model<S>& model, const TreePlan& plan, const std::vector<ConstraintRow<T>>& rows,
-                      const std::vector<Mat3<T>>& principal_inertia, const VecX<T>& v, const T& alpha, const T& beta,
+                      const std::vector<Mat3<T>>& principal_inertia, const VecX<T>& inverse_diagonal,
+                      const std::vector<Mat3<T>>& inverse_rotational, const VecX<T>& v, const T& alpha, const T& beta,
                       const VecX<T>& force, TreeWork<T>* work, VecX<T>* a) {
   const std::vector<TreeJoint>& joints = plan.joints();
   work->resize(joints.size());
@@ -312,19 +299,18 @@ bool TreeAcceleration(const Model<S>& model, const TreePlan& plan, const std::ve
     WithFreeCount(w.free, [&](auto k) { return Accelerate<k()>(transported, &w); });
     a->template segment<6>(joint.child_v) = w.acceleration;
   }
-  for (int body : plan.free_bodies()) {
-    const Body<S>& b = model.bodies[body];
-    a->template segment<3>(b.v_offset) = force.template segment<3>(b.v_offset) / T(b.mass);
-    a->template segment<3>(b.v_offset + 3) =
-        principal_inertia[body].inverse() * force.template segment<3>(b.v_offset + 3);
+  for (int body : plan.free_bodies()) {  // M^-1 f as ApplyInverseMass takes it
+    const int o = model.bodies[body].v_offset;
+    for (int k = 0; k < 3; ++k) (*a)[o + k] = inverse_diagonal[o + k] * force[o + k];
+    a->template segment<3>(o + 3) = inverse_rotational[body] * force.template segment<3>(o + 3);
   }
   return true;
 }
 
-#define TETHER_INSTANTIATE_TREE(T)                                                                             \
-  template bool TreeAcceleration<T, T>(const Model<T>&, const TreePlan&, const std::vector<ConstraintRow<T>>&, \
-                                       const std::vector<Mat3<T>>&, const VecX<T>&, const T&, const T&,        \
-                                       const VecX<T>&, TreeWork<T>*, VecX<T>*);
+#define TETHER_INSTANTIATE_TREE(T)                                                                               \
+  template bool TreeAcceleration<T, T>(const Model<T>&, const TreePlan&, const std::vector<ConstraintRow<T>>&,   \
+                                       const std::vector<Mat3<T>>&, const VecX<T>&, const std::vector<Mat3<T>>&, \
+                                       const VecX<T>&, const T&, const T&, const VecX<T>&, TreeWork<T>*, VecX<T>*);
 TETHER_INSTANTIATE_TREE(double)
 TETHER_INSTANTIATE_TREE(::tether::Jet)
 

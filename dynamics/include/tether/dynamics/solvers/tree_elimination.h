@@ -71,31 +71,34 @@ class TreePlan {
   std::vector<int> free_bodies_;
 };
 
-// What one elimination computes into, per joint (sized by TreeWork::Resize).
+template <typename T>
+using Vec6 = Eigen::Matrix<T, 6, 1>;  // a body's velocities' shape: translation (world), rotation (principal axes)
+
+// What one elimination computes into, per joint (TreeAcceleration sizes it to the plan's joints).
 template <typename T>
 struct TreeJointWork {
-  using Mat6 = Eigen::Matrix<T, 6, 6>;
-  using Vec6 = Eigen::Matrix<T, 6, 1>;
-  Mat6 inertia;                       // I, articulated
-  Vec6 force;                         // p, then z
+  Eigen::Matrix<T, 6, 6> inertia;     // I, articulated
+  Vec6<T> force;                      // p, then z
   Mat3<T> e, k;                       // T = [1 E; 0 K]
   int free = 0;                       // k = 3 - angle rows
   Eigen::Matrix<T, 6, 3> directions;  // S
   Eigen::Matrix<T, 6, 3> w;           // W = U L^-T
   Mat3<T> l;                          // L
   Vec3<T> y;                          // y = L^-1 S^T z
-  Vec6 offset;                        // b
-  Vec6 acceleration;                  // a_C
+  Vec6<T> offset;                     // b
+  Vec6<T> acceleration;               // a_C
 };
 
 template <typename T>
 using TreeWork = std::vector<TreeJointWork<T>>;
 
-// v' for the plan's bodies from the rows (evaluated at (q, v)), the generalized force f, the bodies' principal
-// inertias and masses, the gains; false (with *a untouched) where a joint's rows are close to dependent (above).
+// v' for the plan's bodies from the rows (evaluated at (q, v)), the generalized force f, the bodies' masses and
+// principal inertias, M^-1 (InverseMass's diagonal and rotational blocks, for the bodies no row touches) and the
+// gains; false (with *a untouched) where a joint's rows are close to dependent (above).
 template <typename S, typename T>
 bool TreeAcceleration(const Model<S>& model, const TreePlan& plan, const std::vector<ConstraintRow<T>>& rows,
-                      const std::vector<Mat3<T>>& principal_inertia, const VecX<T>& v, const T& alpha, const T& beta,
+                      const std::vector<Mat3<T>>& principal_inertia, const VecX<T>& inverse_diagonal,
+                      const std::vector<Mat3<T>>& inverse_rotational, const VecX<T>& v, const T& alpha, const T& beta,
                       const VecX<T>& force, TreeWork<T>* work, VecX<T>* a);
 
 }  // namespace tether
