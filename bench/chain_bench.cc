@@ -56,8 +56,11 @@ BENCHMARK_CAPTURE(StepHingeChain, rk4_sparse, Integrator::kRk4, KktSolver::kSpar
 BENCHMARK_CAPTURE(StepHingeChain, rk4_dense, Integrator::kRk4, KktSolver::kDense)->Apply([](auto* b) { Sizes(b, 200); });
 BENCHMARK_CAPTURE(StepHingeChain, symplectic_euler_sparse, Integrator::kSymplecticEuler, KktSolver::kSparse)
     ->Apply([](auto* b) { Sizes(b, 1000); });
+// auto: the tree elimination (tree_elimination.h), which the 3D hinge chains and trees take
+BENCHMARK_CAPTURE(StepHingeChain, rk4_tree, Integrator::kRk4, KktSolver::kAuto)->Apply([](auto* b) { Sizes(b, 1000); });
 BENCHMARK_CAPTURE(StepHingeTree, rk4_sparse, KktSolver::kSparse)->Apply([](auto* b) { Sizes(b, 1000); });
 BENCHMARK_CAPTURE(StepHingeTree, rk4_dense, KktSolver::kDense)->Apply([](auto* b) { Sizes(b, 200); });
+BENCHMARK_CAPTURE(StepHingeTree, rk4_tree, KktSolver::kAuto)->Apply([](auto* b) { Sizes(b, 1000); });
 
 }  // namespace
 }  // namespace tether::bench

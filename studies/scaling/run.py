@@ -6,7 +6,8 @@
 
 Runs the step benchmarks of bench/chain_bench.cc (StepChain: a chain of n particles, rk4 and symplectic Euler;
 StepTree: a binary tree of n particles, rk4; StepFourBar: the IFToMM A02 N-four-bar, rk4; StepHingeChain and
-StepHingeTree: 3D chains and binary trees of rigid rods on hinges; each with the sparse and the dense KKT path), writes their JSON output to results.json and draws scaling.png and .svg beside it (or
+StepHingeTree: 3D chains and binary trees of rigid rods on hinges; each with the sparse and the dense KKT path, and
+the 3D ones with the tree elimination that the auto solver takes for them), writes their JSON output to results.json and draws scaling.png and .svg beside it (or
 in --out): CPU time per step against the number of constraint rows m (the size of the KKT system: n for the
 chain and the tree, 6N + 2 for the four-bars), log-log, with the slope of each line fitted over m >= 100 and
 reference slopes O(m) and O(m^3). It also prints the
@@ -28,7 +29,7 @@ sys.path.insert(0, os.path.join(ROOT, "studies"))
 import bench_json  # noqa: E402
 import index_page  # noqa: E402
 
-NAME = re.compile(r"^Step(Chain|Tree|FourBar|HingeChain|HingeTree)/(rk4|symplectic_euler)_(sparse|dense)/(\d+)$")
+NAME = re.compile(r"^Step(Chain|Tree|FourBar|HingeChain|HingeTree)/(rk4|symplectic_euler)_(sparse|dense|tree)/(\d+)$")
 MIN_TIME, REPETITIONS = "0.2", 3
 FIT_FROM = 100  # constraint rows: slopes are fitted from here on, where the per-step overhead no longer counts
 MODELS = [("Chain", "chain of n particles: m = n"), ("Tree", "binary tree of n particles: m = n"),
@@ -40,7 +41,7 @@ TABLE_SIZES = {"Chain": {10, 20, 50, 100, 200, 500, 1000, 5000}, "Tree": {10, 10
 TABLE_NAMES = {"Chain": ("chain", "particles"), "Tree": ("binary tree", "particles"), "FourBar": ("four-bar", "N ="),
                "HingeChain": ("3D hinge chain", "rods"), "HingeTree": ("3D hinge tree", "rods")}
 INTEGRATORS = {"rk4": "rk4", "symplectic_euler": "symplectic Euler"}
-COLORS = {"sparse": "tab:blue", "dense": "tab:red"}
+COLORS = {"sparse": "tab:blue", "dense": "tab:red", "tree": "tab:green"}
 STYLES = {"rk4": "-o", "symplectic_euler": "--s"}
 
 
@@ -96,7 +97,8 @@ def summary(series):
             if not sparse and not dense:
                 continue
             words = []
-            for path, points in (("sparse", sparse), ("dense", dense)):
+            tree = series.get((model, integrator, "tree"))
+            for path, points in (("sparse", sparse), ("dense", dense), ("tree", tree)):
                 if points:
                     s = slope(points)
                     m, _, t = points[-1]
@@ -110,9 +112,11 @@ def summary(series):
 
 def table(series):
     """The README's step-cost table: a row per scene and size, a column per integrator and KKT path."""
-    columns = [("rk4", "sparse"), ("rk4", "dense"), ("symplectic_euler", "sparse"), ("symplectic_euler", "dense")]
-    lines = ["| scene | rows | rk4, sparse | rk4, dense | symplectic Euler, sparse | symplectic Euler, dense |",
-             "|---|---|---|---|---|---|"]
+    columns = [("rk4", "sparse"), ("rk4", "dense"), ("rk4", "tree"), ("symplectic_euler", "sparse"),
+               ("symplectic_euler", "dense")]
+    lines = ["| scene | rows | rk4, sparse | rk4, dense | rk4, tree | symplectic Euler, sparse | "
+             "symplectic Euler, dense |",
+             "|---|---|---|---|---|---|---|"]
     for model, _ in MODELS:
         sizes = sorted({(m, n) for (mod, _, _), points in series.items() if mod == model for m, n, _ in points
                         if n in TABLE_SIZES[model]})
