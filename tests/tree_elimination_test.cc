@@ -1,9 +1,9 @@
 // The tree elimination (tree_elimination.h) against the Schur path it stands in for: on a tree that joins 3D bodies
-// by every kind of joint (the closed form's hinge, ball, universal and weld, each way round; prismatic, cylindrical,
-// double hinge, distance and slider from their rows as they are), hung from the world and from one another, with a
-// free body beside them, v' agrees with the sparse Schur solve's to 1e-11 relative at a state where every velocity
-// term is non-zero, and its run stays as close to the sparse path's as the dense path's does. Loops, particles, a
-// pair with more than six rows and a solver asked for by name keep the Schur path.
+// by every kind of joint it takes (hinge, ball, universal, weld), each way round (the child as the rows' first body
+// or their second), hung from the world and from one another, with a free body beside them, v' agrees with the sparse
+// Schur solve's to 1e-11 relative at a state where every velocity term is non-zero, and the two runs stay within 1e-9
+// of each other. Loops, particles, joints of other rows (double hinges, prismatic joints) and a solver asked for by
+// name keep the Schur path.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -28,31 +28,20 @@ std::string Body(const std::string& name, const std::string& position, const std
          position + R"(, "angular_velocity": )" + spin + "}";
 }
 
-// Every joint kind between 3D bodies, in one tree: base hangs from the world by a hinge whose child is the rows' first
-// body; the others hang from it and from one another, but for one no row touches.
+// Every joint kind the elimination takes (point and angle rows), in one tree: base hangs from the world by a hinge
+// whose child is the rows' first body; the others hang from it and from one another, but for one no row touches.
 std::string TreeScene(const std::string& solver) {
   return R"({"dimension": 3, "bodies": [)" + Body("base", "[0, 0, -0.2]", "[0.3, 0.1, 0.2]") + "," +
          Body("ball", "[0.2, 0, -0.4]", "[0.5, -0.2, 0.1]") + "," + Body("cross", "[0.4, 0.1, -0.5]", "[0.1, 0.4, 0]") +
          "," + Body("welded", "[0.6, 0.1, -0.5]", "[0, 0.1, 0.3]") + "," +
-         Body("slide", "[0, 0.3, -0.2]", "[0.2, 0, 0.1]") + "," + Body("tube", "[0, -0.3, -0.3]", "[0.1, 0.2, 0.3]") +
-         "," + Body("foot", "[0.2, 0.2, -0.7]", "[0.5, 1.0, 0.2]") + "," +
-         Body("rod", "[0.4, -0.2, -0.6]", "[0.3, 0.3, 0.1]") + "," + Body("rail", "[-0.3, 0, -0.4]", "[0.2, 0.1, 0]") +
-         "," + Body("arm", "[0, 0.3, -0.5]", "[0.2, 0, 0.1]") + "," + Body("loose", "[1, 1, 0]", "[0.4, 0.3, 2]") +
-         R"(],
+         Body("arm", "[0, 0.3, -0.2]", "[0.2, 0, 0.1]") + "," + Body("loose", "[1, 1, 0]", "[0.4, 0.3, 2]") + R"(],
   "constraints": [
     {"type": "hinge", "bodies": ["base", "world"], "points": [[0, 0, 0.2], [0, 0, 0]], "axis": [0, 1, 0]},
     {"type": "pin", "bodies": ["base", "ball"], "points": [[0.1, 0, -0.1], [-0.1, 0, 0.1]]},
     {"type": "universal", "bodies": ["ball", "cross"], "points": [[0.1, 0.05, -0.05], [-0.1, -0.05, 0.05]],
      "axes": [[0, 0, 1], [0, 1, 0]]},
     {"type": "weld", "bodies": ["welded", "cross"], "points": [[-0.1, 0, 0], [0.1, 0, 0]]},
-    {"type": "prismatic", "bodies": ["base", "slide"], "points": [[0, 0.15, 0], [0, -0.15, 0]], "axis": [0, 1, 0]},
-    {"type": "cylindrical", "bodies": ["base", "tube"], "points": [[0, -0.15, -0.05], [0, 0.15, 0.05]],
-     "axis": [0, 1, 0]},
-    {"type": "double_hinge", "bodies": ["ball", "foot"], "points": [[0, 0.1, -0.15], [0, -0.1, 0.15]],
-     "axes": [[0, 1, 0], [0.8944, 0, 0.4472]]},
-    {"type": "distance", "bodies": ["cross", "rod"], "points": [[0, -0.1, 0], [0, 0.1, 0.1]]},
-    {"type": "slider", "bodies": ["rail", "base"], "points": [[0.15, 0, 0.1], [-0.15, 0, -0.1]], "axis": [1, 0, 0]},
-    {"type": "hinge", "bodies": ["slide", "arm"], "points": [[0, 0, -0.15], [0, 0, 0.15]], "axis": [0.6, 0, 0.8]}],
+    {"type": "hinge", "bodies": ["base", "arm"], "points": [[0, 0.15, 0], [0, -0.15, 0]], "axis": [0.6, 0, 0.8]}],
   "effects": [{"type": "gravity", "acceleration": [0, 0, -9.81]}],
   "stabilization": {"method": "baumgarte", "alpha": 20, "beta": 100},
   "simulation": {"integrator": "rk4", "step": 1e-3, "duration": 0.3, "solver": ")" +
@@ -84,25 +73,15 @@ TEST(TreeElimination, GivesTheSchurPathsAccelerationForEveryJointKind) {
   for (Eigen::Index i = 0; i < a.size(); ++i) EXPECT_NEAR(a[i], schur[i], 1e-11 * schur.norm()) << i;
 }
 
-// The double hinge passes close to its singular pose (axis lines that meet) at t = 0.26 s, where the sparse and the
-// dense Schur paths themselves part by some 1e-8: the tree's run stays as close to the sparse path's as the dense
-// path's does.
-TEST(TreeElimination, RunsAsTheSchurPathsRun) {
+TEST(TreeElimination, RunsAsTheSchurPathRuns) {
   const Trajectory<double> tree = Record(SceneFromJson(TreeScene("auto")));
   const Trajectory<double> sparse = Record(SceneFromJson(TreeScene("sparse")));
-  const Trajectory<double> dense = Record(SceneFromJson(TreeScene("dense")));
   ASSERT_EQ(tree.size(), sparse.size());
   ASSERT_GT(tree.size(), 100u);
-  const auto apart = [&sparse](const Trajectory<double>& run) {
-    double largest = 0.0;
-    for (size_t i = 0; i < run.size(); ++i) {
-      largest = std::max(largest, (run.q[i] - sparse.q[i]).cwiseAbs().maxCoeff());
-      largest = std::max(largest, (run.v[i] - sparse.v[i]).cwiseAbs().maxCoeff());
-    }
-    return largest;
-  };
-  EXPECT_LT(apart(tree), 10.0 * apart(dense) + 1e-12);
-  EXPECT_LT(apart(tree), 1e-6);
+  for (size_t i = 0; i < tree.size(); ++i) {
+    EXPECT_LT((tree.q[i] - sparse.q[i]).cwiseAbs().maxCoeff(), 1e-9) << tree.t[i];
+    EXPECT_LT((tree.v[i] - sparse.v[i]).cwiseAbs().maxCoeff(), 1e-9) << tree.t[i];
+  }
   EXPECT_LT(tree.LargestViolation(), 1e-6);
 }
 

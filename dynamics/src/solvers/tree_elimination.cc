@@ -9,34 +9,6 @@
 
 namespace tether {
 
-namespace {
-
-// Whether `rows` (of one body pair, child_second filled) are a point part and 0 to 3 angle rows on one orientation;
-// if so, puts them in joint->rows as the closed form reads them (point rows along x, y, z, then the angle rows).
-bool ClosedFormRows(const std::vector<RowInfo>& infos, const std::vector<int>& rows, TreeJoint* joint) {
-  int axes = 0;
-  joint->angles = 0;
-  std::array<int, 6> order{};
-  for (size_t r = 0; r < rows.size(); ++r) {
-    const RowTranslation translation = infos[rows[r]].translation;
-    if (joint->child_second[r] != joint->child_second[0]) return false;
-    if (translation == RowTranslation::kZero) {
-      if (joint->angles == 3) return false;
-      order[3 + joint->angles++] = rows[r];
-    } else if (translation != RowTranslation::kEvaluated && !(axes >> TranslationAxis(translation) & 1)) {
-      axes |= 1 << TranslationAxis(translation);
-      order[TranslationAxis(translation)] = rows[r];
-    } else {
-      return false;
-    }
-  }
-  if (axes != 7) return false;
-  joint->rows = order;
-  return true;
-}
-
-}  // namespace
-
 std::optional<TreePlan> TreePlan::Of(const std::vector<RowInfo>& infos, const std::vector<BodyLayout>& layout) {
   if (infos.empty()) return std::nullopt;
   for (const BodyLayout& body : layout) {
@@ -70,11 +42,24 @@ std::optional<TreePlan> TreePlan::Of(const std::vector<RowInfo>& infos, const st
       joint.parent_joint = parent == kWorld ? -1 : joint_of[parent];
       joint.child_v = layout[child].v_offset;
       joint.parent_v = parent == kWorld ? 0 : layout[parent].v_offset;
-      if (it->second.size() > 6) return std::nullopt;  // dependent rows
-      joint.count = static_cast<int>(it->second.size());
-      for (int r = 0; r < joint.count; ++r) joint.child_second[r] = infos[it->second[r]].body_b == child;
-      joint.closed_form = ClosedFormRows(infos, it->second, &joint);
-      if (!joint.closed_form) std::copy(it->second.begin(), it->second.end(), joint.rows.begin());
+      joint.child_second = infos[it->second[0]].body_b == child;
+      int axes = 0;
+      for (int row : it->second) {
+        const RowInfo& info = infos[row];
+        const int axis = info.translation == RowTranslation::kZero || info.translation == RowTranslation::kEvaluated
+                             ? -1
+                             : TranslationAxis(info.translation);
+        if ((info.body_b == child) != joint.child_second) return std::nullopt;  // rows of both orientations
+        if (info.translation == RowTranslation::kZero && joint.angles < 3) {
+          joint.rows[3 + joint.angles++] = row;
+        } else if (axis >= 0 && !(axes >> axis & 1)) {
+          axes |= 1 << axis;
+          joint.rows[axis] = row;
+        } else {
+          return std::nullopt;  // not a point part and angle rows
+        }
+      }
+      if (axes != 7) return std::nullopt;
       joint_of[child] = static_cast<int>(plan.joints_.size());
       plan.joints_.push_back(joint);
       it = pairs.erase(it);
@@ -95,7 +80,7 @@ template <int kAngles, typename T>
 bool PointAndAngles(const TreeJoint& joint, const std::vector<ConstraintRow<T>>& rows, const VecX<T>& v, const T& alpha,
                     const T& beta, TreeJointWork<T>* w) {
   constexpr int kFree = 3 - kAngles;
-  const double s = joint.child_second[0] ? 1.0 : -1.0;
+  const double s = joint.child_second ? 1.0 : -1.0;
   const bool world = joint.parent == kWorld;
   // the rows' rotational blocks (their translations are s e_k on the child and -s e_k on the parent for the point
   // rows, zero for the angle rows), and gamma from their rates J v
@@ -103,8 +88,8 @@ bool PointAndAngles(const TreeJoint& joint, const std::vector<ConstraintRow<T>>&
   Vec3<T> rest_point;  // Jdot v + beta C
   for (int k = 0; k < 3; ++k) {
     const ConstraintRow<T>& row = rows[joint.rows[k]];
-    x_child.row(k) = (joint.child_second[0] ? row.b : row.a).rotation.transpose();
-    x_parent.row(k) = (joint.child_second[0] ? row.a : row.b).rotation.transpose();
+    x_child.row(k) = (joint.child_second ? row.b : row.a).rotation.transpose();
+    x_parent.row(k) = (joint.child_second ? row.a : row.b).rotation.transpose();
     rest_point[k] = row.bias + beta * row.value;
   }
   const Vec3<T> v_child = v.template segment<3>(joint.child_v), w_child = v.template segment<3>(joint.child_v + 3);
@@ -118,8 +103,8 @@ bool PointAndAngles(const TreeJoint& joint, const std::vector<ConstraintRow<T>>&
     Eigen::Matrix<T, kAngles, 1> rest_angle;
     for (int i = 0; i < kAngles; ++i) {
       const ConstraintRow<T>& row = rows[joint.rows[3 + i]];
-      y_child.row(i) = (joint.child_second[0] ? row.b : row.a).rotation.transpose();
-      y_parent.row(i) = (joint.child_second[0] ? row.a : row.b).rotation.transpose();
+      y_child.row(i) = (joint.child_second ? row.b : row.a).rotation.transpose();
+      y_parent.row(i) = (joint.child_second ? row.a : row.b).rotation.transpose();
       rest_angle[i] = row.bias + beta * row.value;
     }
     gamma_angle = -(rest_angle + alpha * (y_child * w_child + y_parent * w_parent));
@@ -169,104 +154,17 @@ bool PointAndAngles(const TreeJoint& joint, const std::vector<ConstraintRow<T>>&
   return true;
 }
 
-// The lower Cholesky factor of a symmetric positive definite n x n matrix, in place (its lower triangle); false where
-// a pivot is not above `least`.
-template <int n, typename T>
-bool CholeskyInPlace(double least, Eigen::Matrix<T, n, n>* m) {
-  for (int i = 0; i < n; ++i) {
-    for (int c = 0; c < i; ++c) (*m)(i, i) -= (*m)(i, c) * (*m)(i, c);
-    if (!(Value((*m)(i, i)) > least)) return false;
-    using std::sqrt;
-    (*m)(i, i) = sqrt((*m)(i, i));
-    for (int r = i + 1; r < n; ++r) {
-      for (int c = 0; c < i; ++c) (*m)(r, i) -= (*m)(r, c) * (*m)(i, c);
-      (*m)(r, i) /= (*m)(i, i);
-    }
-  }
-  return true;
-}
-
-// x = L^-1 x for the lower triangle L of `factor` (n x n), x with n rows.
-template <int n, typename T, typename X>
-void ForwardSubstitute(const Eigen::Matrix<T, n, n>& factor, X* x) {
-  for (int i = 0; i < n; ++i) {
-    for (int c = 0; c < i; ++c) x->row(i) -= factor(i, c) * x->row(c);
-    x->row(i) /= factor(i, i);
-  }
-}
-
-// T, S and b of any other joint (kRows rows) from its rows as they are (tree_elimination.h); false where G is close
-// to singular.
-template <int kRows, typename T>
-bool AnyRows(const TreeJoint& joint, const std::vector<ConstraintRow<T>>& rows, const VecX<T>& v, const T& alpha,
-             const T& beta, TreeJointWork<T>* w) {
-  constexpr int kFree = 6 - kRows;
-  const bool world = joint.parent == kWorld;
-  Eigen::Matrix<T, kRows, 6> child, parent;  // J_C, J_P
-  Eigen::Matrix<T, kRows, 1> rest;           // Jdot v + beta C
-  for (int i = 0; i < kRows; ++i) {
-    const ConstraintRow<T>& row = rows[joint.rows[i]];
-    const BodyVector<T>& c = joint.child_second[i] ? row.b : row.a;
-    const BodyVector<T>& p = joint.child_second[i] ? row.a : row.b;
-    child.row(i) << c.translation.transpose(), c.rotation.transpose();
-    if (world) {
-      parent.row(i).setZero();
-    } else {
-      parent.row(i) << p.translation.transpose(), p.rotation.transpose();
-    }
-    rest[i] = row.bias + beta * row.value;
-  }
-  const Vec6<T> v_child = v.template segment<6>(joint.child_v);
-  const Vec6<T> v_parent = world ? Vec6<T>(Vec6<T>::Zero()) : Vec6<T>(v.template segment<6>(joint.parent_v));
-  const Eigen::Matrix<T, kRows, 1> gamma = -(rest + alpha * (child * v_child + parent * v_parent));
-  Eigen::Matrix<T, kRows, kRows> factor = child * child.transpose();  // G, then L
-  const double largest = std::max(1.0, Value(factor.diagonal().maxCoeff()));
-  if (!CholeskyInPlace<kRows>(kTreePivot * largest, &factor)) return false;
-  Eigen::Matrix<T, kRows, 6> z = child;  // L^-1 J_C: orthonormal rows
-  ForwardSubstitute<kRows>(factor, &z);
-  Eigen::Matrix<T, kRows, 1> c = gamma;  // L^-1 gamma
-  ForwardSubstitute<kRows>(factor, &c);
-  Eigen::Matrix<T, kRows, 6> p = parent;  // L^-1 J_P
-  ForwardSubstitute<kRows>(factor, &p);
-  w->transport.noalias() = -z.transpose() * p;  // R = J_C^T G^-1 = Z^T L^-1
-  w->offset.noalias() = z.transpose() * c;
-  w->free = kFree;
-  if constexpr (kFree > 0) {  // Z's complement: the unit vectors Gram-Schmidt leaves longest
-    Eigen::Matrix<T, 6, 6> basis;
-    basis.template leftCols<kRows>() = z.transpose();
-    for (int j = kRows; j < 6; ++j) {
-      Vec6<T> best = Vec6<T>::Zero();
-      for (int i = 0; i < 6; ++i) {
-        Vec6<T> r = Vec6<T>::Unit(i);
-        for (int b = 0; b < j; ++b) r -= basis(i, b) * basis.col(b);
-        if (Value(r.squaredNorm()) > Value(best.squaredNorm())) best = r;
-      }
-      basis.col(j) = best / best.norm();
-    }
-    w->directions.template leftCols<kFree>() = basis.template rightCols<kFree>();
-  }
-  return true;
-}
-
-// y += T^T x for a joint's T.
+// y += T^T x for a joint's T = [1 E; 0 K].
 template <typename T>
-void AddTransportTransposed(const TreeJoint& joint, const TreeJointWork<T>& w, const Vec6<T>& x, Vec6<T>* y) {
-  if (!joint.closed_form) {
-    y->noalias() += w.transport.transpose() * x;
-    return;
-  }
+void AddTransportTransposed(const TreeJointWork<T>& w, const Vec6<T>& x, Vec6<T>* y) {
   y->template head<3>() += x.template head<3>();
   y->template tail<3>().noalias() += w.e.transpose() * x.template head<3>() + w.k.transpose() * x.template tail<3>();
 }
 
-// I_P += T^T I T for a joint's T (in the closed form, T = [1 E; 0 K]: 3 x 3 products).
+// I_P += T^T I T for a joint's T = [1 E; 0 K], in 3 x 3 products.
 template <typename T>
-void AddTransportedInertia(const TreeJoint& joint, const TreeJointWork<T>& w, const Eigen::Matrix<T, 6, 6>& inertia,
+void AddTransportedInertia(const TreeJointWork<T>& w, const Eigen::Matrix<T, 6, 6>& inertia,
                            Eigen::Matrix<T, 6, 6>* out) {
-  if (!joint.closed_form) {
-    out->noalias() += w.transport.transpose() * inertia * w.transport;
-    return;
-  }
   const auto a = inertia.template topLeftCorner<3, 3>();
   const auto b = inertia.template topRightCorner<3, 3>();
   const auto c = inertia.template bottomRightCorner<3, 3>();
@@ -279,17 +177,15 @@ void AddTransportedInertia(const TreeJoint& joint, const TreeJointWork<T>& w, co
   out->template bottomRightCorner<3, 3>().noalias() += w.e.transpose() * top + w.k.transpose() * bottom;
 }
 
-// T x for a joint's T.
+// T x for a joint's T = [1 E; 0 K].
 template <typename T>
-Vec6<T> Transport(const TreeJoint& joint, const TreeJointWork<T>& w, const Vec6<T>& x) {
-  if (!joint.closed_form) return w.transport * x;
+Vec6<T> Transport(const TreeJointWork<T>& w, const Vec6<T>& x) {
   Vec6<T> out;
   out << x.template head<3>() + w.e * x.template tail<3>(), w.k * x.template tail<3>();
   return out;
 }
 
-// Calls f(std::integral_constant<int, k>) for k in [0, 5] (k = 5 for 5 or 6), so that a joint's blocks have fixed
-// sizes.
+// Calls f(std::integral_constant<int, k>) for k = free in [0, 3], so that a joint's blocks have fixed sizes.
 template <typename F>
 bool WithFreeCount(int free, F f) {
   switch (free) {
@@ -299,12 +195,8 @@ bool WithFreeCount(int free, F f) {
       return f(std::integral_constant<int, 1>());
     case 2:
       return f(std::integral_constant<int, 2>());
-    case 3:
-      return f(std::integral_constant<int, 3>());
-    case 4:
-      return f(std::integral_constant<int, 4>());
     default:
-      return f(std::integral_constant<int, 5>());
+      return f(std::integral_constant<int, 3>());
   }
 }
 
@@ -316,12 +208,27 @@ bool Eliminate(TreeJointWork<T>* w) {
   if constexpr (K > 0) {
     const Eigen::Matrix<T, 6, K> directions = w->directions.template leftCols<K>();
     const Eigen::Matrix<T, 6, K> u = w->inertia * directions;
-    Eigen::Matrix<T, K, K> l = directions.transpose() * u;  // D, then L
-    if (!CholeskyInPlace<K>(0.0, &l)) return false;
-    Eigen::Matrix<T, K, 6> w_t = u.transpose();  // W^T = L^-1 U^T
-    ForwardSubstitute<K>(l, &w_t);
-    Eigen::Matrix<T, K, 1> y = directions.transpose() * w->force;  // y = L^-1 S^T z
-    ForwardSubstitute<K>(l, &y);
+    Eigen::Matrix<T, K, K> l = directions.transpose() * u;
+    for (int i = 0; i < K; ++i) {  // D = L L^T, in place (the lower triangle)
+      for (int c = 0; c < i; ++c) l(i, i) -= l(i, c) * l(i, c);
+      if (!(Value(l(i, i)) > 0.0)) return false;
+      using std::sqrt;
+      l(i, i) = sqrt(l(i, i));
+      for (int r = i + 1; r < K; ++r) {
+        for (int c = 0; c < i; ++c) l(r, i) -= l(r, c) * l(i, c);
+        l(r, i) /= l(i, i);
+      }
+    }
+    Eigen::Matrix<T, K, 6> w_t = u.transpose();
+    Eigen::Matrix<T, K, 1> y = directions.transpose() * w->force;
+    for (int i = 0; i < K; ++i) {  // W^T = L^-1 U^T, y = L^-1 S^T z
+      for (int c = 0; c < i; ++c) {
+        w_t.row(i) -= l(i, c) * w_t.row(c);
+        y[i] -= l(i, c) * y[c];
+      }
+      w_t.row(i) /= l(i, i);
+      y[i] /= l(i, i);
+    }
     w->inertia.noalias() -= w_t.transpose() * w_t;
     w->force.noalias() -= w_t.transpose() * y;
     w->l.template topLeftCorner<K, K>() = l;
@@ -350,19 +257,18 @@ bool Accelerate(const Vec6<T>& transported, TreeJointWork<T>* w) {
 }  // namespace
 
 template <typename S, typename T>
-bool TreeAcceleration(const Model<S>& model, const TreePlan& plan, const std::vector<ConstraintRow<T>>& rows,
-                      const std::vector<Mat3<T>>& principal_inertia, const VecX<T>& inverse_diagonal,
-                      const std::vector<Mat3<T>>& inverse_rotational, const VecX<T>& v, const T& alpha, const T& beta,
-                      const VecX<T>& force, TreeWork<T>* work, VecX<T>* a) {
+TETHER_FLATTEN bool TreeAcceleration(const Model<S>& model, const TreePlan& plan,
+                                     const std::vector<ConstraintRow<T>>& rows,
+                                     const std::vector<Mat3<T>>& principal_inertia, const VecX<T>& inverse_diagonal,
+                                     const std::vector<Mat3<T>>& inverse_rotational, const VecX<T>& v, const T& alpha,
+                                     const T& beta, const VecX<T>& force, TreeWork<T>* work, VecX<T>* a) {
   const std::vector<TreeJoint>& joints = plan.joints();
   work->resize(joints.size());
   for (size_t j = 0; j < joints.size(); ++j) {
     const TreeJoint& joint = joints[j];
     TreeJointWork<T>& w = (*work)[j];
     bool made;
-    if (!joint.closed_form) {
-      made = WithFreeCount(joint.count - 1, [&](auto m) { return AnyRows<m() + 1>(joint, rows, v, alpha, beta, &w); });
-    } else if (joint.angles == 2) {
+    if (joint.angles == 2) {
       made = PointAndAngles<2>(joint, rows, v, alpha, beta, &w);
     } else if (joint.angles == 0) {
       made = PointAndAngles<0>(joint, rows, v, alpha, beta, &w);
@@ -383,14 +289,14 @@ bool TreeAcceleration(const Model<S>& model, const TreePlan& plan, const std::ve
     if (!WithFreeCount(w.free, [&](auto k) { return Eliminate<k()>(&w); })) return false;
     if (joint.parent == kWorld) continue;
     TreeJointWork<T>& parent = (*work)[joint.parent_joint];
-    AddTransportedInertia(joint, w, w.inertia, &parent.inertia);
-    AddTransportTransposed(joint, w, w.force, &parent.force);
+    AddTransportedInertia(w, w.inertia, &parent.inertia);
+    AddTransportTransposed(w, w.force, &parent.force);
   }
   for (size_t j = 0; j < joints.size(); ++j) {  // parents first
     const TreeJoint& joint = joints[j];
     TreeJointWork<T>& w = (*work)[j];
     Vec6<T> transported = Vec6<T>::Zero();
-    if (joint.parent != kWorld) transported = Transport(joint, w, (*work)[joint.parent_joint].acceleration);
+    if (joint.parent != kWorld) transported = Transport(w, (*work)[joint.parent_joint].acceleration);
     WithFreeCount(w.free, [&](auto k) { return Accelerate<k()>(transported, &w); });
     a->template segment<6>(joint.child_v) = w.acceleration;
   }

@@ -22,18 +22,18 @@
 // Y_C^+ gamma_angle (Y_C^+ = Y_C^T (Y_C Y_C^T)^-1, N a basis of Y_C's null space), T and S take a closed form:
 //   T = [1 E; 0 K],   K = -Y_C^+ Y_P,   E = -s (X_P + X_C K),   S = [-s X_C N; N],
 //   b = [s (gamma_point - X_C c); c],
-// so that T^T I T takes 3 x 3 products. Any other pair of bodies (lines, distances, double hinges) takes them from
-// its rows as they are: with J_C = L Z (Z = L^-1 J_C, orthonormal rows; G = J_C J_C^T = L L^T),
-//   R = J_C^T G^-1 = Z^T L^-1,   T = -R J_P,   b = R gamma,   S = the unit vectors e_i that Gram-Schmidt against Z's
-//   rows leaves longest, orthonormalized (k of them).
+// so that T^T I T takes 3 x 3 products. (Lines, distances and double hinges keep the Schur path. Served from their
+// rows as they are, with a right inverse and a null space of J_C from a QR factorization, then from a Cholesky
+// factorization of J_C J_C^T, they made humanoid.xml's step, with its two double hinges, 7 to 10% slower than the
+// Schur path's; docs/performance.md, "The tree elimination".)
 //
-// Where a joint's rows are close to dependent (a universal joint near its gimbal lock: a pivot of Y_C Y_C^T, or of
-// G, below kTreePivot times max(1, its largest diagonal)), the evaluation fails and the Schur path, which
+// Where a joint's rows are close to dependent (a universal joint near its gimbal lock: a pivot of Y_C Y_C^T below
+// kTreePivot times max(1, its largest diagonal)), the evaluation fails and the Schur path, which
 // regularizes such rows (schur_solver.h), takes it.
 //
 // The plan is made once per row layout (SchurShape); a layout is a tree when every body is a 3D rigid body, every
 // row is an equality (no active limit or contact), the body pairs that rows join form a forest rooted at the world,
-// and no pair has more than six rows.
+// and each pair's rows are such a joint's.
 #pragma once
 
 #include <array>
@@ -54,11 +54,9 @@ struct TreeJoint {
   int parent_joint = -1;               // the parent's index in TreePlan::joints(), -1 for the world
   int child_v = 0;                     // the child's first velocity
   int parent_v = 0;                    // the parent's (unused for the world)
-  int count = 0;                       // rows, 1 to 6
-  std::array<int, 6> rows{};           // the rows; in the closed form the point rows along x, y, z, then the angles
-  std::array<bool, 6> child_second{};  // per row: the child is its second body (b)
-  bool closed_form = false;            // a point part and angle rows, on one orientation (above)
-  int angles = 0;                      // then: angle rows, 0 to 3
+  bool child_second = true;            // the child is its rows' second body (b)
+  int angles = 0;                      // angle rows, 0 to 3
+  std::array<int, 6> rows{};           // the point rows along x, y and z, then the angle rows
 };
 
 class TreePlan {
@@ -82,13 +80,12 @@ template <typename T>
 struct TreeJointWork {
   Eigen::Matrix<T, 6, 6> inertia;     // I, articulated
   Vec6<T> force;                      // p, then z
-  Mat3<T> e, k;                       // T = [1 E; 0 K] in the closed form
-  Eigen::Matrix<T, 6, 6> transport;   // T otherwise
-  int free = 0;                       // k
-  Eigen::Matrix<T, 6, 5> directions;  // S
-  Eigen::Matrix<T, 6, 5> w;           // W = U L^-T
-  Eigen::Matrix<T, 5, 5> l;           // L
-  Eigen::Matrix<T, 5, 1> y;           // y = L^-1 S^T z
+  Mat3<T> e, k;                       // T = [1 E; 0 K]
+  int free = 0;                       // k = 3 - angle rows
+  Eigen::Matrix<T, 6, 3> directions;  // S
+  Eigen::Matrix<T, 6, 3> w;           // W = U L^-T
+  Mat3<T> l;                          // L
+  Vec3<T> y;                          // y = L^-1 S^T z
   Vec6<T> offset;                     // b
   Vec6<T> acceleration;               // a_C
 };
