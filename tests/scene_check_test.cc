@@ -46,6 +46,21 @@ TEST(SceneCheck, PendulumHasOneDegreeOfFreedom) {
   EXPECT_EQ(c.solver, "sparse");  // what "auto" takes at every size
 }
 
+TEST(SceneCheck, NamesTheTreeEliminationWhereAutoTakesIt) {
+  const std::string scene = R"({"dimension": 3,
+      "bodies": [{"name": "rod", "type": "rigid", "mass": 1, "inertia": [0.1, 0.1, 0.01], "position": [0, 0, -0.5]}],
+      "constraints": [{"type": "hinge", "bodies": ["world", "rod"], "points": [[0, 0, 0], [0, 0, 0.5]],
+                       "axis": [0, 1, 0]}]SOLVER})";
+  const auto solver_of = [&scene](const std::string& simulation) {
+    std::string text = scene;
+    text.replace(text.find("SOLVER"), 6, simulation);
+    return CheckScene(SceneFromJson(text)).solver;
+  };
+  EXPECT_EQ(solver_of(""), "tree");
+  EXPECT_EQ(solver_of(R"(, "simulation": {"solver": "sparse"})"), "sparse");
+  EXPECT_EQ(solver_of(R"(, "simulation": {"solver": "dense"})"), "dense");
+}
+
 TEST(SceneCheck, DuplicatedRodIsRedundant) {
   const SceneCheck c = CheckScene(SceneFromJson(R"({
     "bodies": [{"name": "bob", "type": "particle", "mass": 1.0, "position": [0.6, -0.8]}],

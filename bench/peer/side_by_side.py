@@ -5,7 +5,7 @@ the two figures issue 8 asks for. Standard library only.
 
     python3 bench/peer/side_by_side.py                                   # run (about 45 minutes), then print
     python3 bench/peer/side_by_side.py --json bench/peer/results.json    # print the saved run again
-    python3 bench/peer/side_by_side.py --filter 'hinge_chain|humanoid' --out bench/peer/results_rigid3d.json
+    python3 bench/peer/side_by_side.py --filter 'hinge_chain|humanoid/' --out bench/peer/results_rigid3d.json
                                                                          # the rigid-body scenes only (5 minutes)
 """
 import os
@@ -44,9 +44,12 @@ def scene_label(scene):
         return "four-bar"
     if scene == "humanoid":
         return "humanoid-sized tree (13 bodies, 21 hinges)"
-    if scene.startswith("hinge_chain"):
-        return f"3D hinge chain, {scene[len('hinge_chain'):]} rods"
-    return f"chain, {scene[len('chain'):]} particles"
+    if scene == "humanoid_file":
+        return "MuJoCo's humanoid.xml (imported, torso fixed)"
+    for prefix, unit in (("hinge_chain", "3D hinge chain, {} rods"), ("chain", "chain, {} particles")):
+        if scene.startswith(prefix) and scene[len(prefix):].isdigit():
+            return unit.format(scene[len(prefix):])
+    sys.exit(f"side_by_side.py: no label for the scene '{scene}' (bench/peer/peer_bench.cc's names)")
 
 
 def rows(table):

@@ -18,6 +18,7 @@
 #include "tether/dynamics/integration/stepper.h"
 #include "tether/dynamics/model/errors.h"
 #include "tether/dynamics/solvers/schur_solver.h"
+#include "tether/dynamics/solvers/tree_elimination.h"
 
 namespace tether {
 namespace {
@@ -105,8 +106,10 @@ SceneCheck CheckScene(const Model<double>& model) {
   std::vector<ConstraintRow<double>> rows(infos.size());
   check.coordinates = model.NumVelocities();
   check.constraint_rows = static_cast<int>(rows.size());
-  const SchurPattern pattern(infos, LayoutOf(model));
+  const std::vector<BodyLayout> layout = LayoutOf(model);
+  const SchurPattern pattern(infos, layout);
   check.solver = SchurSolver(pattern, model.simulation.solver).kind() == KktSolver::kDense ? "dense" : "sparse";
+  if (model.simulation.solver == KktSolver::kAuto && TreePlan::Of(infos, layout)) check.solver = "tree";
   check.degrees_of_freedom = check.coordinates;
   try {
     CheckGaps(model, &check);

@@ -62,7 +62,7 @@ struct SceneCheck {
   int worst_constraint = -1;               // scene index of the largest initial violation
   double condition_number = 1.0;           // of J M^-1/2 over its rank
   bool condition_estimated = false;        // from the sparse QR's R (kDenseCheckRows)
-  std::string solver;                      // the KKT path `auto` picks: dense or sparse
+  std::string solver;                      // the KKT path the scene takes: dense, sparse or (auto only) tree
   std::string assembly_error;              // empty when the initial state can be assembled
   std::vector<LimitCheck> limits;          // in scene order (when the scene assembles)
   std::vector<ContactCheck> contacts;      // the pairs, in scene order (when the scene assembles)
