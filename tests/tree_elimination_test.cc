@@ -63,7 +63,7 @@ VecX<double> AccelerationAfterARun(const Model<double>& model, bool* tree) {
   return a;
 }
 
-TEST(TreeElimination, GivesTheSchurPathsAccelerationForEveryJointKind) {
+TEST(TreeElimination, GivesTheSchurPathsAccelerationForEveryJointKindItTakes) {
   bool tree = false, schur_tree = true;
   const VecX<double> a = AccelerationAfterARun(SceneFromJson(TreeScene("auto")), &tree);
   const VecX<double> schur = AccelerationAfterARun(SceneFromJson(TreeScene("sparse")), &schur_tree);
@@ -106,6 +106,13 @@ TEST(TreeElimination, KeepsTheSchurPathWhereTheRowsAreNotATree) {
   EXPECT_FALSE(plan_of(scene(rigid, hinges + R"(, {"type": "distance", "bodies": ["world", "b"],
                                                    "points": [[2, 1, 0], [0, 0, 0]]})",
                              "")));  // a loop through the world
+  const std::string first_hinge = hinges.substr(0, hinges.find("},") + 2);
+  for (const char* joint : {R"({"type": "double_hinge", "bodies": ["a", "b"], "points": [[0.5, 0, 0.04], [-0.535, 0.01, 0.04]],
+                                 "axes": [[0, 1, 0], [0.8944, 0, 0.4472]]})",
+                            R"({"type": "prismatic", "bodies": ["a", "b"], "points": [[0.5, 0, 0], [-0.5, 0, 0]],
+                                 "axis": [1, 0, 0]})"}) {
+    EXPECT_FALSE(plan_of(scene(rigid, first_hinge + joint, ""))) << joint;  // rows other than points and angles
+  }
   EXPECT_FALSE(
       plan_of(scene(rigid + R"(, {"name": "p", "type": "particle", "mass": 1, "position": [3, 0, 0]})",
                     hinges + R"(, {"type": "distance", "bodies": ["b", "p"], "points": [[0.5, 0, 0], [0, 0, 0]]})",
