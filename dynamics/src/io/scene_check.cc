@@ -109,7 +109,9 @@ SceneCheck CheckScene(const Model<double>& model) {
   const std::vector<BodyLayout> layout = LayoutOf(model);
   const SchurPattern pattern(infos, layout);
   check.solver = SchurSolver(pattern, model.simulation.solver).kind() == KktSolver::kDense ? "dense" : "sparse";
-  if (model.simulation.solver == KktSolver::kAuto && TreePlan::Of(infos, layout)) check.solver = "tree";
+  if (model.simulation.solver == KktSolver::kAuto && TreePlan::Of(infos, layout, DoubleHingesByScene(model.joints))) {
+    check.solver = "tree";
+  }
   check.degrees_of_freedom = check.coordinates;
   try {
     CheckGaps(model, &check);

@@ -129,7 +129,7 @@ bool ComputeAcceleration(const Model<T>& model, double t, const VecX<T>& q, cons
   } else {
     ws->sliding.clear();  // none slides where none touches
   }
-  return SolveKkt(model, v, ws, a);
+  return SolveKkt(model, q, v, ws, a);
 }
 
 template <typename S, typename T>
@@ -257,12 +257,12 @@ int SlidingKktAcceleration(const Model<S>& model, const std::vector<BodyLayout>&
 }
 
 template <typename T>
-bool SolveKkt(const Model<T>& model, const VecX<T>& v, Workspace<T>* ws, VecX<T>* a) {
+bool SolveKkt(const Model<T>& model, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws, VecX<T>* a) {
   if (const std::optional<bool> recorded = RecordedKktAcceleration(model, v, ws, a)) return *recorded;
   if constexpr (!std::is_same_v<T, Rev>) {  // a tree's elimination, unless the adjoint keeps this solve
     if (ws->tree != nullptr && ws->kkt_log == nullptr &&
-        TreeAcceleration(model, *ws->tree, ws->rows, ws->principal_inertia, ws->inverse_mass.diagonal,
-                         ws->inverse_mass.rotational, v, ws->alpha, ws->beta, ws->force, &ws->tree_work, a)) {
+        TreeAcceleration(model, *ws->tree, ws->rows, ws->frames, ws->principal_inertia, ws->inverse_mass.diagonal,
+                         ws->inverse_mass.rotational, q, v, ws->alpha, ws->beta, ws->force, &ws->tree_work, a)) {
       return true;
     }
   }

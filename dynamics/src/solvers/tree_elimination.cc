@@ -1,6 +1,5 @@
 #include "tether/dynamics/solvers/tree_elimination.h"
 
-#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -9,7 +8,8 @@
 
 namespace tether {
 
-std::optional<TreePlan> TreePlan::Of(const std::vector<RowInfo>& infos, const std::vector<BodyLayout>& layout) {
+std::optional<TreePlan> TreePlan::Of(const std::vector<RowInfo>& infos, const std::vector<BodyLayout>& layout,
+                                     const std::vector<int>& double_hinges) {
   if (infos.empty()) return std::nullopt;
   for (const BodyLayout& body : layout) {
     if (body.kind != BodyKind::kRigid3d) return std::nullopt;
@@ -43,6 +43,18 @@ std::optional<TreePlan> TreePlan::Of(const std::vector<RowInfo>& infos, const st
       joint.child_v = layout[child].v_offset;
       joint.parent_v = parent == kWorld ? 0 : layout[parent].v_offset;
       joint.child_second = infos[it->second[0]].body_b == child;
+      const int scene = infos[it->second[0]].scene_index;
+      const bool one_constraint =
+          std::all_of(it->second.begin(), it->second.end(), [&](int row) { return infos[row].scene_index == scene; });
+      if (one_constraint && scene < static_cast<int>(double_hinges.size()) && double_hinges[scene] >= 0) {
+        if (it->second.size() != 4) return std::nullopt;
+        joint.double_hinge = double_hinges[scene];
+        std::copy(it->second.begin(), it->second.end(), joint.rows.begin());
+        joint_of[child] = static_cast<int>(plan.joints_.size());
+        plan.joints_.push_back(joint);
+        it = pairs.erase(it);
+        continue;
+      }
       int axes = 0;
       for (int row : it->second) {
         const RowInfo& info = infos[row];
@@ -73,6 +85,41 @@ std::optional<TreePlan> TreePlan::Of(const std::vector<RowInfo>& infos, const st
 }
 
 namespace {
+
+// A = L L^T in place for a symmetric A (its lower triangle becomes L); false where a pivot is not above `floor`.
+template <int N, typename T>
+bool Cholesky(double floor, Eigen::Matrix<T, N, N>* l) {
+  using std::sqrt;
+  Eigen::Matrix<T, N, N>& a = *l;
+  for (int i = 0; i < N; ++i) {
+    for (int c = 0; c < i; ++c) a(i, i) -= a(i, c) * a(i, c);
+    if (!(Value(a(i, i)) > floor)) return false;
+    a(i, i) = sqrt(a(i, i));
+    for (int r = i + 1; r < N; ++r) {
+      for (int c = 0; c < i; ++c) a(r, i) -= a(r, c) * a(i, c);
+      a(r, i) /= a(i, i);
+    }
+  }
+  return true;
+}
+
+// x = L^-1 x, row by row (x has N rows).
+template <int N, typename T, typename X>
+void SolveLower(const Eigen::Matrix<T, N, N>& l, Eigen::MatrixBase<X>* x) {
+  for (int i = 0; i < N; ++i) {
+    for (int c = 0; c < i; ++c) x->row(i) -= l(i, c) * x->row(c);
+    x->row(i) /= l(i, i);
+  }
+}
+
+// x = L^-T x, row by row (x has N rows).
+template <int N, typename T, typename X>
+void SolveUpper(const Eigen::Matrix<T, N, N>& l, Eigen::MatrixBase<X>* x) {
+  for (int i = N - 1; i >= 0; --i) {
+    for (int r = i + 1; r < N; ++r) x->row(i) -= l(r, i) * x->row(r);
+    x->row(i) /= l(i, i);
+  }
+}
 
 // T, S and b of a point-and-angle joint with kAngles angle rows (the closed form of tree_elimination.h); false where
 // Y_C Y_C^T is close to singular.
@@ -130,13 +177,12 @@ bool PointAndAngles(const TreeJoint& joint, const std::vector<ConstraintRow<T>>&
     pseudo_inverse.col(1) = (g00 * y1 - g01 * y0) / determinant;
     null = y0.cross(y1);
   } else {
-    const Mat3<T> g = y_child * y_child.transpose();
-    const Eigen::LLT<Mat3<T>> llt(g);
-    const double largest = std::max(1.0, Value(g.diagonal().maxCoeff()));
-    for (int i = 0; i < 3; ++i) {
-      if (!(Value(llt.matrixLLT()(i, i)) * Value(llt.matrixLLT()(i, i)) > kTreePivot * largest)) return false;
-    }
-    pseudo_inverse = llt.solve(y_child).transpose();
+    Mat3<T> l = y_child * y_child.transpose();
+    if (!Cholesky(kTreePivot * std::max(1.0, Value(l.diagonal().maxCoeff())), &l)) return false;
+    Mat3<T> solved = y_child;
+    SolveLower(l, &solved);
+    SolveUpper(l, &solved);
+    pseudo_inverse = solved.transpose();
   }
   Vec3<T> c = Zero3<T>();
   w->k.setZero();
@@ -151,6 +197,60 @@ bool PointAndAngles(const TreeJoint& joint, const std::vector<ConstraintRow<T>>&
     w->directions.template block<3, kFree>(3, 0) = null;
   }
   w->offset << s * (gamma_point - x_child * c), c;
+  return true;
+}
+
+// T, S and b of a double hinge's four rows (the rigid following and the hinges' screws of tree_elimination.h); false
+// where J_C J_C^T is close to singular.
+template <typename T>
+bool DoubleHinge(const Model<T>& model, const TreeJoint& joint, const std::vector<ConstraintRow<T>>& rows,
+                 const BodyFrames<T>& frames, const VecX<T>& q, const VecX<T>& v, const T& alpha, const T& beta,
+                 TreeJointWork<T>* w) {
+  using std::sqrt;
+  const Joint<T>& hinge = model.joints[joint.double_hinge];
+  const auto centre = [&](int body) {
+    return body == kWorld ? Zero3<T>() : Vec3<T>(q.template segment<3>(model.bodies[body].q_offset));
+  };
+  const Vec3<T> c_child = centre(joint.child);
+  const Mat3<T>& r_child = frames[joint.child].R_WP;
+  Vec3<T> axis[2] = {hinge.axis / sqrt(hinge.axis.squaredNorm()), hinge.axis_b / sqrt(hinge.axis_b.squaredNorm())};
+  const BodyPoint<T>* points[2] = {&hinge.a, &hinge.b};
+  w->free = 2;
+  for (int i = 0; i < 2; ++i) {
+    Vec3<T> point = points[i]->local;
+    if (points[i]->body != kWorld) {
+      const Mat3<T>& r_body = frames[points[i]->body].R_WB;
+      axis[i] = r_body * axis[i];
+      point = centre(points[i]->body) + r_body * point;
+    }
+    w->directions.col(i) << axis[i].cross(c_child - point), r_child.transpose() * axis[i];
+  }
+  const bool world = joint.parent == kWorld;
+  if (!world) {
+    const Mat3<T>& r_parent = frames[joint.parent].R_WP;
+    const Vec3<T> arm = c_child - centre(joint.parent);
+    w->k.noalias() = r_child.transpose() * r_parent;
+    for (int k = 0; k < 3; ++k) w->e.col(k) = -arm.cross(r_parent.col(k));
+  }
+  Eigen::Matrix<T, 4, 6> j_child;
+  Eigen::Matrix<T, 4, 1> gamma;
+  const Vec6<T> v_child = v.template segment<6>(joint.child_v);
+  const Vec6<T> v_parent = world ? Vec6<T>::Zero() : Vec6<T>(v.template segment<6>(joint.parent_v));
+  for (int i = 0; i < 4; ++i) {
+    const ConstraintRow<T>& row = rows[joint.rows[i]];
+    const bool child_a = row.a.body == joint.child;
+    const BodyVector<T>& mine = child_a ? row.a : row.b;
+    const BodyVector<T>& other = child_a ? row.b : row.a;
+    j_child.row(i) << mine.translation.transpose(), mine.rotation.transpose();
+    const T rate = j_child.row(i).dot(v_child) + other.translation.dot(v_parent.template head<3>()) +
+                   other.rotation.dot(v_parent.template tail<3>());
+    gamma[i] = -(row.bias + beta * row.value + alpha * rate);
+  }
+  Eigen::Matrix<T, 4, 4> l = j_child * j_child.transpose();
+  if (!Cholesky(kTreePivot * std::max(1.0, Value(l.diagonal().maxCoeff())), &l)) return false;
+  SolveLower(l, &gamma);
+  SolveUpper(l, &gamma);
+  w->offset.noalias() = j_child.transpose() * gamma;
   return true;
 }
 
@@ -208,27 +308,12 @@ bool Eliminate(TreeJointWork<T>* w) {
   if constexpr (K > 0) {
     const Eigen::Matrix<T, 6, K> directions = w->directions.template leftCols<K>();
     const Eigen::Matrix<T, 6, K> u = w->inertia * directions;
-    Eigen::Matrix<T, K, K> l = directions.transpose() * u;
-    for (int i = 0; i < K; ++i) {  // D = L L^T, in place (the lower triangle)
-      for (int c = 0; c < i; ++c) l(i, i) -= l(i, c) * l(i, c);
-      if (!(Value(l(i, i)) > 0.0)) return false;
-      using std::sqrt;
-      l(i, i) = sqrt(l(i, i));
-      for (int r = i + 1; r < K; ++r) {
-        for (int c = 0; c < i; ++c) l(r, i) -= l(r, c) * l(i, c);
-        l(r, i) /= l(i, i);
-      }
-    }
-    Eigen::Matrix<T, K, 6> w_t = u.transpose();
+    Eigen::Matrix<T, K, K> l = directions.transpose() * u;  // D = L L^T
+    if (!Cholesky(0.0, &l)) return false;
+    Eigen::Matrix<T, K, 6> w_t = u.transpose();  // W^T = L^-1 U^T
     Eigen::Matrix<T, K, 1> y = directions.transpose() * w->force;
-    for (int i = 0; i < K; ++i) {  // W^T = L^-1 U^T, y = L^-1 S^T z
-      for (int c = 0; c < i; ++c) {
-        w_t.row(i) -= l(i, c) * w_t.row(c);
-        y[i] -= l(i, c) * y[c];
-      }
-      w_t.row(i) /= l(i, i);
-      y[i] /= l(i, i);
-    }
+    SolveLower(l, &w_t);
+    SolveLower(l, &y);
     w->inertia.noalias() -= w_t.transpose() * w_t;
     w->force.noalias() -= w_t.transpose() * y;
     w->l.template topLeftCorner<K, K>() = l;
@@ -244,11 +329,8 @@ bool Accelerate(const Vec6<T>& transported, TreeJointWork<T>* w) {
   w->acceleration = transported + w->offset;
   if constexpr (K > 0) {
     Eigen::Matrix<T, K, 1> free = w->y.template head<K>() - w->w.template leftCols<K>().transpose() * transported;
-    const auto l = w->l.template topLeftCorner<K, K>();
-    for (int i = K - 1; i >= 0; --i) {  // L^-T
-      for (int r = i + 1; r < K; ++r) free[i] -= l(r, i) * free[r];
-      free[i] /= l(i, i);
-    }
+    const Eigen::Matrix<T, K, K> l = w->l.template topLeftCorner<K, K>();
+    SolveUpper(l, &free);
     w->acceleration.noalias() += w->directions.template leftCols<K>() * free;
   }
   return true;
@@ -256,19 +338,22 @@ bool Accelerate(const Vec6<T>& transported, TreeJointWork<T>* w) {
 
 }  // namespace
 
-template <typename S, typename T>
-TETHER_FLATTEN bool TreeAcceleration(const Model<S>& model, const TreePlan& plan,
-                                     const std::vector<ConstraintRow<T>>& rows,
+template <typename T>
+TETHER_FLATTEN bool TreeAcceleration(const Model<T>& model, const TreePlan& plan,
+                                     const std::vector<ConstraintRow<T>>& rows, const BodyFrames<T>& frames,
                                      const std::vector<Mat3<T>>& principal_inertia, const VecX<T>& inverse_diagonal,
-                                     const std::vector<Mat3<T>>& inverse_rotational, const VecX<T>& v, const T& alpha,
-                                     const T& beta, const VecX<T>& force, TreeWork<T>* work, VecX<T>* a) {
+                                     const std::vector<Mat3<T>>& inverse_rotational, const VecX<T>& q, const VecX<T>& v,
+                                     const T& alpha, const T& beta, const VecX<T>& force, TreeWork<T>* work,
+                                     VecX<T>* a) {
   const std::vector<TreeJoint>& joints = plan.joints();
   work->resize(joints.size());
   for (size_t j = 0; j < joints.size(); ++j) {
     const TreeJoint& joint = joints[j];
     TreeJointWork<T>& w = (*work)[j];
     bool made;
-    if (joint.angles == 2) {
+    if (joint.double_hinge >= 0) {
+      made = DoubleHinge(model, joint, rows, frames, q, v, alpha, beta, &w);
+    } else if (joint.angles == 2) {
       made = PointAndAngles<2>(joint, rows, v, alpha, beta, &w);
     } else if (joint.angles == 0) {
       made = PointAndAngles<0>(joint, rows, v, alpha, beta, &w);
@@ -308,10 +393,11 @@ TETHER_FLATTEN bool TreeAcceleration(const Model<S>& model, const TreePlan& plan
   return true;
 }
 
-#define TETHER_INSTANTIATE_TREE(T)                                                                               \
-  template bool TreeAcceleration<T, T>(const Model<T>&, const TreePlan&, const std::vector<ConstraintRow<T>>&,   \
-                                       const std::vector<Mat3<T>>&, const VecX<T>&, const std::vector<Mat3<T>>&, \
-                                       const VecX<T>&, const T&, const T&, const VecX<T>&, TreeWork<T>*, VecX<T>*);
+#define TETHER_INSTANTIATE_TREE(T)                                                                                   \
+  template bool TreeAcceleration<T>(const Model<T>&, const TreePlan&, const std::vector<ConstraintRow<T>>&,          \
+                                    const BodyFrames<T>&, const std::vector<Mat3<T>>&, const VecX<T>&,               \
+                                    const std::vector<Mat3<T>>&, const VecX<T>&, const VecX<T>&, const T&, const T&, \
+                                    const VecX<T>&, TreeWork<T>*, VecX<T>*);
 TETHER_INSTANTIATE_TREE(double)
 TETHER_INSTANTIATE_TREE(::tether::Jet)
 

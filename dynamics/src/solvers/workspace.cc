@@ -51,10 +51,11 @@ TETHER_FLATTEN void ApplyInverseMass(const Model<S>& model, const InverseMass<T>
 
 namespace {
 
-SchurShapes FirstShape(const std::vector<RowInfo>& infos, const std::vector<BodyLayout>& layout, KktSolver kind,
-                       bool factor_jets) {
+SchurShapes FirstShape(const std::vector<RowInfo>& infos, const std::vector<BodyLayout>& layout,
+                       const std::vector<int>& double_hinges, KktSolver kind, bool factor_jets) {
   SchurShapes shapes;
-  shapes.emplace_back(std::vector<int>{}, std::make_unique<SchurShape>(infos, layout, kind, factor_jets));
+  shapes.emplace_back(std::vector<int>{},
+                      std::make_unique<SchurShape>(infos, layout, double_hinges, kind, factor_jets));
   return shapes;
 }
 
@@ -66,7 +67,8 @@ Workspace<T>::Workspace(const Model<T>& model, const VecX<T>& q_start, bool fact
       infos(DescribeRows(model, constraints)),
       layout(LayoutOf(model)),
       factor_jet_matrices(factor_jet_matrices),
-      shapes(FirstShape(infos, layout, model.simulation.solver, factor_jet_matrices)),
+      shapes(
+          FirstShape(infos, layout, DoubleHingesByScene(model.joints), model.simulation.solver, factor_jet_matrices)),
       pattern(&shapes[0].second->pattern),
       solver(&shapes[0].second->solver),
       tree(shapes[0].second->tree ? &*shapes[0].second->tree : nullptr),
@@ -90,7 +92,8 @@ void Workspace<T>::SetActiveGaps(const Model<T>& model, const std::vector<LimitP
   infos = DescribeRows(model, constraints);
   auto shape = std::find_if(shapes.begin(), shapes.end(), [&key](const auto& s) { return s.first == key; });
   if (shape == shapes.end()) {
-    shapes.emplace_back(key, std::make_unique<SchurShape>(infos, layout, model.simulation.solver, factor_jet_matrices));
+    shapes.emplace_back(key, std::make_unique<SchurShape>(infos, layout, DoubleHingesByScene(model.joints),
+                                                          model.simulation.solver, factor_jet_matrices));
     shape = shapes.end() - 1;
   }
   pattern = &shape->second->pattern;

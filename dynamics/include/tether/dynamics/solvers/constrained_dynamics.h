@@ -42,9 +42,10 @@ int SlidingKktAcceleration(const Model<S>& model, const std::vector<BodyLayout>&
                            const std::vector<ConstraintRow<T>>& rows, const std::vector<SlidingRow<T>>& sliding,
                            const InverseMass<T>& inverse_mass, VecX<T>* force, KktSystem<T>* kkt, VecX<T>* a);
 
-// KktAcceleration on the workspace's rows, force and gains; for Rev, recorded as one operation. A double run
-// with a KKT log (ws->kkt_log) keeps each solve there, and a recorded replay takes them back (kkt_log.h).
+// KktAcceleration on the workspace's rows, frames, force and gains at (q, v), or the tree elimination where the
+// rows are a tree (tree_elimination.h); for Rev, recorded as one operation. A double run with a KKT log
+// (ws->kkt_log) keeps each solve there, and a recorded replay takes them back (kkt_log.h).
 template <typename T>
-bool SolveKkt(const Model<T>& model, const VecX<T>& v, Workspace<T>* ws, VecX<T>* a);
+bool SolveKkt(const Model<T>& model, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws, VecX<T>* a);
 
 }  // namespace tether

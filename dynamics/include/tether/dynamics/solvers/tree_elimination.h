@@ -22,10 +22,18 @@
 // Y_C^+ gamma_angle (Y_C^+ = Y_C^T (Y_C Y_C^T)^-1, N a basis of Y_C's null space), T and S take a closed form:
 //   T = [1 E; 0 K],   K = -Y_C^+ Y_P,   E = -s (X_P + X_C K),   S = [-s X_C N; N],
 //   b = [s (gamma_point - X_C c); c],
-// so that T^T I T takes 3 x 3 products. (Lines, distances and double hinges keep the Schur path. Served from their
-// rows as they are, with a right inverse and a null space of J_C from a QR factorization, then from a Cholesky
-// factorization of J_C J_C^T, they made humanoid.xml's step, with its two double hinges, 7 to 10% slower than the
-// Schur path's; docs/performance.md, "The tree elimination".)
+// so that T^T I T takes 3 x 3 products.
+//
+// A double hinge's four rows (a distance, two lines whose normals turn with their bodies, one or two angles between
+// body-fixed axes) are unchanged by any rigid motion of both bodies together, so J_C T = -J_P holds for the child
+// following its parent rigidly, and each hinge's screw (its world axis a_i through its world point x_i) moves the
+// child alone without changing any row:
+//   T = [1 -[c_C - c_P]x R_P; 0 R_C^T R_P],   S = [a_i x (c_C - x_i); R_C^T a_i] (i = 1, 2),
+//   b = J_C^T (J_C J_C^T)^-1 gamma,
+// with c the bodies' centres of mass and R their principal axes in the world. (Lines and distances of other joints
+// keep the Schur path. Served from their rows as they are, with a right inverse and a null space of J_C from a QR
+// factorization, then from a Cholesky factorization of J_C J_C^T with general 6 x 6 transports, they made
+// humanoid.xml's step 7 to 10% slower than the Schur path's; docs/performance.md, "The tree elimination".)
 //
 // Where a joint's rows are close to dependent (a universal joint near its gimbal lock: a pivot of Y_C Y_C^T below
 // kTreePivot times max(1, its largest diagonal)), the evaluation fails and the Schur path, which
@@ -33,7 +41,7 @@
 //
 // The plan is made once per row layout (SchurShape); a layout is a tree when every body is a 3D rigid body, every
 // row is an equality (no active limit or contact), the body pairs that rows join form a forest rooted at the world,
-// and each pair's rows are such a joint's.
+// and each pair's rows are one such joint's.
 #pragma once
 
 #include <array>
@@ -57,12 +65,28 @@ struct TreeJoint {
   bool child_second = true;            // the child is its rows' second body (b)
   int angles = 0;                      // angle rows, 0 to 3
   std::array<int, 6> rows{};           // the point rows along x, y and z, then the angle rows
+  int double_hinge = -1;               // or the model's joint, a double hinge, whose four rows rows[0..3] are
 };
+
+// For each scene index, the model joint with that index when it is a double hinge, -1 for every other constraint:
+// how TreePlan::Of tells a double hinge's rows.
+template <typename T>
+std::vector<int> DoubleHingesByScene(const std::vector<Joint<T>>& joints) {
+  std::vector<int> out;
+  for (size_t j = 0; j < joints.size(); ++j) {
+    if (joints[j].type != JointType::kDoubleHinge) continue;
+    const size_t scene = static_cast<size_t>(joints[j].scene_index);
+    if (scene >= out.size()) out.resize(scene + 1, -1);
+    out[scene] = static_cast<int>(j);
+  }
+  return out;
+}
 
 class TreePlan {
  public:
   // The plan of a row layout, or none when it is not a tree (above).
-  static std::optional<TreePlan> Of(const std::vector<RowInfo>& infos, const std::vector<BodyLayout>& layout);
+  static std::optional<TreePlan> Of(const std::vector<RowInfo>& infos, const std::vector<BodyLayout>& layout,
+                                    const std::vector<int>& double_hinges);
 
   const std::vector<TreeJoint>& joints() const { return joints_; }      // parents before their children
   const std::vector<int>& free_bodies() const { return free_bodies_; }  // bodies no row touches: a = M^-1 f
@@ -93,13 +117,14 @@ struct TreeJointWork {
 template <typename T>
 using TreeWork = std::vector<TreeJointWork<T>>;
 
-// v' for the plan's bodies from the rows (evaluated at (q, v)), the generalized force f, the bodies' masses and
-// principal inertias, M^-1 (InverseMass's diagonal and rotational blocks, for the bodies no row touches) and the
-// gains; false (with *a untouched) where a joint's rows are close to dependent (above).
-template <typename S, typename T>
-bool TreeAcceleration(const Model<S>& model, const TreePlan& plan, const std::vector<ConstraintRow<T>>& rows,
-                      const std::vector<Mat3<T>>& principal_inertia, const VecX<T>& inverse_diagonal,
-                      const std::vector<Mat3<T>>& inverse_rotational, const VecX<T>& v, const T& alpha, const T& beta,
-                      const VecX<T>& force, TreeWork<T>* work, VecX<T>* a);
+// v' for the plan's bodies from the rows and frames (evaluated at (q, v)), the generalized force f, the bodies'
+// masses and principal inertias, M^-1 (InverseMass's diagonal and rotational blocks, for the bodies no row touches)
+// and the gains; false (with *a untouched) where a joint's rows are close to dependent (above).
+template <typename T>
+bool TreeAcceleration(const Model<T>& model, const TreePlan& plan, const std::vector<ConstraintRow<T>>& rows,
+                      const BodyFrames<T>& frames, const std::vector<Mat3<T>>& principal_inertia,
+                      const VecX<T>& inverse_diagonal, const std::vector<Mat3<T>>& inverse_rotational, const VecX<T>& q,
+                      const VecX<T>& v, const T& alpha, const T& beta, const VecX<T>& force, TreeWork<T>* work,
+                      VecX<T>* a);
 
 }  // namespace tether

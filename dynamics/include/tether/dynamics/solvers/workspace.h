@@ -53,11 +53,12 @@ struct KktSystem {
 // layout is a tree and the solver is left to tether (KktSolver::kAuto), its elimination plan (tree_elimination.h),
 // which the evaluations take first.
 struct SchurShape {
-  SchurShape(const std::vector<RowInfo>& infos, const std::vector<BodyLayout>& layout, KktSolver kind,
-             bool factor_jet_matrices)
+  // double_hinges: DoubleHingesByScene of the model's joints
+  SchurShape(const std::vector<RowInfo>& infos, const std::vector<BodyLayout>& layout,
+             const std::vector<int>& double_hinges, KktSolver kind, bool factor_jet_matrices)
       : pattern(infos, layout),
         solver(pattern, kind, factor_jet_matrices),
-        tree(kind == KktSolver::kAuto ? TreePlan::Of(infos, layout) : std::nullopt) {
+        tree(kind == KktSolver::kAuto ? TreePlan::Of(infos, layout, double_hinges) : std::nullopt) {
     solver.StoreInFactorOrder(&pattern);
   }
   SchurShape(const SchurShape&) = delete;
