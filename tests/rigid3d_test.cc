@@ -307,6 +307,26 @@ TEST(Prismatic, DampedOscillatorOnATiltedRail) {
   });
 }
 
+// A joint spring without stiffness is a damper: its torque -d q' needs no angle (EvaluateCoordinate skips it), and
+// the wheel's rate decays as exp(-d t / I) while its angle, read for the output, keeps counting.
+TEST(JointSpring, WithoutStiffnessDampsAWheelExponentially) {
+  const Model<double> model = SceneFromJson(R"({"dimension": 3,
+    "bodies": [{"name": "wheel", "type": "rigid", "mass": 3.0, "inertia": [0.25, 0.15, 0.15], "position": [0, 0, 0],
+                "angular_velocity": [2, 0, 0]}],
+    "constraints": [{"type": "hinge", "name": "axle", "bodies": ["world", "wheel"], "axis": [1, 0, 0], "angle": 0.5}],
+    "effects": [{"type": "gravity", "acceleration": [0, 0, -9.81]},
+                {"type": "joint_spring", "joint": "axle", "stiffness": 0, "rest": 3, "damping": 0.1}],
+    "simulation": {"integrator": "rk4", "step": 1e-3, "duration": 3.0}})");
+  const double decay = 0.1 / 0.25;
+  int samples = 0;
+  ForEachSample(model, [&](double t, const Final& s) {
+    EXPECT_NEAR(s["axle.omega"], 2.0 * std::exp(-decay * t), 1e-10) << "t = " << t;
+    EXPECT_NEAR(s["axle.angle"], 0.5 + 2.0 / decay * (1.0 - std::exp(-decay * t)), 1e-10) << "t = " << t;
+    ++samples;
+  });
+  EXPECT_GT(samples, 100);
+}
+
 TEST(Motor, ConstantTorqueSpinsAWheelUniformly) {
   const Model<double> model = SceneFromJson(R"({"dimension": 3,
     "bodies": [{"name": "wheel", "type": "rigid", "mass": 3.0, "inertia": [0.25, 0.15, 0.15], "position": [0, 0, 0]}],

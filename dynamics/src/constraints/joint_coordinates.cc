@@ -85,14 +85,15 @@ JointCoordinates<T> BuildJointCoordinates(const Model<T>& model, const VecX<T>& 
 
 template <typename T>
 CoordinateRow<T> EvaluateCoordinate(const Model<T>& model, const JointCoordinates<T>& coordinates, int k,
-                                    const BodyFrames<T>& frames, const VecX<T>& q, const VecX<T>& v, bool velocities) {
-  return EvaluateCoordinateAt(model, coordinates.references[k], coordinates.last[k], frames, q, v, velocities);
+                                    const BodyFrames<T>& frames, const VecX<T>& q, const VecX<T>& v, bool velocities,
+                                    bool value) {
+  return EvaluateCoordinateAt(model, coordinates.references[k], coordinates.last[k], frames, q, v, velocities, value);
 }
 
 template <typename T>
 CoordinateRow<T> EvaluateCoordinateAt(const Model<T>& model, const CoordinateReference<T>& r, double branch,
-                                      const BodyFrames<T>& frames, const VecX<T>& q, const VecX<T>& v,
-                                      bool velocities) {
+                                      const BodyFrames<T>& frames, const VecX<T>& q, const VecX<T>& v, bool velocities,
+                                      bool value) {
   using std::atan2;
   const Joint<T>& joint = model.joints[r.joint];
   const int a = joint.a.body, b = joint.b.body;
@@ -110,11 +111,13 @@ CoordinateRow<T> EvaluateCoordinateAt(const Model<T>& model, const CoordinateRef
   const Mat3<T> R_WA = RotationOf(model, frames, a);
   const Vec3<T> axis_W = R_WA * r.axis;
   if (r.coordinate == JointCoordinate::kAngle) {
-    const Vec3<T> n_a = R_WA * r.normal_a;
-    const Vec3<T> n_b = RotationOf(model, frames, b) * r.normal_b;
-    const T raw = r.offset + atan2(n_a.cross(n_b).dot(axis_W), n_a.dot(n_b));
-    const double turns = std::round((branch - Value(raw)) / (2.0 * M_PI));
-    row.value = raw + T(2.0 * M_PI * turns);
+    if (value) {
+      const Vec3<T> n_a = R_WA * r.normal_a;
+      const Vec3<T> n_b = RotationOf(model, frames, b) * r.normal_b;
+      const T raw = r.offset + atan2(n_a.cross(n_b).dot(axis_W), n_a.dot(n_b));
+      const double turns = std::round((branch - Value(raw)) / (2.0 * M_PI));
+      row.value = raw + T(2.0 * M_PI * turns);
+    }
     if (velocities) row.rate = (AngularVelocityOf(model, frames, b) - w_A).dot(axis_W);
     row.a.body = a;
     row.b.body = b;
@@ -157,17 +160,17 @@ void TrackCoordinates(const Model<T>& model, const BodyFrames<T>& frames, const 
   }
 }
 
-#define TETHER_INSTANTIATE_JOINT_COORDINATES(T)                                                                      \
-  template struct JointCoordinates<T>;                                                                               \
-  template int CoordinateIndex<T>(const Model<T>&, int, JointCoordinate);                                            \
-  template JointCoordinates<T> BuildJointCoordinates<T>(const Model<T>&, const VecX<T>&);                            \
-  template CoordinateRow<T> EvaluateCoordinate<T>(const Model<T>&, const JointCoordinates<T>&, int,                  \
-                                                  const BodyFrames<T>&, const VecX<T>&, const VecX<T>&, bool);       \
-  template CoordinateRow<T> EvaluateCoordinateAt<T>(const Model<T>&, const CoordinateReference<T>&, double,          \
-                                                    const BodyFrames<T>&, const VecX<T>&, const VecX<T>&, bool);     \
-  template T CoordinateBias<T>(const Model<T>&, const CoordinateReference<T>&, const BodyFrames<T>&, const VecX<T>&, \
-                               const VecX<T>&);                                                                      \
-  template void TrackCoordinates<T>(const Model<T>&, const BodyFrames<T>&, const VecX<T>&, const VecX<T>&,           \
+#define TETHER_INSTANTIATE_JOINT_COORDINATES(T)                                                                        \
+  template struct JointCoordinates<T>;                                                                                 \
+  template int CoordinateIndex<T>(const Model<T>&, int, JointCoordinate);                                              \
+  template JointCoordinates<T> BuildJointCoordinates<T>(const Model<T>&, const VecX<T>&);                              \
+  template CoordinateRow<T> EvaluateCoordinate<T>(const Model<T>&, const JointCoordinates<T>&, int,                    \
+                                                  const BodyFrames<T>&, const VecX<T>&, const VecX<T>&, bool, bool);   \
+  template CoordinateRow<T> EvaluateCoordinateAt<T>(const Model<T>&, const CoordinateReference<T>&, double,            \
+                                                    const BodyFrames<T>&, const VecX<T>&, const VecX<T>&, bool, bool); \
+  template T CoordinateBias<T>(const Model<T>&, const CoordinateReference<T>&, const BodyFrames<T>&, const VecX<T>&,   \
+                               const VecX<T>&);                                                                        \
+  template void TrackCoordinates<T>(const Model<T>&, const BodyFrames<T>&, const VecX<T>&, const VecX<T>&,             \
                                     JointCoordinates<T>*);
 TETHER_FOR_EACH_SCALAR(TETHER_INSTANTIATE_JOINT_COORDINATES)
 

@@ -64,15 +64,19 @@ int CoordinateIndex(const Model<T>& model, int joint, JointCoordinate coordinate
 template <typename T>
 JointCoordinates<T> BuildJointCoordinates(const Model<T>& model, const VecX<T>& q);
 
-// Coordinate k at (q, v), frames updated there (velocities too when `velocities`).
+// Coordinate k at (q, v), frames updated there (velocities too when `velocities`). Without `value`, an angle's value
+// is left zero and its arctangent not taken (a motor, or a spring without stiffness, reads only the direction and
+// the rate).
 template <typename T>
 CoordinateRow<T> EvaluateCoordinate(const Model<T>& model, const JointCoordinates<T>& coordinates, int k,
-                                    const BodyFrames<T>& frames, const VecX<T>& q, const VecX<T>& v, bool velocities);
+                                    const BodyFrames<T>& frames, const VecX<T>& q, const VecX<T>& v, bool velocities,
+                                    bool value = true);
 
 // The same for any reference, the branch of an angle taken nearest `branch`.
 template <typename T>
 CoordinateRow<T> EvaluateCoordinateAt(const Model<T>& model, const CoordinateReference<T>& reference, double branch,
-                                      const BodyFrames<T>& frames, const VecX<T>& q, const VecX<T>& v, bool velocities);
+                                      const BodyFrames<T>& frames, const VecX<T>& q, const VecX<T>& v, bool velocities,
+                                      bool value = true);
 
 // The coordinate's velocity product `bias` above at (q, v), frames updated there with velocities.
 template <typename T>

@@ -63,8 +63,10 @@ struct EffectContext {
     AddScaled(model, g, T(1.0), f);
   }
 
-  TETHER_HOT_INLINE CoordinateRow<T> Coordinate(int joint, JointCoordinate coordinate, bool velocities) const {
-    return EvaluateCoordinate(model, coordinates, coordinates.Find(joint, coordinate), frames, q, v, velocities);
+  // (without `value`, an angle's value is left zero: EvaluateCoordinate)
+  TETHER_HOT_INLINE CoordinateRow<T> Coordinate(int joint, JointCoordinate coordinate, bool velocities,
+                                                bool value = true) const {
+    return EvaluateCoordinate(model, coordinates, coordinates.Find(joint, coordinate), frames, q, v, velocities, value);
   }
 
   TETHER_HOT_INLINE void AddAlong(const CoordinateRow<T>& row, const T& value, VecX<T>* f) const {
@@ -78,7 +80,7 @@ struct EffectContext {
     }
     const int k = coordinates.Find(joint, coordinate);
     if (RecordedAngleTorque(model, coordinates, k, frames, value, f)) return;
-    AddAlong(EvaluateCoordinate(model, coordinates, k, frames, q, v, false), value, f);
+    AddAlong(EvaluateCoordinate(model, coordinates, k, frames, q, v, false, false), value, f);  // the direction
   }
 };
 

@@ -2,6 +2,8 @@
 // 1/2 k (q - rest)^2.
 #pragma once
 
+#include <type_traits>
+
 #include "tether/dynamics/constraints/joint_kinds.h"
 #include "tether/dynamics/scalars/scalar.h"
 
@@ -24,7 +26,9 @@ struct JointSpringEffect {
 
   template <typename Context>
   void AddForces(const Context& c, VecX<T>* f) const {
-    const auto row = c.Coordinate(joint, coordinate, true);
+    bool stretch = true;  // a double zero stiffness needs no angle; a Jet or Rev zero can still carry derivatives
+    if constexpr (std::is_same_v<T, double>) stretch = stiffness != 0.0;
+    const auto row = c.Coordinate(joint, coordinate, true, stretch);
     c.AddAlong(row, T(-stiffness * (row.value - rest) - damping * row.rate), f);
   }
   template <typename Context>
