@@ -30,7 +30,8 @@ struct PeerCase {
   Mechanism mechanism;
   int n;  // the chain's particles or rods, the four-bar's parallelograms
   bool rk4;
-  double duration;  // s
+  double duration;           // s
+  bool conservative = true;  // false where the scene damps (its energy error then measures no integrator)
 
   int Steps() const { return static_cast<int>(std::lround(duration / kPeerStep)); }
 };
@@ -49,12 +50,13 @@ class Observed {
     largest_potential_drop_ = std::max(largest_potential_drop_, potential0_ - potential);
   }
 
-  void Report(benchmark::State& state, int steps) const {
-    state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * steps);
+  void Report(benchmark::State& state, const PeerCase& c) const {
+    state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * c.Steps());
     state.counters["max_violation_m"] = worst_violation_;
     state.counters["energy_error_J"] = worst_energy_error_;
     state.counters["energy_error_of_drop"] = worst_energy_error_ / std::max(largest_potential_drop_, 1e-300);
-    state.counters["steps"] = steps;
+    state.counters["conservative"] = c.conservative ? 1 : 0;
+    state.counters["steps"] = c.Steps();
   }
 
  private:
@@ -79,7 +81,7 @@ void Tether(benchmark::State& state, PeerCase c, Stabilization stabilization) {
   quiet.every = c.Steps();
   for (auto _ : state)
     Simulate<double>(model, quiet, [](const Sample<double>& s) { benchmark::DoNotOptimize(s.q.data()); });
-  seen.Report(state, c.Steps());
+  seen.Report(state, c);
 }
 
 void Mujoco(benchmark::State& state, PeerCase c, MujocoScene scene) {
@@ -107,7 +109,7 @@ void Mujoco(benchmark::State& state, PeerCase c, MujocoScene scene) {
     for (int k = 0; k < c.Steps(); ++k) mj_step(model.get(), data.get());
     benchmark::DoNotOptimize(data->qpos);
   }
-  seen.Report(state, c.Steps());
+  seen.Report(state, c);
 }
 
 // Names are SCENE/INTEGRATOR/ENGINE: chain200/rk4/tether, chain200/rk4/mujoco_slides, four_bar/euler/mujoco, ...
@@ -137,7 +139,7 @@ void Register() {
     const PeerCase humanoid{Mechanism::kHumanoid, 0, rk4, 5.0};
     RegisterPeerRun("humanoid" + integrator + "/tether", Tether, humanoid, Stabilization::kBaumgarte);
     RegisterPeerRun("humanoid" + integrator + "/mujoco", Mujoco, humanoid, MujocoScene::kHumanoid);
-    const PeerCase file{Mechanism::kHumanoidFile, 0, rk4, 5.0};
+    const PeerCase file{Mechanism::kHumanoidFile, 0, rk4, 5.0, false};  // its joints are damped
     RegisterPeerRun("humanoid_file" + integrator + "/tether", Tether, file, Stabilization::kBaumgarte);
     RegisterPeerRun("humanoid_file" + integrator + "/mujoco", Mujoco, file, MujocoScene::kHumanoidFile);
   }

@@ -35,9 +35,9 @@
 // factorization, then from a Cholesky factorization of J_C J_C^T with general 6 x 6 transports, they made
 // humanoid.xml's step 7 to 10% slower than the Schur path's; docs/performance.md, "The tree elimination".)
 //
-// Where a joint's rows are close to dependent (a universal joint near its gimbal lock: a pivot of Y_C Y_C^T below
-// kTreePivot times max(1, its largest diagonal)), the evaluation fails and the Schur path, which
-// regularizes such rows (schur_solver.h), takes it.
+// Where a joint's rows are close to dependent (a universal joint near its gimbal lock: a pivot of Y_C Y_C^T, or of a
+// double hinge's J_C J_C^T, below kTreePivot times max(1, its largest diagonal)), the evaluation fails and the Schur
+// path, which regularizes such rows (schur_solver.h), takes it.
 //
 // The plan is made once per row layout (SchurShape); a layout is a tree when every body is a 3D rigid body, every
 // row is an equality (no active limit or contact), the body pairs that rows join form a forest rooted at the world,
