@@ -65,7 +65,7 @@ struct TreeJoint {
   bool child_second = true;            // the child is its rows' second body (b)
   int angles = 0;                      // angle rows, 0 to 3
   std::array<int, 6> rows{};           // the point rows along x, y and z, then the angle rows
-  int double_hinge = -1;               // or the model's joint, a double hinge, whose four rows rows[0..3] are
+  int double_hinge = -1;               // the model's joint where the rows are a double hinge's four (rows[0..3])
 };
 
 // For each scene index, the model joint with that index when it is a double hinge, -1 for every other constraint:
