@@ -2,18 +2,25 @@
 // by every kind of joint it takes (hinge, ball, universal, weld, double hinge with crossed and with parallel axes),
 // each way round (the child as the rows' first body or their second), hung from the world and from one another, with
 // a free body beside them, v' agrees with the sparse Schur solve's to 1e-11 relative at a state where every velocity
-// term is non-zero, and the two runs stay within 1e-9 of each other. Loops, particles, joints of other rows
-// (prismatic joints) and a solver asked for by name keep the Schur path.
+// term is non-zero, and the two runs stay within 1e-9 of each other; Jets through it give central differences' loss
+// gradient. Loops, particles, joints of other rows (prismatic joints) and a solver asked for by name keep the Schur
+// path.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
+#include "test_files.h"
 #include "test_scenes.h"
+#include "tether/autodiff/observations.h"
+#include "tether/autodiff/parameters.h"
+#include "tether/autodiff/residuals.h"
 #include "tether/dynamics/integration/default_gains.h"
 #include "tether/dynamics/integration/integrators.h"
 #include "tether/dynamics/integration/simulator.h"
 #include "tether/dynamics/integration/trajectory.h"
+#include "tether/dynamics/io/scene_reader.h"
 #include "tether/dynamics/solvers/constrained_dynamics.h"
 
 namespace tether {
@@ -92,6 +99,38 @@ TEST(TreeElimination, RunsAsTheSchurPathRuns) {
     EXPECT_LT((tree.v[i] - sparse.v[i]).cwiseAbs().maxCoeff(), 1e-9) << tree.t[i];
   }
   EXPECT_LT(tree.LargestViolation(), 1e-6);
+}
+
+// Jets take the tree path too: the loss gradient with respect to a mass, an inertia and a double hinge's axis, on
+// observations of a truth whose foot is heavier, agrees with central differences.
+TEST(TreeElimination, JetGradientsAgreeWithCentralDifferences) {
+  const nlohmann::json document = nlohmann::json::parse(TreeScene("auto"));
+  nlohmann::json truth = document;
+  truth["bodies"][6]["mass"] = 0.75;
+  const Model<double> truth_model = ParseScene(truth, "truth.json").model;
+  const Trajectory<double> run = Record(truth_model);
+  const int foot_x = truth_model.bodies[6].q_offset, toe_z = truth_model.bodies[7].q_offset + 2;
+  std::string csv = "t,foot.x,toe.z\n";
+  for (double t : {0.05, 0.1, 0.2}) {
+    const size_t i = std::lower_bound(run.t.begin(), run.t.end(), t - 1e-9) - run.t.begin();
+    ASSERT_LT(i, run.size());
+    csv += std::to_string(run.t[i]) + "," + std::to_string(run.q[i][foot_x]) + "," + std::to_string(run.q[i][toe_z]) +
+           "\n";
+  }
+  const testing::TempFolder folder;
+  const Scene scene = ParseScene(document, "tree.json");
+  const Model<Jet> jets = CastModel<Jet>(scene.model);
+  ASSERT_NE(Workspace<Jet>(jets, VecX<Jet>(run.q[0].cast<Jet>())).tree, nullptr);  // the path under test
+  const ParameterSet parameters(scene, {"/bodies/6/mass", "/bodies/0/inertia/1", "/constraints/5/axes/1/0"});
+  const Observations observations = ReadObservations(folder.Write("observations.csv", csv), scene.model);
+  const LossGradient jet = JetLossGradient(scene.model, parameters, observations);
+  const LossGradient reference = CentralDifferenceLossGradient(scene.model, parameters, observations);
+  EXPECT_GT(jet.loss, 1e-12);
+  ASSERT_EQ(jet.gradient.size(), 3u);
+  for (size_t k = 0; k < 3; ++k) {
+    EXPECT_GT(std::abs(reference.gradient[k]), 0.0) << k;
+    EXPECT_NEAR(jet.gradient[k], reference.gradient[k], 1e-5 * std::abs(reference.gradient[k])) << k;
+  }
 }
 
 TEST(TreeElimination, KeepsTheSchurPathWhereTheRowsAreNotATree) {
