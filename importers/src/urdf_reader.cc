@@ -218,7 +218,9 @@ void ReadCollisions(const urdf::Link& source, int link, KinematicTree* tree, std
 }  // namespace
 
 KinematicTree ReadUrdf(const std::string& path) {
-  const std::string text = ReadInputFile(path, "model file");
+  // NULs after the end: TinyXML 2.6 (under CheckTree and urdfdom) reads up to three bytes past a multi-byte UTF-8
+  // lead byte, and a file ending in one made it read past the buffer (a fuzzed file, fuzz/corpus/findings/urdf/).
+  const std::string text = ReadInputFile(path, "model file") + std::string(4, '\0');
   if (XmlNestingDepth(text, kMaxXmlDepth) > kMaxXmlDepth) {  // urdfdom's parser recurses once per level
     throw InputError(path + ": not a valid URDF model: elements nested deeper than " + std::to_string(kMaxXmlDepth) +
                      " levels");
