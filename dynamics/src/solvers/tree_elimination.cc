@@ -121,51 +121,51 @@ void SolveUpper(const Eigen::Matrix<T, N, N>& l, Eigen::MatrixBase<X>* x) {
   }
 }
 
-// T, S and b of a point-and-angle joint with kAngles angle rows (the closed form of tree_elimination.h); false where
-// Y_C Y_C^T is close to singular.
+// S, b and d of a point-and-angle joint with kAngles angle rows (the closed form of tree_elimination.h), from the
+// bodies' centres c_C - c_P, with S's and b's angular parts turned to the world by the child's principal axes
+// r_child; false where Y_C Y_C^T is close to singular.
 template <int kAngles, typename T>
-bool PointAndAngles(const TreeJoint& joint, const std::vector<ConstraintRow<T>>& rows, const VecX<T>& v, T alpha,
-                    T beta, TreeJointWork<T>* w) {
+bool PointAndAngles(const TreeJoint& joint, const std::vector<ConstraintRow<T>>& rows, const Mat3<T>& r_child,
+                    const Vec3<T>& centres, const VecX<T>& v, T alpha, T beta, TreeJointWork<T>* w) {
   constexpr int kFree = 3 - kAngles;
   const double s = joint.child_second ? 1.0 : -1.0;
   const bool world = joint.parent == kWorld;
-  // the rows' rotational blocks as columns, X^T (their translations are s e_k on the child and -s e_k on the parent for
-  // the point rows, zero for the angle rows), and gamma from their rates J v; all into locals, written to *w at the
-  // end (written through w as they were made, the 10-rod chain's elimination took a sixth longer)
-  Mat3<T> xt_child, xt_parent;
-  Vec3<T> rest_point;  // Jdot v + beta C
-  for (int k = 0; k < 3; ++k) {
-    const ConstraintRow<T>& row = rows[joint.rows[k]];
-    xt_child.col(k) = (joint.child_second ? row.b : row.a).rotation;
-    xt_parent.col(k) = (joint.child_second ? row.a : row.b).rotation;
-    rest_point[k] = row.bias + beta * row.value;
-  }
   const Vec3<T> v_child = v.template segment<3>(joint.child_v), w_child = v.template segment<3>(joint.child_v + 3);
   const Vec3<T> v_parent = world ? Zero3<T>() : Vec3<T>(v.template segment<3>(joint.parent_v));
   const Vec3<T> w_parent = world ? Zero3<T>() : Vec3<T>(v.template segment<3>(joint.parent_v + 3));
-  const Vec3<T> gamma_point = -(rest_point + alpha * (s * (v_child - v_parent) + xt_child.transpose() * w_child +
-                                                      xt_parent.transpose() * w_parent));
-  Eigen::Matrix<T, 3, kAngles> yt_child, yt_parent;
+  // gamma = -(Jdot v + beta C + alpha J v), and the child's rotational blocks as columns, X^T and Y^T (the point rows'
+  // translations are s e_k on the child and -s e_k on the parent, the angle rows' zero); all into locals, written to
+  // *w at the end (written through w as they were made, the 10-rod chain's elimination took a sixth longer)
+  const auto gamma_of = [&](const ConstraintRow<T>& row, const Vec3<T>& child, const Vec3<T>& parent, const T& move) {
+    return -(row.bias + beta * row.value + alpha * (move + child.dot(w_child) + parent.dot(w_parent)));
+  };
+  Mat3<T> xt_child;
+  Vec3<T> gamma_point, gap;  // gap: the point rows' values, x_b - x_a
+  for (int k = 0; k < 3; ++k) {
+    const ConstraintRow<T>& row = rows[joint.rows[k]];
+    gap[k] = row.value;
+    xt_child.col(k) = (joint.child_second ? row.b : row.a).rotation;
+    gamma_point[k] =
+        gamma_of(row, xt_child.col(k), (joint.child_second ? row.a : row.b).rotation, s * (v_child[k] - v_parent[k]));
+  }
+  Eigen::Matrix<T, 3, kAngles> yt_child;
   Eigen::Matrix<T, kAngles, 1> gamma_angle;
   if constexpr (kAngles > 0) {
-    Eigen::Matrix<T, kAngles, 1> rest_angle;
     for (int i = 0; i < kAngles; ++i) {
       const ConstraintRow<T>& row = rows[joint.rows[3 + i]];
       yt_child.col(i) = (joint.child_second ? row.b : row.a).rotation;
-      yt_parent.col(i) = (joint.child_second ? row.a : row.b).rotation;
-      rest_angle[i] = row.bias + beta * row.value;
+      gamma_angle[i] = gamma_of(row, yt_child.col(i), (joint.child_second ? row.a : row.b).rotation, T(0.0));
     }
-    gamma_angle = -(rest_angle + alpha * (yt_child.transpose() * w_child + yt_parent.transpose() * w_parent));
   }
-  // Y_C^+ = Y_C^T G^-1 with G = Y_C Y_C^T; N spans Y_C's null space
-  Eigen::Matrix<T, 3, kAngles> pseudo_inverse;
+  // c = Y_C^+ gamma_angle with Y_C^+ = Y_C^T G^-1, G = Y_C Y_C^T; N spans Y_C's null space
+  Vec3<T> c = Zero3<T>();
   Eigen::Matrix<T, 3, kFree> null;
   if constexpr (kAngles == 0) {
     null.setIdentity();
   } else if constexpr (kAngles == 1) {
     const T g = yt_child.squaredNorm();
     if (!(Value(g) > kTreePivot)) return false;
-    pseudo_inverse = yt_child / g;
+    c = yt_child * (gamma_angle[0] / g);
     Vec3<T> n1, n2;
     AxisNormals<T>(3, yt_child, &n1, &n2);
     null << n1, n2;
@@ -175,43 +175,32 @@ bool PointAndAngles(const TreeJoint& joint, const std::vector<ConstraintRow<T>>&
     const T determinant = g00 * g11 - g01 * g01;
     if (!(Value(determinant) > kTreePivot * std::max(1.0, std::max(Value(g00), Value(g11))))) return false;
     const T inverse = T(1.0) / determinant;
-    pseudo_inverse.col(0) = (g11 * inverse) * y0 - (g01 * inverse) * y1;
-    pseudo_inverse.col(1) = (g00 * inverse) * y1 - (g01 * inverse) * y0;
+    c = ((g11 * gamma_angle[0] - g01 * gamma_angle[1]) * inverse) * y0 +
+        ((g00 * gamma_angle[1] - g01 * gamma_angle[0]) * inverse) * y1;
     null = y0.cross(y1);
   } else {
     Mat3<T> l = yt_child.transpose() * yt_child;
     if (!Cholesky(kTreePivot * std::max(1.0, Value(l.diagonal().maxCoeff())), &l)) return false;
-    Mat3<T> solved = yt_child.transpose();
-    SolveLower(l, &solved);
-    SolveUpper(l, &solved);
-    pseudo_inverse = solved.transpose();
+    SolveLower(l, &gamma_angle);
+    SolveUpper(l, &gamma_angle);
+    c.noalias() = yt_child * gamma_angle;
   }
-  Vec3<T> c = Zero3<T>();
-  Mat3<T> k = Mat3<T>::Zero();
-  if constexpr (kAngles > 0) {
-    c.noalias() = pseudo_inverse * gamma_angle;
-    k.noalias() = -pseudo_inverse * yt_parent.transpose();
-  }
-  Mat3<T> e = xt_parent.transpose();  // -s E
-  e.noalias() += xt_child.transpose() * k;
-  w->k = k;
-  w->e = -s * e;
   w->free = kFree;
   if constexpr (kFree > 0) {
     w->directions.template block<3, kFree>(0, 0).noalias() = -s * (xt_child.transpose() * null);
-    w->directions.template block<3, kFree>(3, 0) = null;
+    w->directions.template block<3, kFree>(3, 0).noalias() = r_child * null;
   }
-  const Vec3<T> point = s * (gamma_point - xt_child.transpose() * c);
-  w->offset << point, c;
+  w->offset << s * (gamma_point - xt_child.transpose() * c), r_child * c;
+  w->arm = centres - s * gap;
   return true;
 }
 
-// T, S and b of a double hinge's four rows (the rigid following and the hinges' screws of tree_elimination.h); false
-// where J_C J_C^T is close to singular.
+// S, b and d of a double hinge's four rows (the hinges' screws of tree_elimination.h, in the world), from the bodies'
+// centres c_C - c_P; false where J_C J_C^T is close to singular.
 template <typename T>
 bool DoubleHinge(const Model<T>& model, const TreeJoint& joint, const std::vector<ConstraintRow<T>>& rows,
-                 const BodyFrames<T>& frames, const VecX<T>& q, const VecX<T>& v, T alpha, T beta,
-                 TreeJointWork<T>* w) {
+                 const BodyFrames<T>& frames, const Vec3<T>& centres, const VecX<T>& q, const VecX<T>& v, T alpha,
+                 T beta, TreeJointWork<T>* w) {
   using std::sqrt;
   const bool world = joint.parent == kWorld;
   Eigen::Matrix<T, 4, 6> j_child;  // the rows first, into locals (as in PointAndAngles)
@@ -233,11 +222,7 @@ bool DoubleHinge(const Model<T>& model, const TreeJoint& joint, const std::vecto
   SolveLower(l, &gamma);
   SolveUpper(l, &gamma);
   const Joint<T>& hinge = model.joints[joint.double_hinge];
-  const auto centre = [&](int body) {
-    return body == kWorld ? Zero3<T>() : Vec3<T>(q.template segment<3>(model.bodies[body].q_offset));
-  };
-  const Vec3<T> c_child = centre(joint.child);
-  const Mat3<T>& r_child = frames[joint.child].R_WP;
+  const Vec3<T> c_child = q.template segment<3>(model.bodies[joint.child].q_offset);
   Vec3<T> axis[2] = {hinge.axis / sqrt(hinge.axis.squaredNorm()), hinge.axis_b / sqrt(hinge.axis_b.squaredNorm())};
   const BodyPoint<T>* points[2] = {&hinge.a, &hinge.b};
   w->free = 2;
@@ -246,49 +231,34 @@ bool DoubleHinge(const Model<T>& model, const TreeJoint& joint, const std::vecto
     if (points[i]->body != kWorld) {
       const Mat3<T>& r_body = frames[points[i]->body].R_WB;
       axis[i] = r_body * axis[i];
-      point = centre(points[i]->body) + r_body * point;
+      point = q.template segment<3>(model.bodies[points[i]->body].q_offset) + r_body * point;
     }
-    w->directions.col(i) << axis[i].cross(c_child - point), r_child.transpose() * axis[i];
+    w->directions.col(i) << axis[i].cross(c_child - point), axis[i];
   }
-  if (!world) {
-    const Mat3<T>& r_parent = frames[joint.parent].R_WP;
-    const Vec3<T> arm = c_child - centre(joint.parent);
-    w->k.noalias() = r_child.transpose() * r_parent;
-    for (int k = 0; k < 3; ++k) w->e.col(k) = -arm.cross(r_parent.col(k));
-  }
-  w->offset.noalias() = j_child.transpose() * gamma;
+  const Vec6<T> offset = j_child.transpose() * gamma;
+  w->offset << offset.template head<3>(), frames[joint.child].R_WP * offset.template tail<3>();
+  w->arm = centres;
   return true;
 }
 
-// y += T^T x for a joint's T = [1 E; 0 K].
+// I_P += X^T I X for the rigid transport X = [1 -[d]x; 0 1] (d: the child's centre from its parent's): with
+// I = [A B; B^T C] and G = B - A [d]x = B + (d x A)^T (columnwise cross products),
+//   X^T I X = [A G; G^T C + d x G + (d x B)^T].
 template <typename T>
-void AddTransportTransposed(const TreeJointWork<T>& w, const Vec6<T>& x, Vec6<T>* y) {
-  y->template head<3>() += x.template head<3>();
-  y->template tail<3>().noalias() += w.e.transpose() * x.template head<3>() + w.k.transpose() * x.template tail<3>();
-}
-
-// I_P += T^T I T for a joint's T = [1 E; 0 K], in 3 x 3 products.
-template <typename T>
-void AddTransportedInertia(const TreeJointWork<T>& w, const Eigen::Matrix<T, 6, 6>& inertia,
-                           Eigen::Matrix<T, 6, 6>* out) {
+void AddShiftedInertia(const Vec3<T>& d, const Eigen::Matrix<T, 6, 6>& inertia, Eigen::Matrix<T, 6, 6>* out) {
+  const auto cross = [&d](const auto& m) {
+    Mat3<T> out;
+    for (int k = 0; k < 3; ++k) out.col(k) = d.cross(Vec3<T>(m.col(k)));
+    return out;
+  };
   const auto a = inertia.template topLeftCorner<3, 3>();
   const auto b = inertia.template topRightCorner<3, 3>();
-  const auto c = inertia.template bottomRightCorner<3, 3>();
-  Mat3<T> top, bottom;
-  top.noalias() = a * w.e + b * w.k;                 // the first three rows of I T
-  bottom.noalias() = b.transpose() * w.e + c * w.k;  // the last three
+  const Mat3<T> g = b + cross(a).transpose();
   out->template topLeftCorner<3, 3>() += a;
-  out->template topRightCorner<3, 3>() += top;
-  out->template bottomLeftCorner<3, 3>() += top.transpose();
-  out->template bottomRightCorner<3, 3>().noalias() += w.e.transpose() * top + w.k.transpose() * bottom;
-}
-
-// T x for a joint's T = [1 E; 0 K].
-template <typename T>
-Vec6<T> Transport(const TreeJointWork<T>& w, const Vec6<T>& x) {
-  Vec6<T> out;
-  out << x.template head<3>() + w.e * x.template tail<3>(), w.k * x.template tail<3>();
-  return out;
+  out->template topRightCorner<3, 3>() += g;
+  out->template bottomLeftCorner<3, 3>() += g.transpose();
+  out->template bottomRightCorner<3, 3>() +=
+      inertia.template bottomRightCorner<3, 3>() + cross(g) + cross(b).transpose();
 }
 
 // Calls f(std::integral_constant<int, k>) for k = free in [0, 3], so that a joint's blocks have fixed sizes.
@@ -353,26 +323,30 @@ TETHER_FLATTEN bool TreeAcceleration(const Model<T>& model, const TreePlan& plan
                                      VecX<T>* a) {
   const std::vector<TreeJoint>& joints = plan.joints();
   work->resize(joints.size());
-  for (size_t j = 0; j < joints.size(); ++j) {
+  const auto centre = [&](int body) { return Vec3<T>(q.template segment<3>(model.bodies[body].q_offset)); };
+  for (size_t j = 0; j < joints.size(); ++j) {  // S, b, and each body's own inertia and force, in the world
     const TreeJoint& joint = joints[j];
     TreeJointWork<T>& w = (*work)[j];
+    const Mat3<T>& r_child = frames[joint.child].R_WP;
+    const Vec3<T> centres = centre(joint.child) - (joint.parent == kWorld ? Zero3<T>() : centre(joint.parent));
     bool made;
     if (joint.double_hinge >= 0) {
-      made = DoubleHinge(model, joint, rows, frames, q, v, alpha, beta, &w);
+      made = DoubleHinge(model, joint, rows, frames, centres, q, v, alpha, beta, &w);
     } else if (joint.angles == 2) {
-      made = PointAndAngles<2>(joint, rows, v, alpha, beta, &w);
+      made = PointAndAngles<2>(joint, rows, r_child, centres, v, alpha, beta, &w);
     } else if (joint.angles == 0) {
-      made = PointAndAngles<0>(joint, rows, v, alpha, beta, &w);
+      made = PointAndAngles<0>(joint, rows, r_child, centres, v, alpha, beta, &w);
     } else if (joint.angles == 1) {
-      made = PointAndAngles<1>(joint, rows, v, alpha, beta, &w);
+      made = PointAndAngles<1>(joint, rows, r_child, centres, v, alpha, beta, &w);
     } else {
-      made = PointAndAngles<3>(joint, rows, v, alpha, beta, &w);
+      made = PointAndAngles<3>(joint, rows, r_child, centres, v, alpha, beta, &w);
     }
     if (!made) return false;
+    const Mat3<T> r_inertia = r_child * principal_inertia[joint.child];
     w.inertia.setZero();
     w.inertia.template topLeftCorner<3, 3>().diagonal().setConstant(T(model.bodies[joint.child].mass));
-    w.inertia.template bottomRightCorner<3, 3>() = principal_inertia[joint.child];
-    w.force = force.template segment<6>(joint.child_v);
+    w.inertia.template bottomRightCorner<3, 3>().noalias() = r_inertia * r_child.transpose();
+    w.force << force.template segment<3>(joint.child_v), r_child * force.template segment<3>(joint.child_v + 3);
   }
   for (size_t j = joints.size(); j-- > 0;) {  // children first
     const TreeJoint& joint = joints[j];
@@ -380,16 +354,23 @@ TETHER_FLATTEN bool TreeAcceleration(const Model<T>& model, const TreePlan& plan
     if (!WithFreeCount(w.free, [&](auto k) { return Eliminate<k()>(&w); })) return false;
     if (joint.parent == kWorld) continue;
     TreeJointWork<T>& parent = (*work)[joint.parent_joint];
-    AddTransportedInertia(w, w.inertia, &parent.inertia);
-    AddTransportTransposed(w, w.force, &parent.force);
+    AddShiftedInertia(w.arm, w.inertia, &parent.inertia);
+    parent.force.template head<3>() += w.force.template head<3>();  // X^T p = [f; d x f + tau]
+    parent.force.template tail<3>() += w.arm.cross(Vec3<T>(w.force.template head<3>())) + w.force.template tail<3>();
   }
   for (size_t j = 0; j < joints.size(); ++j) {  // parents first
     const TreeJoint& joint = joints[j];
     TreeJointWork<T>& w = (*work)[j];
-    Vec6<T> transported = Vec6<T>::Zero();
-    if (joint.parent != kWorld) transported = Transport(w, (*work)[joint.parent_joint].acceleration);
+    Vec6<T> transported = Vec6<T>::Zero();  // X a_P = [a - d x alpha; alpha]
+    if (joint.parent != kWorld) {
+      const Vec6<T>& parent = (*work)[joint.parent_joint].acceleration;
+      transported << parent.template head<3>() - w.arm.cross(Vec3<T>(parent.template tail<3>())),
+          parent.template tail<3>();
+    }
     WithFreeCount(w.free, [&](auto k) { return Accelerate<k()>(transported, &w); });
-    a->template segment<6>(joint.child_v) = w.acceleration;
+    a->template segment<3>(joint.child_v) = w.acceleration.template head<3>();
+    a->template segment<3>(joint.child_v + 3).noalias() =
+        frames[joint.child].R_WP.transpose() * w.acceleration.template tail<3>();
   }
   for (int body : plan.free_bodies()) {  // M^-1 f as ApplyInverseMass takes it
     const int o = model.bodies[body].v_offset;

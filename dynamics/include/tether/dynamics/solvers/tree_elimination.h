@@ -5,8 +5,8 @@
 //   J_P a_P + J_C a_C = gamma,     gamma = -(Jdot v + alpha J v + beta C)       (m rows, J_C of rank m <= 6),
 // with a = v' over the body's velocities (world translation, rotation in its principal axes). Every a_C that keeps
 // them is
-//   a_C = T a_P + S qdd + b,       J_C S = 0 (S: 6 x k, k = 6 - m),   T = -R J_P,   b = R gamma,
-// for a right inverse R of J_C (J_C R = 1) and the k free accelerations qdd. A body's equation M_C a_C = f_C -
+//   a_C = T a_P + S qdd + b,       J_C S = 0 (S: 6 x k, k = 6 - m),   J_C T = -J_P,   J_C b = gamma,
+// for the k free accelerations qdd. A body's equation M_C a_C = f_C -
 // J_C^T lambda_C - sum over its children c of J_Pc^T lambda_c, projected on S, loses its own joint's reaction (S^T
 // J_C^T = 0); a child's reaction on it is -J_Pc^T lambda_c = T_c^T J_Cc^T lambda_c = T_c^T (p_c - I_c a_c). So, with
 // I the articulated inertia and p the articulated force of a body (its M and f, plus its children's shares):
@@ -16,24 +16,32 @@
 // In exact arithmetic this is the Schur path's acceleration (schur_system.h): the same unique solution of the KKT
 // system, in O(bodies) with 6 x 6 blocks and k unknowns a joint instead of m multipliers, and no multipliers at all.
 //
+// The elimination runs in world-aligned coordinates: a body's angular velocity, acceleration and torque, and the
+// rotational blocks of its inertia, are turned from its principal axes R to the world's (omega_W = R omega,
+// I = diag(m 1, R J R^T), and back for a_C at the end). There every joint can take a rigid following
+//   T = X = [1 -[d]x; 0 1]
+// with J_C X = -J_P. For a double hinge, d = c_C - c_P (the bodies' centres of mass): its rows are unchanged by a
+// rigid motion of both bodies together. A point part's rows x_C - x_P (the two anchors) turn with such a motion when
+// they are not zero, so there d = r_P - r_C, the anchors' arms from their centres, = c_C - c_P - (x_C - x_P), which
+// keeps them as evaluated, violated or not; angle rows are unchanged either way. Any other T that keeps the rows
+// differs from X by S Z (J_C (X - T) = 0), and (I - W W^T) S = 0, S^T (z - W y) = 0 make the parent's shares and a_C
+// the same for both. So I_P += X^T (I - W W^T) X takes cross products with d, p_P gains
+// [f; d x f + tau], X a_P = [a - d x alpha; alpha], and a joint needs only S and b, from its child's rows.
+//
 // The joints it takes are made of a point part (three rows, translations -e_k on the first body and e_k on the second)
 // and 0 to 3 angle rows (no translation): hinges, balls, universal joints and welds. With s = 1 where the child is
-// the rows' second body (-1 where it is the first), X the point rows' rotational blocks, Y the angle rows' and c =
-// Y_C^+ gamma_angle (Y_C^+ = Y_C^T (Y_C Y_C^T)^-1, N a basis of Y_C's null space), T and S take a closed form:
-//   T = [1 E; 0 K],   K = -Y_C^+ Y_P,   E = -s (X_P + X_C K),   S = [-s X_C N; N],
-//   b = [s (gamma_point - X_C c); c],
-// so that T^T I T takes 3 x 3 products.
+// the rows' second body (-1 where it is the first), X_C and Y_C the child's rotational blocks of the point and angle
+// rows, c = Y_C^+ gamma_angle (Y_C^+ = Y_C^T (Y_C Y_C^T)^-1) and N a basis of Y_C's null space,
+//   S = [-s X_C N; R N],   b = [s (gamma_point - X_C c); R c].
 //
 // A double hinge's four rows (a distance, two lines whose normals turn with their bodies, one or two angles between
-// body-fixed axes) are unchanged by any rigid motion of both bodies together, so J_C T = -J_P holds for the child
-// following its parent rigidly, and each hinge's screw (its world axis a_i through its world point x_i) moves the
-// child alone without changing any row:
-//   T = [1 -[c_C - c_P]x R_P; 0 R_C^T R_P],   S = [a_i x (c_C - x_i); R_C^T a_i] (i = 1, 2),
-//   b = J_C^T (J_C J_C^T)^-1 gamma,
-// with c the bodies' centres of mass and R their principal axes in the world. (Lines and distances of other joints
-// keep the Schur path. Served from their rows as they are, with a right inverse and a null space of J_C from a QR
-// factorization, then from a Cholesky factorization of J_C J_C^T with general 6 x 6 transports, they made
-// humanoid.xml's step 7 to 10% slower than the Schur path's; docs/performance.md, "The tree elimination".)
+// body-fixed axes) are unchanged by each hinge's screw (its world axis a_i through its world point x_i) moving the
+// child alone:
+//   S = [a_i x (c_C - x_i); a_i] (i = 1, 2),   b = diag(1, R) J_C^T (J_C J_C^T)^-1 gamma.
+// (Lines and distances of other joints keep the Schur path. Served from their rows as they are, with a right inverse
+// and a null space of J_C from a QR factorization, then from a Cholesky factorization of J_C J_C^T with general
+// 6 x 6 transports, they made humanoid.xml's step 7 to 10% slower than the Schur path's; docs/performance.md, "The
+// tree elimination".)
 //
 // Where a joint's rows are close to dependent (a universal joint near its gimbal lock: a pivot of Y_C Y_C^T, or of a
 // double hinge's J_C J_C^T, below kTreePivot times max(1, its largest diagonal)), the evaluation fails and the Schur
@@ -102,10 +110,10 @@ using Vec6 = Eigen::Matrix<T, 6, 1>;  // a body's velocities' shape: translation
 // What one elimination computes into, per joint (TreeAcceleration sizes it to the plan's joints).
 template <typename T>
 struct TreeJointWork {
-  Eigen::Matrix<T, 6, 6> inertia;     // I, articulated
+  Eigen::Matrix<T, 6, 6> inertia;     // I, articulated (all blocks in the world's axes, as below)
   Vec6<T> force;                      // p, then z
-  Mat3<T> e, k;                       // T = [1 E; 0 K]
-  int free = 0;                       // k = 3 - angle rows
+  Vec3<T> arm;                        // d (X = [1 -[d]x; 0 1])
+  int free = 0;                       // k
   Eigen::Matrix<T, 6, 3> directions;  // S
   Eigen::Matrix<T, 6, 3> w;           // W = U L^-T
   Mat3<T> l;                          // L
