@@ -86,7 +86,8 @@ std::optional<TreePlan> TreePlan::Of(const std::vector<RowInfo>& infos, const st
 
 namespace {
 
-// A = L L^T in place for a symmetric A (its lower triangle becomes L); false where a pivot is not above `floor`.
+// A = L L^T in place for a symmetric A: its strict lower triangle becomes L's, its diagonal L's reciprocals (so that
+// the solves multiply); false where a pivot is not above `floor`.
 template <int N, typename T>
 bool Cholesky(double floor, Eigen::Matrix<T, N, N>* l) {
   using std::sqrt;
@@ -94,30 +95,30 @@ bool Cholesky(double floor, Eigen::Matrix<T, N, N>* l) {
   for (int i = 0; i < N; ++i) {
     for (int c = 0; c < i; ++c) a(i, i) -= a(i, c) * a(i, c);
     if (!(Value(a(i, i)) > floor)) return false;
-    a(i, i) = sqrt(a(i, i));
+    a(i, i) = T(1.0) / sqrt(a(i, i));
     for (int r = i + 1; r < N; ++r) {
       for (int c = 0; c < i; ++c) a(r, i) -= a(r, c) * a(i, c);
-      a(r, i) /= a(i, i);
+      a(r, i) *= a(i, i);
     }
   }
   return true;
 }
 
-// x = L^-1 x, row by row (x has N rows).
+// x = L^-1 x, row by row (x has N rows; l as Cholesky leaves it).
 template <int N, typename T, typename X>
 void SolveLower(const Eigen::Matrix<T, N, N>& l, Eigen::MatrixBase<X>* x) {
   for (int i = 0; i < N; ++i) {
     for (int c = 0; c < i; ++c) x->row(i) -= l(i, c) * x->row(c);
-    x->row(i) /= l(i, i);
+    x->row(i) *= l(i, i);
   }
 }
 
-// x = L^-T x, row by row (x has N rows).
+// x = L^-T x, row by row (x has N rows; l as Cholesky leaves it).
 template <int N, typename T, typename X>
 void SolveUpper(const Eigen::Matrix<T, N, N>& l, Eigen::MatrixBase<X>* x) {
   for (int i = N - 1; i >= 0; --i) {
     for (int r = i + 1; r < N; ++r) x->row(i) -= l(r, i) * x->row(r);
-    x->row(i) /= l(i, i);
+    x->row(i) *= l(i, i);
   }
 }
 
@@ -276,10 +277,10 @@ bool WithFreeCount(int free, F f) {
   }
 }
 
-// The backward step of a joint with K free directions: z, D = L L^T, W, y, and I - W W^T, z - W y in place of I and
-// z (what the parent receives). False where D is not positive definite.
+// The backward step of a joint with K free directions: z, D = L L^T, W, y, and, for a parent that is a body, I - W W^T
+// and z - W y in place of I and z (what the parent receives). False where D is not positive definite.
 template <int K, typename T>
-bool Eliminate(TreeJointWork<T>* w) {
+bool Eliminate(bool to_parent, TreeJointWork<T>* w) {
   w->force.noalias() -= w->inertia * w->offset;  // z
   if constexpr (K > 0) {
     const Eigen::Matrix<T, 6, K> directions = w->directions.template leftCols<K>();
@@ -290,8 +291,10 @@ bool Eliminate(TreeJointWork<T>* w) {
     Eigen::Matrix<T, K, 1> y = directions.transpose() * w->force;
     SolveLower(l, &w_t);
     SolveLower(l, &y);
-    w->inertia.noalias() -= w_t.transpose() * w_t;
-    w->force.noalias() -= w_t.transpose() * y;
+    if (to_parent) {
+      w->inertia.noalias() -= w_t.transpose() * w_t;
+      w->force.noalias() -= w_t.transpose() * y;
+    }
     w->l.template topLeftCorner<K, K>() = l;
     w->w.template leftCols<K>() = w_t.transpose();
     w->y.template head<K>() = y;
@@ -351,8 +354,9 @@ TETHER_FLATTEN bool TreeAcceleration(const Model<T>& model, const TreePlan& plan
   for (size_t j = joints.size(); j-- > 0;) {  // children first
     const TreeJoint& joint = joints[j];
     TreeJointWork<T>& w = (*work)[j];
-    if (!WithFreeCount(w.free, [&](auto k) { return Eliminate<k()>(&w); })) return false;
-    if (joint.parent == kWorld) continue;
+    const bool to_parent = joint.parent != kWorld;
+    if (!WithFreeCount(w.free, [&](auto k) { return Eliminate<k()>(to_parent, &w); })) return false;
+    if (!to_parent) continue;
     TreeJointWork<T>& parent = (*work)[joint.parent_joint];
     AddShiftedInertia(w.arm, w.inertia, &parent.inertia);
     parent.force.template head<3>() += w.force.template head<3>();  // X^T p = [f; d x f + tau]
