@@ -122,6 +122,12 @@ void SolveUpper(const Eigen::Matrix<T, N, N>& l, Eigen::MatrixBase<X>* x) {
   }
 }
 
+// A body's centre of mass in the world.
+template <typename T>
+Vec3<T> Centre(const Model<T>& model, const VecX<T>& q, int body) {
+  return q.template segment<3>(model.bodies[body].q_offset);
+}
+
 // S, b and d of a point-and-angle joint with kAngles angle rows (the closed form of tree_elimination.h), from the
 // bodies' centres c_C - c_P, with S's and b's angular parts turned to the world by the child's principal axes
 // r_child; false where Y_C Y_C^T is close to singular.
@@ -223,7 +229,7 @@ bool DoubleHinge(const Model<T>& model, const TreeJoint& joint, const std::vecto
   SolveLower(l, &gamma);
   SolveUpper(l, &gamma);
   const Joint<T>& hinge = model.joints[joint.double_hinge];
-  const Vec3<T> c_child = q.template segment<3>(model.bodies[joint.child].q_offset);
+  const Vec3<T> c_child = Centre(model, q, joint.child);
   Vec3<T> axis[2] = {hinge.axis / sqrt(hinge.axis.squaredNorm()), hinge.axis_b / sqrt(hinge.axis_b.squaredNorm())};
   const BodyPoint<T>* points[2] = {&hinge.a, &hinge.b};
   w->free = 2;
@@ -232,7 +238,7 @@ bool DoubleHinge(const Model<T>& model, const TreeJoint& joint, const std::vecto
     if (points[i]->body != kWorld) {
       const Mat3<T>& r_body = frames[points[i]->body].R_WB;
       axis[i] = r_body * axis[i];
-      point = q.template segment<3>(model.bodies[points[i]->body].q_offset) + r_body * point;
+      point = Centre(model, q, points[i]->body) + r_body * point;
     }
     w->directions.col(i) << axis[i].cross(c_child - point), axis[i];
   }
@@ -326,12 +332,12 @@ TETHER_FLATTEN bool TreeAcceleration(const Model<T>& model, const TreePlan& plan
                                      VecX<T>* a) {
   const std::vector<TreeJoint>& joints = plan.joints();
   work->resize(joints.size());
-  const auto centre = [&](int body) { return Vec3<T>(q.template segment<3>(model.bodies[body].q_offset)); };
   for (size_t j = 0; j < joints.size(); ++j) {  // S, b, and each body's own inertia and force, in the world
     const TreeJoint& joint = joints[j];
     TreeJointWork<T>& w = (*work)[j];
     const Mat3<T>& r_child = frames[joint.child].R_WP;
-    const Vec3<T> centres = centre(joint.child) - (joint.parent == kWorld ? Zero3<T>() : centre(joint.parent));
+    const Vec3<T> centres =
+        Centre(model, q, joint.child) - (joint.parent == kWorld ? Zero3<T>() : Centre(model, q, joint.parent));
     bool made;
     if (joint.double_hinge >= 0) {
       made = DoubleHinge(model, joint, rows, frames, centres, q, v, alpha, beta, &w);

@@ -6,27 +6,28 @@
 // with a = v' over the body's velocities (world translation, rotation in its principal axes). Every a_C that keeps
 // them is
 //   a_C = T a_P + S qdd + b,       J_C S = 0 (S: 6 x k, k = 6 - m),   J_C T = -J_P,   J_C b = gamma,
-// for the k free accelerations qdd. A body's equation M_C a_C = f_C -
-// J_C^T lambda_C - sum over its children c of J_Pc^T lambda_c, projected on S, loses its own joint's reaction (S^T
-// J_C^T = 0); a child's reaction on it is -J_Pc^T lambda_c = T_c^T J_Cc^T lambda_c = T_c^T (p_c - I_c a_c). So, with
-// I the articulated inertia and p the articulated force of a body (its M and f, plus its children's shares):
+// for the k free accelerations qdd. A body's equation M_C a_C = f_C - J_C^T lambda_C - sum over its children c of
+// J_Pc^T lambda_c, projected on S, loses its own joint's reaction (S^T J_C^T = 0); a child's reaction on it is
+// -J_Pc^T lambda_c = T_c^T J_Cc^T lambda_c = T_c^T (p_c - I_c a_c). So, with I the articulated inertia and p the
+// articulated force of a body (its M and f, plus its children's shares):
 //   backward, children first:  z = p - I b,   U = I S,   D = S^T U = L L^T,   W = U L^-T,   y = L^-1 S^T z,
-//                              I_P += T^T (I - W W^T) T,   p_P += T^T (z - W y);
+//                              I_P += T^T (I - W W^T) T,   p_P += T^T (z - W y)   (nothing for the world);
 //   forward, parents first:    qdd = L^-T (y - W^T T a_P),   a_C = T a_P + S qdd + b   (a_P = 0 for the world).
 // In exact arithmetic this is the Schur path's acceleration (schur_system.h): the same unique solution of the KKT
 // system, in O(bodies) with 6 x 6 blocks and k unknowns a joint instead of m multipliers, and no multipliers at all.
 //
-// The elimination runs in world-aligned coordinates: a body's angular velocity, acceleration and torque, and the
-// rotational blocks of its inertia, are turned from its principal axes R to the world's (omega_W = R omega,
-// I = diag(m 1, R J R^T), and back for a_C at the end). There every joint can take a rigid following
+// The elimination runs in world-aligned coordinates: a body's angular velocity, acceleration and torque, the
+// rotational blocks of its inertia and of its rows are turned from its principal axes R to the world's
+// (omega_W = R omega, I = diag(m 1, R J R^T), J diag(1, R^T), and back for a_C at the end). There every joint can take
+// a rigid following
 //   T = X = [1 -[d]x; 0 1]
 // with J_C X = -J_P. For a double hinge, d = c_C - c_P (the bodies' centres of mass): its rows are unchanged by a
 // rigid motion of both bodies together. A point part's rows x_C - x_P (the two anchors) turn with such a motion when
 // they are not zero, so there d = r_P - r_C, the anchors' arms from their centres, = c_C - c_P - (x_C - x_P), which
 // keeps them as evaluated, violated or not; angle rows are unchanged either way. Any other T that keeps the rows
 // differs from X by S Z (J_C (X - T) = 0), and (I - W W^T) S = 0, S^T (z - W y) = 0 make the parent's shares and a_C
-// the same for both. So I_P += X^T (I - W W^T) X takes cross products with d, p_P gains
-// [f; d x f + tau], X a_P = [a - d x alpha; alpha], and a joint needs only S and b, from its child's rows.
+// the same for both. So I_P += X^T (I - W W^T) X takes cross products with d, p_P gains [f; d x f + tau],
+// X a_P = [a - d x alpha; alpha], and a joint needs only S and b, from its child's rows.
 //
 // The joints it takes are made of a point part (three rows, translations -e_k on the first body and e_k on the second)
 // and 0 to 3 angle rows (no translation): hinges, balls, universal joints and welds. With s = 1 where the child is
