@@ -14,12 +14,21 @@ DEFAULT_BINARY = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__
 MILLISECONDS = {"ns": 1e-6, "us": 1e-3, "ms": 1.0, "s": 1e3}
 
 
-def run(binary, pattern, min_time, repetitions, extra=()):
-    """Runs the benchmarks whose names match the regular expression `pattern`; returns the parsed JSON report."""
+def run(binary, pattern, min_time, repetitions, extra=(), interleave=True):
+    """Runs the benchmarks whose names match the regular expression `pattern`; returns the parsed JSON report.
+    With `interleave`, repetitions run in a random order across the whole run (Google Benchmark's random
+    interleaving): back to back, the repetitions of one case shared the same burst of load from the machine's
+    neighbours, and their median with them (tether's 10-rod chain, rk4, in bench/peer once read 55, 80 and 92 ms in
+    a row, MuJoCo's 76, 68 and 68 ms after them: a median of 1.18 times MuJoCo's step from a scene that steps in 0.83
+    of it). Without it they run back to back, each after the one before has warmed the caches: for runs of a
+    millisecond or less that include their set-up (bench/peer/simbody_bench.cc), which interleaving made up to
+    twice as long."""
     if not os.path.exists(binary):
         sys.exit(f"{binary} not found: build it (scripts/dev run builds build/bench/tether_bench) or pass --binary")
     command = [binary, f"--benchmark_filter={pattern}", "--benchmark_format=json",
                f"--benchmark_min_time={min_time}", f"--benchmark_repetitions={repetitions}"] + list(extra)
+    if interleave and repetitions > 1:
+        command.append("--benchmark_enable_random_interleaving=true")
     print("running: " + " ".join(command), file=sys.stderr)
     done = subprocess.run(command, check=True, stdout=subprocess.PIPE, text=True)
     return json.loads(done.stdout)
@@ -39,7 +48,8 @@ def save(report, path):
 def measurements(report):
     """The report's benchmarks worth reading, each once: with --benchmark_repetitions, the medians of the
     repetitions; otherwise the single runs. Runs that reported an error are left out. Each entry's "run_name"
-    is the benchmark's name without the aggregate suffix."""
+    is the benchmark's name without the aggregate suffix. They come in the order the benchmarks were registered (a
+    run with random interleaving reports them in the order their last repetitions ended)."""
     medians = any(b.get("aggregate_name") == "median" for b in report["benchmarks"])
     picked = []
     for b in report["benchmarks"]:
@@ -49,7 +59,7 @@ def measurements(report):
             if name.endswith("_median"):
                 name = name[: -len("_median")]
             picked.append(dict(b, run_name=name))
-    return picked
+    return sorted(picked, key=lambda b: (b.get("family_index", 0), b.get("per_family_instance_index", 0)))
 
 
 def cpu_milliseconds(entry):
@@ -84,10 +94,10 @@ def study_report(argv, description, out, min_time, repetitions, run_benchmarks):
     return report, args.out
 
 
-def peer_report(argv, description, binary, program, out):
+def peer_report(argv, description, binary, program, out, interleave=True):
     """The command line of a side-by-side comparison (bench/peer): --binary, --json, --out, --filter. Returns the
-    report saved earlier when --json names it, else a fresh run (three repetitions) saved as --out; the runs that
-    failed are named on stderr."""
+    report saved earlier when --json names it, else a fresh run (three repetitions, interleaved or not as run()
+    says) saved as --out; the runs that failed are named on stderr."""
     parser = argparse.ArgumentParser(description=description)
     parser.add_argument("--binary", default=binary, help=f"the {program} program")
     parser.add_argument("--json", help="print this saved report instead of running the benchmark")
@@ -97,7 +107,7 @@ def peer_report(argv, description, binary, program, out):
     if args.json:
         report = load(args.json)
     else:
-        report = run(args.binary, args.filter, 0, 3)
+        report = run(args.binary, args.filter, 0, 3, interleave=interleave)
         save(report, args.out)
         print(f"wrote {args.out}", file=sys.stderr)
     for entry in report["benchmarks"]:

@@ -123,7 +123,8 @@ def verdict(table):
 
 
 def main(argv):
-    report = bench_json.peer_report(argv, __doc__.splitlines()[0], BINARY, "tether_vs_simbody", os.path.join(HERE, "results_simbody.json"))
+    report = bench_json.peer_report(argv, __doc__.splitlines()[0], BINARY, "tether_vs_simbody",
+                                    os.path.join(HERE, "results_simbody.json"), interleave=False)  # runs of 0.1 ms up
     table = runs(report)
     print(markdown(table))
     print()
