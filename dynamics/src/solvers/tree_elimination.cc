@@ -147,10 +147,10 @@ bool PointAndAngles(const TreeJoint& joint, const std::vector<ConstraintRow<T>>&
     return -(row.bias + beta * row.value + alpha * (move + child.dot(w_child) + parent.dot(w_parent)));
   };
   Mat3<T> xt_child;
-  Vec3<T> gamma_point, gap;  // gap: the point rows' values, x_b - x_a
+  Vec3<T> gamma_point, separation;  // the point rows' values, x_b - x_a
   for (int k = 0; k < 3; ++k) {
     const ConstraintRow<T>& row = rows[joint.rows[k]];
-    gap[k] = row.value;
+    separation[k] = row.value;
     xt_child.col(k) = (joint.child_second ? row.b : row.a).rotation;
     gamma_point[k] =
         gamma_of(row, xt_child.col(k), (joint.child_second ? row.a : row.b).rotation, s * (v_child[k] - v_parent[k]));
@@ -198,7 +198,7 @@ bool PointAndAngles(const TreeJoint& joint, const std::vector<ConstraintRow<T>>&
     w->directions.template block<3, kFree>(3, 0).noalias() = r_child * null;
   }
   w->offset << s * (gamma_point - xt_child.transpose() * c), r_child * c;
-  w->arm = centres - s * gap;
+  w->arm = centres - s * separation;
   return true;
 }
 
