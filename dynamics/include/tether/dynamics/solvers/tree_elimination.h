@@ -111,13 +111,13 @@ using Vec6 = Eigen::Matrix<T, 6, 1>;  // a body's velocities' shape: translation
 // What one elimination computes into, per joint (TreeAcceleration sizes it to the plan's joints).
 template <typename T>
 struct TreeJointWork {
-  Eigen::Matrix<T, 6, 6> inertia;     // I, articulated (all blocks in the world's axes, as below)
+  Eigen::Matrix<T, 6, 6> inertia;     // I, articulated (its blocks in the world's axes, as above)
   Vec6<T> force;                      // p, then z
   Vec3<T> arm;                        // d (X = [1 -[d]x; 0 1])
   int free = 0;                       // k
   Eigen::Matrix<T, 6, 3> directions;  // S
   Eigen::Matrix<T, 6, 3> w;           // W = U L^-T
-  Mat3<T> l;                          // L
+  Mat3<T> l;                          // L, its diagonal inverted (as Cholesky leaves it)
   Vec3<T> y;                          // y = L^-1 S^T z
   Vec6<T> offset;                     // b
   Vec6<T> acceleration;               // a_C
