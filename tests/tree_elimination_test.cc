@@ -3,13 +3,15 @@
 // each way round (the child as the rows' first body or their second), hung from the world and from one another, with
 // a free body beside them, v' agrees with the sparse Schur solve's to 1e-11 relative at a state where every velocity
 // term is non-zero, and at one where every joint is violated by centimetres and degrees, and the two runs stay within
-// 1e-9 of each other; Jets through it give central differences' loss gradient. Loops, particles, joints of other rows
+// 1e-9 of each other; it leaves the rows' values the Schur path evaluates; Jets through it give central differences'
+// loss gradient. Loops, particles, joints of other rows
 // (prismatic joints) and a solver asked for by name keep the Schur path.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "test_files.h"
 #include "test_scenes.h"
@@ -76,24 +78,30 @@ State<double> StateAfterARun() {
   return state;
 }
 
-// v' of TreeScene at (q, v) by the tree path against the sparse Schur path's, to 1e-11 relative.
+// v' of TreeScene at (q, v) by the tree path against the sparse Schur path's, to 1e-11 relative; and the rows' values
+// the tree path leaves (what a step's runaway check reads) against those the Schur path evaluates.
 void ExpectTheSchurPathsAcceleration(const VecX<double>& q, const VecX<double>& v) {
-  const auto acceleration = [&q, &v](const std::string& solver, bool* tree) {
+  const auto acceleration = [&q, &v](const std::string& solver, bool* tree, std::vector<double>* values) {
     const Model<double> model = SceneFromJson(TreeScene(solver));
     Workspace<double> ws(model, q);
     GainsInUse(model, &ws.alpha, &ws.beta);
+    for (ConstraintRow<double>& row : ws.rows) row.value = std::nan("");
     VecX<double> a = VecX<double>::Zero(v.size());
     EXPECT_TRUE(ComputeAcceleration(model, 0.0, q, v, &ws, &a));
     *tree = ws.tree != nullptr;
+    for (const ConstraintRow<double>& row : ws.rows) values->push_back(row.value);
     return a;
   };
   bool tree = false, schur_tree = true;
-  const VecX<double> a = acceleration("auto", &tree);
-  const VecX<double> schur = acceleration("sparse", &schur_tree);
+  std::vector<double> values, schur_values;
+  const VecX<double> a = acceleration("auto", &tree, &values);
+  const VecX<double> schur = acceleration("sparse", &schur_tree, &schur_values);
   ASSERT_TRUE(tree);
   ASSERT_FALSE(schur_tree);
   EXPECT_GT(schur.norm(), 1.0);
   for (Eigen::Index i = 0; i < a.size(); ++i) EXPECT_NEAR(a[i], schur[i], 1e-11 * schur.norm()) << i;
+  ASSERT_EQ(values.size(), schur_values.size());
+  for (size_t i = 0; i < values.size(); ++i) EXPECT_NEAR(values[i], schur_values[i], 1e-15) << "row " << i;
 }
 
 TEST(TreeElimination, GivesTheSchurPathsAccelerationForEveryJointKindItTakes) {

@@ -123,13 +123,23 @@ bool ComputeAcceleration(const Model<T>& model, double t, const VecX<T>& q, cons
     ApplyInverseMass(model, ws->inverse_mass, ws->force, a);  // v' = M^-1 f
     return true;
   }
+  if constexpr (!std::is_same_v<T, Rev>) {  // a tree's elimination from the primitives, unless the adjoint keeps the
+                                            // Schur path's solves; it leaves the rows' values only
+    if (ws->tree != nullptr && ws->kkt_log == nullptr &&
+        TreeAcceleration(model, *ws->tree, ws->constraints, ws->frames, ws->principal_inertia,
+                         ws->inverse_mass.diagonal, ws->inverse_mass.rotational, q, v, ws->alpha, ws->beta, ws->force,
+                         &ws->tree_work, &ws->rows, a)) {
+      ws->sliding.clear();  // a tree has no contact rows
+      return true;
+    }
+  }
   EvaluateConstraintRows(model, ws->constraints, ws->frames, q, v, true, &ws->rows);
   if (!ws->constraints.contacts.empty()) {
     EvaluateSliding(model, ws->constraints, ws->frames, q, v, static_cast<int>(ws->rows.size()), &ws->sliding);
   } else {
     ws->sliding.clear();  // none slides where none touches
   }
-  return SolveKkt(model, q, v, ws, a);
+  return SolveKkt(model, v, ws, a);
 }
 
 template <typename S, typename T>
@@ -257,15 +267,8 @@ int SlidingKktAcceleration(const Model<S>& model, const std::vector<BodyLayout>&
 }
 
 template <typename T>
-bool SolveKkt(const Model<T>& model, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws, VecX<T>* a) {
+bool SolveKkt(const Model<T>& model, const VecX<T>& v, Workspace<T>* ws, VecX<T>* a) {
   if (const std::optional<bool> recorded = RecordedKktAcceleration(model, v, ws, a)) return *recorded;
-  if constexpr (!std::is_same_v<T, Rev>) {  // a tree's elimination, unless the adjoint keeps this solve
-    if (ws->tree != nullptr && ws->kkt_log == nullptr &&
-        TreeAcceleration(model, *ws->tree, ws->rows, ws->frames, ws->principal_inertia, ws->inverse_mass.diagonal,
-                         ws->inverse_mass.rotational, q, v, ws->alpha, ws->beta, ws->force, &ws->tree_work, a)) {
-      return true;
-    }
-  }
   bool solved = KktAcceleration(model, ws->layout, *ws->pattern, ws->solver, ws->rows, ws->inverse_mass, v, ws->alpha,
                                 ws->beta, &ws->force, &ws->kkt, a);
   if (solved && !ws->sliding.empty()) {

@@ -50,6 +50,12 @@ std::optional<TreePlan> TreePlan::Of(const std::vector<RowInfo>& infos, const st
         if (it->second.size() != 4) return std::nullopt;
         joint.double_hinge = double_hinges[scene];
         std::copy(it->second.begin(), it->second.end(), joint.rows.begin());
+        for (int row : it->second) {
+          const std::pair<RowPrimitive, int> source{infos[row].kind, infos[row].primitive};
+          if (joint.primitive_count == 0 || joint.primitives[joint.primitive_count - 1] != source) {
+            joint.primitives[joint.primitive_count++] = source;
+          }
+        }
         joint_of[child] = static_cast<int>(plan.joints_.size());
         plan.joints_.push_back(joint);
         it = pairs.erase(it);
@@ -72,6 +78,17 @@ std::optional<TreePlan> TreePlan::Of(const std::vector<RowInfo>& infos, const st
         }
       }
       if (axes != 7) return std::nullopt;
+      // the point rows one point primitive's, the angle rows (in its order) one angle primitive's
+      joint.primitives[joint.primitive_count++] = {RowPrimitive::kPoint, infos[joint.rows[0]].primitive};
+      for (int k = 1; k < 3; ++k) {
+        if (infos[joint.rows[k]].primitive != joint.primitives[0].second) return std::nullopt;
+      }
+      if (joint.angles > 0) {
+        joint.primitives[joint.primitive_count++] = {RowPrimitive::kAngle, infos[joint.rows[3]].primitive};
+        for (int k = 1; k < joint.angles; ++k) {
+          if (infos[joint.rows[3 + k]].primitive != joint.primitives[1].second) return std::nullopt;
+        }
+      }
       joint_of[child] = static_cast<int>(plan.joints_.size());
       plan.joints_.push_back(joint);
       it = pairs.erase(it);
@@ -128,40 +145,41 @@ Vec3<T> Centre(const Model<T>& model, const VecX<T>& q, int body) {
   return q.template segment<3>(model.bodies[body].q_offset);
 }
 
-// S, b and d of a point-and-angle joint with kAngles angle rows (the closed form of tree_elimination.h), from the
-// bodies' centres c_C - c_P, with S's and b's angular parts turned to the world by the child's principal axes
-// r_child; false where Y_C Y_C^T is close to singular.
+// S, b and d of a point-and-angle joint with kAngles angle rows (the closed form of tree_elimination.h), in the
+// world's axes from its point and angle primitives, with the bodies' centres c_C - c_P; the rows' values into rows.
+// False where Y_C Y_C^T is close to singular.
 template <int kAngles, typename T>
-bool PointAndAngles(const TreeJoint& joint, const std::vector<ConstraintRow<T>>& rows, const Mat3<T>& r_child,
-                    const Vec3<T>& centres, const VecX<T>& v, T alpha, T beta, TreeJointWork<T>* w) {
+bool PointAndAngles(const Model<T>& model, const TreeJoint& joint, const ConstraintSet<T>& set,
+                    const BodyFrames<T>& frames, const Vec3<T>& centres, const VecX<T>& q, const VecX<T>& v, T alpha,
+                    T beta, std::vector<ConstraintRow<T>>* rows, TreeJointWork<T>* w) {
   constexpr int kFree = 3 - kAngles;
   const double s = joint.child_second ? 1.0 : -1.0;
-  const bool world = joint.parent == kWorld;
-  const Vec3<T> v_child = v.template segment<3>(joint.child_v), w_child = v.template segment<3>(joint.child_v + 3);
-  const Vec3<T> v_parent = world ? Zero3<T>() : Vec3<T>(v.template segment<3>(joint.parent_v));
-  const Vec3<T> w_parent = world ? Zero3<T>() : Vec3<T>(v.template segment<3>(joint.parent_v + 3));
-  // gamma = -(Jdot v + beta C + alpha J v), and the child's rotational blocks as columns, X^T and Y^T (the point rows'
-  // translations are s e_k on the child and -s e_k on the parent, the angle rows' zero); all into locals, written to
-  // *w at the end (written through w as they were made, the 10-rod chain's elimination took a sixth longer)
-  const auto gamma_of = [&](const ConstraintRow<T>& row, const Vec3<T>& child, const Vec3<T>& parent, const T& move) {
-    return -(row.bias + beta * row.value + alpha * (move + child.dot(w_child) + parent.dot(w_parent)));
-  };
-  Mat3<T> xt_child;
-  Vec3<T> gamma_point, separation;  // the point rows' values, x_b - x_a
-  for (int k = 0; k < 3; ++k) {
-    const ConstraintRow<T>& row = rows[joint.rows[k]];
-    separation[k] = row.value;
-    xt_child.col(k) = (joint.child_second ? row.b : row.a).rotation;
-    gamma_point[k] =
-        gamma_of(row, xt_child.col(k), (joint.child_second ? row.a : row.b).rotation, s * (v_child[k] - v_parent[k]));
-  }
+  const PointPrimitive<T>& point = set.points[joint.primitives[0].second];
+  const PointMotion<T> pa = MovePoint(model, frames, point.a, q, v, true);
+  const PointMotion<T> pb = MovePoint(model, frames, point.b, q, v, true);
+  const Vec3<T> separation = pb.position - pa.position;  // the point rows' values
+  const Vec3<T> gamma_point =
+      -((pb.centripetal - pa.centripetal) + beta * separation + alpha * (pb.velocity - pa.velocity));
+  const Vec3<T>& arm = joint.child_second ? pb.arm : pa.arm;  // r_C
+  for (int k = 0; k < 3; ++k) (*rows)[joint.rows[k]].value = separation[k];
+  // the angle rows: C = u . w - c, the child's block -s (u x w) (a column of Y_C^T), and gamma
   Eigen::Matrix<T, 3, kAngles> yt_child;
   Eigen::Matrix<T, kAngles, 1> gamma_angle;
   if constexpr (kAngles > 0) {
+    const AnglePrimitive<T>& angle = set.angles[joint.primitives[1].second];
+    const bool world_a = angle.body_a == kWorld, world_b = angle.body_b == kWorld;
+    const Vec3<T> w_a = world_a ? Zero3<T>() : frames[angle.body_a].w_W;
+    const Vec3<T> w_b = world_b ? Zero3<T>() : frames[angle.body_b].w_W;
+    const Vec3<T> turning = w_a - w_b;
     for (int i = 0; i < kAngles; ++i) {
-      const ConstraintRow<T>& row = rows[joint.rows[3 + i]];
-      yt_child.col(i) = (joint.child_second ? row.b : row.a).rotation;
-      gamma_angle[i] = gamma_of(row, yt_child.col(i), (joint.child_second ? row.a : row.b).rotation, T(0.0));
+      const Vec3<T> u = world_a ? angle.u[i] : Vec3<T>(frames[angle.body_a].R_WB * angle.u[i]);
+      const Vec3<T> w_k = world_b ? angle.w[i] : Vec3<T>(frames[angle.body_b].R_WB * angle.w[i]);
+      const Vec3<T> normal = u.cross(w_k);
+      const T value = u.dot(w_k) - angle.c[i];
+      (*rows)[joint.rows[3 + i]].value = value;
+      yt_child.col(i) = -s * normal;
+      const T bias = turning.dot(Vec3<T>(w_a.cross(u).cross(w_k) + u.cross(w_b.cross(w_k))));
+      gamma_angle[i] = -(bias + beta * value + alpha * turning.dot(normal));
     }
   }
   // c = Y_C^+ gamma_angle with Y_C^+ = Y_C^T G^-1, G = Y_C Y_C^T; N spans Y_C's null space
@@ -194,28 +212,35 @@ bool PointAndAngles(const TreeJoint& joint, const std::vector<ConstraintRow<T>>&
   }
   w->free = kFree;
   if constexpr (kFree > 0) {
-    w->directions.template block<3, kFree>(0, 0).noalias() = -s * (xt_child.transpose() * null);
-    w->directions.template block<3, kFree>(3, 0).noalias() = r_child * null;
+    for (int k = 0; k < kFree; ++k) w->directions.col(k) << arm.cross(Vec3<T>(null.col(k))), null.col(k);
   }
-  w->offset << s * (gamma_point - xt_child.transpose() * c), r_child * c;
+  w->offset << s * gamma_point + arm.cross(c), c;
   w->arm = centres - s * separation;
   return true;
 }
 
 // S, b and d of a double hinge's four rows (the hinges' screws of tree_elimination.h, in the world), from the bodies'
-// centres c_C - c_P; false where J_C J_C^T is close to singular.
+// centres c_C - c_P; its rows as the Schur path evaluates them, from their primitives, their values into rows. False
+// where J_C J_C^T is close to singular.
 template <typename T>
-bool DoubleHinge(const Model<T>& model, const TreeJoint& joint, const std::vector<ConstraintRow<T>>& rows,
+bool DoubleHinge(const Model<T>& model, const TreeJoint& joint, const ConstraintSet<T>& set,
                  const BodyFrames<T>& frames, const Vec3<T>& centres, const VecX<T>& q, const VecX<T>& v, T alpha,
-                 T beta, TreeJointWork<T>* w) {
+                 T beta, std::vector<ConstraintRow<T>>* rows, TreeJointWork<T>* w) {
   using std::sqrt;
+  ConstraintRow<T> evaluated[4];
+  ConstraintRow<T>* next = evaluated;
+  for (int p = 0; p < joint.primitive_count; ++p) {
+    const auto [kind, index] = joint.primitives[p];
+    next = EvaluatePrimitiveRows(model, set, kind, index, frames, q, v, true, next);
+  }
   const bool world = joint.parent == kWorld;
   Eigen::Matrix<T, 4, 6> j_child;  // the rows first, into locals (as in PointAndAngles)
   Eigen::Matrix<T, 4, 1> gamma;
   const Vec6<T> v_child = v.template segment<6>(joint.child_v);
   const Vec6<T> v_parent = world ? Vec6<T>::Zero() : Vec6<T>(v.template segment<6>(joint.parent_v));
   for (int i = 0; i < 4; ++i) {
-    const ConstraintRow<T>& row = rows[joint.rows[i]];
+    const ConstraintRow<T>& row = evaluated[i];
+    (*rows)[joint.rows[i]].value = row.value;
     const bool child_a = row.a.body == joint.child;
     const BodyVector<T>& mine = child_a ? row.a : row.b;
     const BodyVector<T>& other = child_a ? row.b : row.a;
@@ -324,11 +349,11 @@ bool Accelerate(const Vec6<T>& transported, TreeJointWork<T>* w) {
 }  // namespace
 
 template <typename T>
-TETHER_FLATTEN bool TreeAcceleration(const Model<T>& model, const TreePlan& plan,
-                                     const std::vector<ConstraintRow<T>>& rows, const BodyFrames<T>& frames,
-                                     const std::vector<Mat3<T>>& principal_inertia, const VecX<T>& inverse_diagonal,
-                                     const std::vector<Mat3<T>>& inverse_rotational, const VecX<T>& q, const VecX<T>& v,
-                                     const T& alpha, const T& beta, const VecX<T>& force, TreeWork<T>* work,
+TETHER_FLATTEN bool TreeAcceleration(const Model<T>& model, const TreePlan& plan, const ConstraintSet<T>& set,
+                                     const BodyFrames<T>& frames, const std::vector<Mat3<T>>& principal_inertia,
+                                     const VecX<T>& inverse_diagonal, const std::vector<Mat3<T>>& inverse_rotational,
+                                     const VecX<T>& q, const VecX<T>& v, const T& alpha, const T& beta,
+                                     const VecX<T>& force, TreeWork<T>* work, std::vector<ConstraintRow<T>>* rows,
                                      VecX<T>* a) {
   const std::vector<TreeJoint>& joints = plan.joints();
   work->resize(joints.size());
@@ -340,15 +365,15 @@ TETHER_FLATTEN bool TreeAcceleration(const Model<T>& model, const TreePlan& plan
         Centre(model, q, joint.child) - (joint.parent == kWorld ? Zero3<T>() : Centre(model, q, joint.parent));
     bool made;
     if (joint.double_hinge >= 0) {
-      made = DoubleHinge(model, joint, rows, frames, centres, q, v, alpha, beta, &w);
+      made = DoubleHinge(model, joint, set, frames, centres, q, v, alpha, beta, rows, &w);
     } else if (joint.angles == 2) {
-      made = PointAndAngles<2>(joint, rows, r_child, centres, v, alpha, beta, &w);
+      made = PointAndAngles<2>(model, joint, set, frames, centres, q, v, alpha, beta, rows, &w);
     } else if (joint.angles == 0) {
-      made = PointAndAngles<0>(joint, rows, r_child, centres, v, alpha, beta, &w);
+      made = PointAndAngles<0>(model, joint, set, frames, centres, q, v, alpha, beta, rows, &w);
     } else if (joint.angles == 1) {
-      made = PointAndAngles<1>(joint, rows, r_child, centres, v, alpha, beta, &w);
+      made = PointAndAngles<1>(model, joint, set, frames, centres, q, v, alpha, beta, rows, &w);
     } else {
-      made = PointAndAngles<3>(joint, rows, r_child, centres, v, alpha, beta, &w);
+      made = PointAndAngles<3>(model, joint, set, frames, centres, q, v, alpha, beta, rows, &w);
     }
     if (!made) return false;
     const Mat3<T> r_inertia = r_child * principal_inertia[joint.child];
@@ -390,11 +415,11 @@ TETHER_FLATTEN bool TreeAcceleration(const Model<T>& model, const TreePlan& plan
   return true;
 }
 
-#define TETHER_INSTANTIATE_TREE(T)                                                                                   \
-  template bool TreeAcceleration<T>(const Model<T>&, const TreePlan&, const std::vector<ConstraintRow<T>>&,          \
-                                    const BodyFrames<T>&, const std::vector<Mat3<T>>&, const VecX<T>&,               \
-                                    const std::vector<Mat3<T>>&, const VecX<T>&, const VecX<T>&, const T&, const T&, \
-                                    const VecX<T>&, TreeWork<T>*, VecX<T>*);
+#define TETHER_INSTANTIATE_TREE(T)                                                                                    \
+  template bool TreeAcceleration<T>(const Model<T>&, const TreePlan&, const ConstraintSet<T>&, const BodyFrames<T>&,  \
+                                    const std::vector<Mat3<T>>&, const VecX<T>&, const std::vector<Mat3<T>>&,         \
+                                    const VecX<T>&, const VecX<T>&, const T&, const T&, const VecX<T>&, TreeWork<T>*, \
+                                    std::vector<ConstraintRow<T>>*, VecX<T>*);
 TETHER_INSTANTIATE_TREE(double)
 TETHER_INSTANTIATE_TREE(::tether::Jet)
 

@@ -72,6 +72,10 @@ inline int TranslationAxis(RowTranslation translation) {  // k for kAxisX + k
   return static_cast<int>(translation) - static_cast<int>(RowTranslation::kAxisX);
 }
 
+// The kind of primitive a row comes from, in the order rows are laid out (ConstraintSet); kSlip: a sticking
+// contact's slip rows.
+enum class RowPrimitive : signed char { kDistance, kPoint, kLine, kAngle, kUser, kLimit, kContact, kSlip };
+
 // What is known about a row before any evaluation: the constraint it belongs to, the bodies it touches, its law
 // and its translational Jacobian. Rows of one primitive are consecutive; `part` counts the primitives, so that a
 // constraint's violation is the largest norm over its primitives (metres and radians are not added).
@@ -82,6 +86,8 @@ struct RowInfo {
   int part = 0;
   RowLaw law = RowLaw::kEquality;
   RowTranslation translation = RowTranslation::kEvaluated;
+  RowPrimitive kind = RowPrimitive::kUser;  // the primitive the row comes from
+  int primitive = 0;                        // its index among the set's (or the model's) primitives of that kind
 };
 
 template <typename T>
@@ -165,6 +171,13 @@ template <typename T>
 void EvaluateConstraintRows(const Model<T>& model, const ConstraintSet<T>& set, const BodyFrames<T>& frames,
                             const VecX<T>& q, const VecX<T>& v, bool velocity_terms,
                             std::vector<ConstraintRow<T>>* rows);
+
+// The rows of one distance, point, line or angle primitive (the set's `index`-th of `kind`) at (q, v), frames updated
+// there, into rows[0] on: the rows EvaluateConstraintRows gives it. Returns the row after them.
+template <typename T>
+ConstraintRow<T>* EvaluatePrimitiveRows(const Model<T>& model, const ConstraintSet<T>& set, RowPrimitive kind,
+                                        int index, const BodyFrames<T>& frames, const VecX<T>& q, const VecX<T>& v,
+                                        bool velocity_terms, ConstraintRow<T>* rows);
 
 // The row of an active limit at (q, v), frames updated there: s x' on the joint's coordinate x, its value
 // min(g, 0) with g = s (x - bound).

@@ -3,6 +3,7 @@
 
 #include <Eigen/Geometry>  // cross products
 #include <cmath>
+#include <stdexcept>
 
 #include "tether/dynamics/adjoint/recorded.h"
 #include "tether/dynamics/constraints/constraint_rows.h"
@@ -315,27 +316,37 @@ template <typename T>
 std::vector<RowInfo> DescribeRows(const Model<T>& model, const ConstraintSet<T>& set) {
   std::vector<RowInfo> infos;
   int part = 0;
-  auto add = [&](int scene_index, int a, int b, int count, RowLaw law = RowLaw::kEquality,
+  RowPrimitive kind = RowPrimitive::kDistance;
+  int primitive = 0;  // within `kind`
+  auto add = [&](RowPrimitive of, int scene_index, int a, int b, int count, RowLaw law = RowLaw::kEquality,
                  RowTranslation translation = RowTranslation::kEvaluated) {
-    for (int k = 0; k < count; ++k) infos.push_back({scene_index, a, b, part, law, translation});
-    ++part;
-  };
-  for (const auto& c : set.distances) add(c.scene_index, c.a.body, c.b.body, 1);
-  for (const auto& c : set.points) {  // EvaluatePointRows: row k's blocks are -e_k and e_k
-    for (int k = 0; k < model.dimension; ++k) {
-      infos.push_back({c.scene_index, c.a.body, c.b.body, part, RowLaw::kEquality, AxisTranslation(k)});
+    if (of != kind) {
+      kind = of;
+      primitive = 0;
     }
+    for (int k = 0; k < count; ++k) infos.push_back({scene_index, a, b, part, law, translation, kind, primitive});
     ++part;
+    ++primitive;
+  };
+  for (const auto& c : set.distances) add(RowPrimitive::kDistance, c.scene_index, c.a.body, c.b.body, 1);
+  for (const auto& c : set.points) {  // EvaluatePointRows: row k's blocks are -e_k and e_k
+    add(RowPrimitive::kPoint, c.scene_index, c.a.body, c.b.body, model.dimension);
+    for (int k = 0; k < model.dimension; ++k)
+      infos[infos.size() - model.dimension + k].translation = AxisTranslation(k);
   }
-  for (const auto& c : set.lines) add(c.scene_index, c.a.body, c.b.body, c.rows);
+  for (const auto& c : set.lines) add(RowPrimitive::kLine, c.scene_index, c.a.body, c.b.body, c.rows);
   for (const auto& c : set.angles) {  // EvaluateAngleRows: Turning, no translation
-    add(c.scene_index, c.body_a, c.body_b, c.rows, RowLaw::kEquality, RowTranslation::kZero);
+    add(RowPrimitive::kAngle, c.scene_index, c.body_a, c.body_b, c.rows, RowLaw::kEquality, RowTranslation::kZero);
   }
-  for (const auto& c : model.user_constraints) add(c.scene_index, c.body_a, c.body_b, c.residual->NumRows());
-  for (const auto& c : set.limits) add(c.scene_index, c.body_a, c.body_b, 1, RowLaw::kGap);
-  for (const auto& c : set.contacts) add(c.scene_index, c.body_a, c.body_b, 1, RowLaw::kGap);
+  for (const auto& c : model.user_constraints) {
+    add(RowPrimitive::kUser, c.scene_index, c.body_a, c.body_b, c.residual->NumRows());
+  }
+  for (const auto& c : set.limits) add(RowPrimitive::kLimit, c.scene_index, c.body_a, c.body_b, 1, RowLaw::kGap);
+  for (const auto& c : set.contacts) add(RowPrimitive::kContact, c.scene_index, c.body_a, c.body_b, 1, RowLaw::kGap);
   for (const auto& c : set.contacts) {
-    if (c.friction == Friction::kStick) add(c.scene_index, c.body_a, c.body_b, model.dimension - 1);
+    if (c.friction == Friction::kStick) {
+      add(RowPrimitive::kSlip, c.scene_index, c.body_a, c.body_b, model.dimension - 1);
+    }
   }
   return infos;
 }
@@ -417,6 +428,26 @@ TETHER_FLATTEN void EvaluateConstraintRows(const Model<T>& model, const Constrai
     for (int k = 0; k < Tangents(model.dimension, contact.normal, tangents); ++k) {
       SlipRow(model, frames, contact, tangents[k], vt, row++);
     }
+  }
+}
+
+template <typename T>
+ConstraintRow<T>* EvaluatePrimitiveRows(const Model<T>& model, const ConstraintSet<T>& set, RowPrimitive kind,
+                                        int index, const BodyFrames<T>& frames, const VecX<T>& q, const VecX<T>& v,
+                                        bool velocity_terms, ConstraintRow<T>* rows) {
+  const size_t i = static_cast<size_t>(index);
+  switch (kind) {
+    case RowPrimitive::kDistance:
+      internal::EvaluateDistanceRow(model, frames, set.distances[i], q, v, velocity_terms, rows);
+      return rows + 1;
+    case RowPrimitive::kPoint:
+      return internal::EvaluatePointRows(model, frames, set.points[i], q, v, velocity_terms, rows);
+    case RowPrimitive::kLine:
+      return internal::EvaluateLineRows(model, frames, set.lines[i], q, v, velocity_terms, rows);
+    case RowPrimitive::kAngle:
+      return internal::EvaluateAngleRows(model, frames, set.angles[i], velocity_terms, rows);
+    default:
+      throw std::logic_error("EvaluatePrimitiveRows takes distances, points, lines and angles");
   }
 }
 

@@ -22,7 +22,9 @@
 namespace tether {
 
 // Writes v' at (t, q, v) into *a, with the gains and joint coordinates in ws. Returns false when the Schur system
-// could not be factored (non-finite or indefinite: the run is diverging); *a is then filled with NaN.
+// could not be factored (non-finite or indefinite: the run is diverging); *a is then filled with NaN. Where the rows
+// are a tree (ws->tree) the tree elimination takes the constraint primitives (tree_elimination.h) and leaves only the
+// rows' values in ws->rows (what LargestViolation reads); the Schur path evaluates the rows whole.
 template <typename T>
 bool ComputeAcceleration(const Model<T>& model, double t, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws,
                          VecX<T>* a);
@@ -42,10 +44,9 @@ int SlidingKktAcceleration(const Model<S>& model, const std::vector<BodyLayout>&
                            const std::vector<ConstraintRow<T>>& rows, const std::vector<SlidingRow<T>>& sliding,
                            const InverseMass<T>& inverse_mass, VecX<T>* force, KktSystem<T>* kkt, VecX<T>* a);
 
-// KktAcceleration on the workspace's rows, frames, force and gains at (q, v), or the tree elimination where the
-// rows are a tree (tree_elimination.h); for Rev, recorded as one operation. A double run with a KKT log
-// (ws->kkt_log) keeps each solve there, and a recorded replay takes them back (kkt_log.h).
+// KktAcceleration on the workspace's rows, frames, force and gains at (q, v); for Rev, recorded as one operation. A
+// double run with a KKT log (ws->kkt_log) keeps each solve there, and a recorded replay takes them back (kkt_log.h).
 template <typename T>
-bool SolveKkt(const Model<T>& model, const VecX<T>& q, const VecX<T>& v, Workspace<T>* ws, VecX<T>* a);
+bool SolveKkt(const Model<T>& model, const VecX<T>& v, Workspace<T>* ws, VecX<T>* a);
 
 }  // namespace tether

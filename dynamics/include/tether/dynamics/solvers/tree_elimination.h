@@ -16,10 +16,11 @@
 // In exact arithmetic this is the Schur path's acceleration (schur_system.h): the same unique solution of the KKT
 // system, in O(bodies) with 6 x 6 blocks and k unknowns a joint instead of m multipliers, and no multipliers at all.
 //
-// The elimination runs in world-aligned coordinates: a body's angular velocity, acceleration and torque, the
-// rotational blocks of its inertia and of its rows are turned from its principal axes R to the world's
-// (omega_W = R omega, I = diag(m 1, R J R^T), J diag(1, R^T), and back for a_C at the end). There every joint can take
-// a rigid following
+// The elimination runs in world-aligned coordinates: a body's angular velocity, acceleration and torque and the
+// rotational blocks of its inertia are turned from its principal axes R to the world's (omega_W = R omega,
+// I = diag(m 1, R J R^T), and back for a_C at the end), and its joint's rows are taken in the world's axes from their
+// primitives (constraint_rows.h), not from the rows the Schur path evaluates. There every joint can take a rigid
+// following
 //   T = X = [1 -[d]x; 0 1]
 // with J_C X = -J_P. For a double hinge, d = c_C - c_P (the bodies' centres of mass): its rows are unchanged by a
 // rigid motion of both bodies together. A point part's rows x_C - x_P (the two anchors) turn with such a motion when
@@ -29,11 +30,15 @@
 // the same for both. So I_P += X^T (I - W W^T) X takes cross products with d, p_P gains [f; d x f + tau],
 // X a_P = [a - d x alpha; alpha], and a joint needs only S and b, from its child's rows.
 //
-// The joints it takes are made of a point part (three rows, translations -e_k on the first body and e_k on the second)
-// and 0 to 3 angle rows (no translation): hinges, balls, universal joints and welds. With s = 1 where the child is
-// the rows' second body (-1 where it is the first), X_C and Y_C the child's rotational blocks of the point and angle
-// rows, c = Y_C^+ gamma_angle (Y_C^+ = Y_C^T (Y_C Y_C^T)^-1) and N a basis of Y_C's null space,
-//   S = [-s X_C N; R N],   b = [s (gamma_point - X_C c); R c].
+// The joints it takes are made of a point part (three rows x_b - x_a, translations -e_k on the first body and e_k on
+// the second) and 0 to 3 angle rows (no translation): hinges, balls, universal joints and welds. With s = 1 where the
+// child is the rows' second body (-1 where it is the first) and r_C the child's anchor from its centre, the point
+// rows' rotational blocks on the child are X_C = s [r_C]x^T (row k: s (r_C x e_k)); an angle row u . w (u turning with
+// the first body, w with the second) has -s (u x w) there, the rows of Y_C. With c = Y_C^+ gamma_angle
+// (Y_C^+ = Y_C^T (Y_C Y_C^T)^-1) and N a basis of Y_C's null space,
+//   S = [-s X_C N; N] = [r_C x N; N],   b = [s (gamma_point - X_C c); c] = [s gamma_point + r_C x c; c],
+// where gamma_point = -(c_b - c_a + beta (x_b - x_a) + alpha (x_b' - x_a')) from the anchors' motions (c: their
+// centripetal accelerations).
 //
 // A double hinge's four rows (a distance, two lines whose normals turn with their bodies, one or two angles between
 // body-fixed axes) are unchanged by each hinge's screw (its world axis a_i through its world point x_i) moving the
@@ -55,6 +60,7 @@
 
 #include <array>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "tether/dynamics/constraints/constraint_rows.h"
@@ -75,6 +81,10 @@ struct TreeJoint {
   int angles = 0;                      // angle rows, 0 to 3
   std::array<int, 6> rows{};           // the point rows along x, y and z, then the angle rows
   int double_hinge = -1;               // the model's joint where the rows are a double hinge's four (rows[0..3])
+  // the primitives the rows come from, in row order: a point and an angle (none for a ball), or a double hinge's
+  // distance, lines and angle; their rows are all the joint's
+  std::array<std::pair<RowPrimitive, int>, 4> primitives{};
+  int primitive_count = 0;
 };
 
 // For each scene index, the model joint with that index when it is a double hinge, -1 for every other constraint:
@@ -126,14 +136,15 @@ struct TreeJointWork {
 template <typename T>
 using TreeWork = std::vector<TreeJointWork<T>>;
 
-// v' for the plan's bodies from the rows and frames (evaluated at (q, v)), the generalized force f, the bodies'
-// masses and principal inertias, M^-1 (InverseMass's diagonal and rotational blocks, for the bodies no row touches)
-// and the gains; false (with *a untouched) where a joint's rows are close to dependent (above).
+// v' for the plan's bodies at (q, v) from the constraint primitives, the frames (updated at (q, v)), the generalized
+// force f, the bodies' masses and principal inertias, M^-1 (InverseMass's diagonal and rotational blocks, for the
+// bodies no row touches) and the gains; the rows' values C into (*rows)[i].value (their blocks and biases are not
+// written). False (with *a untouched) where a joint's rows are close to dependent (above).
 template <typename T>
-bool TreeAcceleration(const Model<T>& model, const TreePlan& plan, const std::vector<ConstraintRow<T>>& rows,
+bool TreeAcceleration(const Model<T>& model, const TreePlan& plan, const ConstraintSet<T>& set,
                       const BodyFrames<T>& frames, const std::vector<Mat3<T>>& principal_inertia,
                       const VecX<T>& inverse_diagonal, const std::vector<Mat3<T>>& inverse_rotational, const VecX<T>& q,
                       const VecX<T>& v, const T& alpha, const T& beta, const VecX<T>& force, TreeWork<T>* work,
-                      VecX<T>* a);
+                      std::vector<ConstraintRow<T>>* rows, VecX<T>* a);
 
 }  // namespace tether
