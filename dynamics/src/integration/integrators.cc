@@ -70,18 +70,15 @@ StepStatus Rk4(const Model<T>& model, double t, double h, Workspace<T>* ws, Inte
   auto& kv = s->stage_v;
   const double c[4] = {0.0, 0.5, 0.5, 1.0};
   const bool spatial = !model.spatial_bodies.empty();
-  for (int st = 0; st < 4; ++st) {  // theta_s = c_s h K_{s-1}: q (+) theta_s is Integrate(q, K_{s-1}, c_s h)
-    if (st == 0) {
-      s->trial_q = *q;
-      s->trial_v = *v;
-      if (spatial) s->theta.setZero();
-    } else {
-      Integrate(model, *q, kq[st - 1], c[st] * h, &s->trial_q);
-      Elementwise(&s->trial_v, AddScaledBy{c[st] * h}, *v, kv[st - 1]);
-      if (spatial)
-        Elementwise(
-            &s->theta, [ch = c[st] * h](const auto& k) { return ch * k; }, kq[st - 1]);
-    }
+  // the first stage at (q, v) itself: theta_1 = 0, where DexpInv(0, v) is v
+  if (!ComputeAcceleration(model, t, *q, *v, ws, &kv[0])) return StepStatus::kSolveFailed;
+  kq[0] = *v;
+  for (int st = 1; st < 4; ++st) {  // theta_s = c_s h K_{s-1}: q (+) theta_s is Integrate(q, K_{s-1}, c_s h)
+    Integrate(model, *q, kq[st - 1], c[st] * h, &s->trial_q);
+    Elementwise(&s->trial_v, AddScaledBy{c[st] * h}, *v, kv[st - 1]);
+    if (spatial)
+      Elementwise(
+          &s->theta, [ch = c[st] * h](const auto& k) { return ch * k; }, kq[st - 1]);
     if (!StageAt(model, t + c[st] * h, ws, s, &kq[st], &kv[st])) return StepStatus::kSolveFailed;
   }
   const double sixth = h / 6.0;
