@@ -7,9 +7,6 @@ namespace tether {
   template std::vector<RowInfo> DescribeRows<T>(const Model<T>&, const ConstraintSet<T>&);                           \
   template void EvaluateConstraintRows<T>(const Model<T>&, const ConstraintSet<T>&, const BodyFrames<T>&,            \
                                           const VecX<T>&, const VecX<T>&, bool, std::vector<ConstraintRow<T>>*);     \
-  template ConstraintRow<T>* EvaluatePrimitiveRows<T>(const Model<T>&, const ConstraintSet<T>&, RowPrimitive, int,   \
-                                                      const BodyFrames<T>&, const VecX<T>&, const VecX<T>&, bool,    \
-                                                      ConstraintRow<T>*);                                            \
   template void EvaluateLimitRow<T>(const Model<T>&, const LimitPrimitive<T>&, const BodyFrames<T>&, const VecX<T>&, \
                                     const VecX<T>&, bool, ConstraintRow<T>*);                                        \
   template Violation LargestViolation<T>(const std::vector<RowInfo>&, const std::vector<ConstraintRow<T>>&);         \

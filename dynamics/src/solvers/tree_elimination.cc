@@ -145,6 +145,72 @@ Vec3<T> Centre(const Model<T>& model, const VecX<T>& q, int body) {
   return q.template segment<3>(model.bodies[body].q_offset);
 }
 
+// A row in the world's axes for the tree path, as constraint_rows.h defines it for its primitive: its value C, its
+// rate J v, its bias Jdot v and its block on the joint's child (translation, then rotation).
+template <typename T>
+struct WorldRow {
+  T value, rate, bias;
+  Vec6<T> child;
+  T Gamma(const T& alpha, const T& beta) const { return -(bias + beta * value + alpha * rate); }
+};
+
+// An angle primitive's row k: C = u . w - c, J v = (w_A - w_B) . (u x w), the child's block +-(0, u x w).
+template <typename T>
+WorldRow<T> AngleRow(const AnglePrimitive<T>& c, int k, const BodyFrames<T>& frames, int child) {
+  const bool world_a = c.body_a == kWorld, world_b = c.body_b == kWorld;
+  const Vec3<T> w_a = world_a ? Zero3<T>() : frames[c.body_a].w_W;
+  const Vec3<T> w_b = world_b ? Zero3<T>() : frames[c.body_b].w_W;
+  const Vec3<T> u = world_a ? c.u[k] : Vec3<T>(frames[c.body_a].R_WB * c.u[k]);
+  const Vec3<T> w = world_b ? c.w[k] : Vec3<T>(frames[c.body_b].R_WB * c.w[k]);
+  const Vec3<T> normal = u.cross(w), turning = w_a - w_b;
+  WorldRow<T> row;
+  row.value = u.dot(w) - c.c[k];
+  row.rate = turning.dot(normal);
+  row.bias = turning.dot(Vec3<T>(w_a.cross(u).cross(w) + u.cross(w_b.cross(w))));
+  row.child << Zero3<T>(), (c.body_a == child ? normal : Vec3<T>(-normal));
+  return row;
+}
+
+// A distance primitive's row: C = |d| - L, J v = n . d', the child's block +-(n, r x n) at its point.
+template <typename T>
+WorldRow<T> DistanceRow(const Model<T>& model, const DistancePrimitive<T>& c, const BodyFrames<T>& frames,
+                        const VecX<T>& q, const VecX<T>& v, int child) {
+  const PointMotion<T> pa = MovePoint(model, frames, c.a, q, v, true), pb = MovePoint(model, frames, c.b, q, v, true);
+  const Segment<T> segment = Between(pa, pb);
+  const Vec3<T>& n = segment.n;
+  const Vec3<T> dv = pb.velocity - pa.velocity;
+  WorldRow<T> row;
+  row.value = segment.length - c.length;
+  row.rate = n.dot(dv);
+  row.bias = (dv.squaredNorm() - row.rate * row.rate) * segment.inverse_length + n.dot(pb.centripetal - pa.centripetal);
+  row.child << n, (c.b.body == child ? pb.arm : pa.arm).cross(n);
+  if (c.a.body == child) row.child = -row.child;
+  return row;
+}
+
+// A line primitive's row k: C = n . d - c with n turning with A, J v = n . d' + w_A . (n x d), the child's block
+// (n, r_B x n) on B and (-n, n x d - r_A x n) on A.
+template <typename T>
+WorldRow<T> LineRow(const Model<T>& model, const LinePrimitive<T>& c, int k, const BodyFrames<T>& frames,
+                    const VecX<T>& q, const VecX<T>& v, int child) {
+  const PointMotion<T> pa = MovePoint(model, frames, c.a, q, v, true), pb = MovePoint(model, frames, c.b, q, v, true);
+  const bool world_a = c.a.body == kWorld;
+  const Vec3<T> w_a = world_a ? Zero3<T>() : frames[c.a.body].w_W;
+  const Vec3<T> n = world_a ? c.normals[k] : Vec3<T>(frames[c.a.body].R_WB * c.normals[k]);
+  const Vec3<T> d = pb.position - pa.position, dv = pb.velocity - pa.velocity;
+  const Vec3<T> n_x_d = n.cross(d), turn = w_a.cross(n);
+  WorldRow<T> row;
+  row.value = n.dot(d) - c.offsets[k];
+  row.rate = n.dot(dv) + w_a.dot(n_x_d);
+  row.bias = n.dot(pb.centripetal - pa.centripetal) + T(2.0) * turn.dot(dv) + w_a.cross(turn).dot(d);
+  if (c.a.body == child) {
+    row.child << -n, n_x_d - pa.arm.cross(n);
+  } else {
+    row.child << n, pb.arm.cross(n);
+  }
+  return row;
+}
+
 // S, b and d of a point-and-angle joint with kAngles angle rows (the closed form of tree_elimination.h), in the
 // world's axes from its point and angle primitives, with the bodies' centres c_C - c_P; the rows' values into rows.
 // False where Y_C Y_C^T is close to singular.
@@ -162,24 +228,16 @@ bool PointAndAngles(const Model<T>& model, const TreeJoint& joint, const Constra
       -((pb.centripetal - pa.centripetal) + beta * separation + alpha * (pb.velocity - pa.velocity));
   const Vec3<T>& arm = joint.child_second ? pb.arm : pa.arm;  // r_C
   for (int k = 0; k < 3; ++k) (*rows)[joint.rows[k]].value = separation[k];
-  // the angle rows: C = u . w - c, the child's block -s (u x w) (a column of Y_C^T), and gamma
+  // the angle rows: their values, the child's blocks -s (u x w) (the columns of Y_C^T) and gamma
   Eigen::Matrix<T, 3, kAngles> yt_child;
   Eigen::Matrix<T, kAngles, 1> gamma_angle;
   if constexpr (kAngles > 0) {
     const AnglePrimitive<T>& angle = set.angles[joint.primitives[1].second];
-    const bool world_a = angle.body_a == kWorld, world_b = angle.body_b == kWorld;
-    const Vec3<T> w_a = world_a ? Zero3<T>() : frames[angle.body_a].w_W;
-    const Vec3<T> w_b = world_b ? Zero3<T>() : frames[angle.body_b].w_W;
-    const Vec3<T> turning = w_a - w_b;
     for (int i = 0; i < kAngles; ++i) {
-      const Vec3<T> u = world_a ? angle.u[i] : Vec3<T>(frames[angle.body_a].R_WB * angle.u[i]);
-      const Vec3<T> w_k = world_b ? angle.w[i] : Vec3<T>(frames[angle.body_b].R_WB * angle.w[i]);
-      const Vec3<T> normal = u.cross(w_k);
-      const T value = u.dot(w_k) - angle.c[i];
-      (*rows)[joint.rows[3 + i]].value = value;
-      yt_child.col(i) = -s * normal;
-      const T bias = turning.dot(Vec3<T>(w_a.cross(u).cross(w_k) + u.cross(w_b.cross(w_k))));
-      gamma_angle[i] = -(bias + beta * value + alpha * turning.dot(normal));
+      const WorldRow<T> row = AngleRow(angle, i, frames, joint.child);
+      (*rows)[joint.rows[3 + i]].value = row.value;
+      yt_child.col(i) = row.child.template tail<3>();
+      gamma_angle[i] = row.Gamma(alpha, beta);
     }
   }
   // c = Y_C^+ gamma_angle with Y_C^+ = Y_C^T G^-1, G = Y_C Y_C^T; N spans Y_C's null space
@@ -220,34 +278,32 @@ bool PointAndAngles(const Model<T>& model, const TreeJoint& joint, const Constra
 }
 
 // S, b and d of a double hinge's four rows (the hinges' screws of tree_elimination.h, in the world), from the bodies'
-// centres c_C - c_P; its rows as the Schur path evaluates them, from their primitives, their values into rows. False
-// where J_C J_C^T is close to singular.
+// centres c_C - c_P; the rows from their primitives in the world's axes, their values into rows. False where
+// J_C J_C^T is close to singular.
 template <typename T>
 bool DoubleHinge(const Model<T>& model, const TreeJoint& joint, const ConstraintSet<T>& set,
                  const BodyFrames<T>& frames, const Vec3<T>& centres, const VecX<T>& q, const VecX<T>& v, T alpha,
                  T beta, std::vector<ConstraintRow<T>>* rows, TreeJointWork<T>* w) {
   using std::sqrt;
-  ConstraintRow<T> evaluated[4];
-  ConstraintRow<T>* next = evaluated;
-  for (int p = 0; p < joint.primitive_count; ++p) {
-    const auto [kind, index] = joint.primitives[p];
-    next = EvaluatePrimitiveRows(model, set, kind, index, frames, q, v, true, next);
-  }
-  const bool world = joint.parent == kWorld;
   Eigen::Matrix<T, 4, 6> j_child;  // the rows first, into locals (as in PointAndAngles)
   Eigen::Matrix<T, 4, 1> gamma;
-  const Vec6<T> v_child = v.template segment<6>(joint.child_v);
-  const Vec6<T> v_parent = world ? Vec6<T>::Zero() : Vec6<T>(v.template segment<6>(joint.parent_v));
-  for (int i = 0; i < 4; ++i) {
-    const ConstraintRow<T>& row = evaluated[i];
+  int i = 0;
+  const auto add = [&](const WorldRow<T>& row) {
     (*rows)[joint.rows[i]].value = row.value;
-    const bool child_a = row.a.body == joint.child;
-    const BodyVector<T>& mine = child_a ? row.a : row.b;
-    const BodyVector<T>& other = child_a ? row.b : row.a;
-    j_child.row(i) << mine.translation.transpose(), mine.rotation.transpose();
-    const T rate = j_child.row(i).dot(v_child) + other.translation.dot(v_parent.template head<3>()) +
-                   other.rotation.dot(v_parent.template tail<3>());
-    gamma[i] = -(row.bias + beta * row.value + alpha * rate);
+    j_child.row(i) = row.child.transpose();
+    gamma[i++] = row.Gamma(alpha, beta);
+  };
+  for (int p = 0; p < joint.primitive_count; ++p) {
+    const auto [kind, index] = joint.primitives[p];
+    if (kind == RowPrimitive::kDistance) {
+      add(DistanceRow(model, set.distances[index], frames, q, v, joint.child));
+    } else if (kind == RowPrimitive::kLine) {
+      const LinePrimitive<T>& line = set.lines[index];
+      for (int k = 0; k < line.rows; ++k) add(LineRow(model, line, k, frames, q, v, joint.child));
+    } else {
+      const AnglePrimitive<T>& angle = set.angles[index];
+      for (int k = 0; k < angle.rows; ++k) add(AngleRow(angle, k, frames, joint.child));
+    }
   }
   Eigen::Matrix<T, 4, 4> l = j_child * j_child.transpose();
   if (!Cholesky(kTreePivot * std::max(1.0, Value(l.diagonal().maxCoeff())), &l)) return false;
@@ -258,17 +314,16 @@ bool DoubleHinge(const Model<T>& model, const TreeJoint& joint, const Constraint
   Vec3<T> axis[2] = {hinge.axis / sqrt(hinge.axis.squaredNorm()), hinge.axis_b / sqrt(hinge.axis_b.squaredNorm())};
   const BodyPoint<T>* points[2] = {&hinge.a, &hinge.b};
   w->free = 2;
-  for (int i = 0; i < 2; ++i) {
-    Vec3<T> point = points[i]->local;
-    if (points[i]->body != kWorld) {
-      const Mat3<T>& r_body = frames[points[i]->body].R_WB;
-      axis[i] = r_body * axis[i];
-      point = Centre(model, q, points[i]->body) + r_body * point;
+  for (int h = 0; h < 2; ++h) {
+    Vec3<T> point = points[h]->local;
+    if (points[h]->body != kWorld) {
+      const Mat3<T>& r_body = frames[points[h]->body].R_WB;
+      axis[h] = r_body * axis[h];
+      point = Centre(model, q, points[h]->body) + r_body * point;
     }
-    w->directions.col(i) << axis[i].cross(c_child - point), axis[i];
+    w->directions.col(h) << axis[h].cross(c_child - point), axis[h];
   }
-  const Vec6<T> offset = j_child.transpose() * gamma;
-  w->offset << offset.template head<3>(), frames[joint.child].R_WP * offset.template tail<3>();
+  w->offset.noalias() = j_child.transpose() * gamma;
   w->arm = centres;
   return true;
 }

@@ -172,13 +172,6 @@ void EvaluateConstraintRows(const Model<T>& model, const ConstraintSet<T>& set, 
                             const VecX<T>& q, const VecX<T>& v, bool velocity_terms,
                             std::vector<ConstraintRow<T>>* rows);
 
-// The rows of one distance, point, line or angle primitive (the set's `index`-th of `kind`) at (q, v), frames updated
-// there, into rows[0] on: the rows EvaluateConstraintRows gives it. Returns the row after them.
-template <typename T>
-ConstraintRow<T>* EvaluatePrimitiveRows(const Model<T>& model, const ConstraintSet<T>& set, RowPrimitive kind,
-                                        int index, const BodyFrames<T>& frames, const VecX<T>& q, const VecX<T>& v,
-                                        bool velocity_terms, ConstraintRow<T>* rows);
-
 // The row of an active limit at (q, v), frames updated there: s x' on the joint's coordinate x, its value
 // min(g, 0) with g = s (x - bound).
 template <typename T>

@@ -3,7 +3,6 @@
 
 #include <Eigen/Geometry>  // cross products
 #include <cmath>
-#include <stdexcept>
 
 #include "tether/dynamics/adjoint/recorded.h"
 #include "tether/dynamics/constraints/constraint_rows.h"
@@ -428,26 +427,6 @@ TETHER_FLATTEN void EvaluateConstraintRows(const Model<T>& model, const Constrai
     for (int k = 0; k < Tangents(model.dimension, contact.normal, tangents); ++k) {
       SlipRow(model, frames, contact, tangents[k], vt, row++);
     }
-  }
-}
-
-template <typename T>
-ConstraintRow<T>* EvaluatePrimitiveRows(const Model<T>& model, const ConstraintSet<T>& set, RowPrimitive kind,
-                                        int index, const BodyFrames<T>& frames, const VecX<T>& q, const VecX<T>& v,
-                                        bool velocity_terms, ConstraintRow<T>* rows) {
-  const size_t i = static_cast<size_t>(index);
-  switch (kind) {
-    case RowPrimitive::kDistance:
-      internal::EvaluateDistanceRow(model, frames, set.distances[i], q, v, velocity_terms, rows);
-      return rows + 1;
-    case RowPrimitive::kPoint:
-      return internal::EvaluatePointRows(model, frames, set.points[i], q, v, velocity_terms, rows);
-    case RowPrimitive::kLine:
-      return internal::EvaluateLineRows(model, frames, set.lines[i], q, v, velocity_terms, rows);
-    case RowPrimitive::kAngle:
-      return internal::EvaluateAngleRows(model, frames, set.angles[i], velocity_terms, rows);
-    default:
-      throw std::logic_error("EvaluatePrimitiveRows takes distances, points, lines and angles");
   }
 }
 
