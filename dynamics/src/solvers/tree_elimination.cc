@@ -50,8 +50,12 @@ std::optional<TreePlan> TreePlan::Of(const std::vector<RowInfo>& infos, const st
         if (it->second.size() != 4) return std::nullopt;
         joint.double_hinge = double_hinges[scene];
         std::copy(it->second.begin(), it->second.end(), joint.rows.begin());
-        for (int row : it->second) {
+        for (int row : it->second) {  // a distance, one or two lines and an angle
           const std::pair<RowPrimitive, int> source{infos[row].kind, infos[row].primitive};
+          if (source.first != RowPrimitive::kDistance && source.first != RowPrimitive::kLine &&
+              source.first != RowPrimitive::kAngle) {
+            return std::nullopt;
+          }
           if (joint.primitive_count == 0 || joint.primitives[joint.primitive_count - 1] != source) {
             joint.primitives[joint.primitive_count++] = source;
           }

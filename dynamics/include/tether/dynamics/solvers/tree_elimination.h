@@ -37,13 +37,13 @@
 // the first body, w with the second) has -s (u x w) there, the rows of Y_C. With c = Y_C^+ gamma_angle
 // (Y_C^+ = Y_C^T (Y_C Y_C^T)^-1) and N a basis of Y_C's null space,
 //   S = [-s X_C N; N] = [r_C x N; N],   b = [s (gamma_point - X_C c); c] = [s gamma_point + r_C x c; c],
-// where gamma_point = -(c_b - c_a + beta (x_b - x_a) + alpha (x_b' - x_a')) from the anchors' motions (c: their
-// centripetal accelerations).
+// where gamma_point = -(w_b x (w_b x r_b) - w_a x (w_a x r_a) + beta (x_b - x_a) + alpha (x_b' - x_a')) from the
+// anchors' motions (w: the bodies' angular velocities, r: the anchors' arms).
 //
 // A double hinge's four rows (a distance, two lines whose normals turn with their bodies, one or two angles between
 // body-fixed axes) are unchanged by each hinge's screw (its world axis a_i through its world point x_i) moving the
 // child alone:
-//   S = [a_i x (c_C - x_i); a_i] (i = 1, 2),   b = diag(1, R) J_C^T (J_C J_C^T)^-1 gamma.
+//   S = [a_i x (c_C - x_i); a_i] (i = 1, 2),   b = J_C^T (J_C J_C^T)^-1 gamma (J_C in the world's axes).
 // (Lines and distances of other joints keep the Schur path. Served from their rows as they are, with a right inverse
 // and a null space of J_C from a QR factorization, then from a Cholesky factorization of J_C J_C^T with general
 // 6 x 6 transports, they made humanoid.xml's step 7 to 10% slower than the Schur path's; docs/performance.md, "The
@@ -55,7 +55,8 @@
 //
 // The plan is made once per row layout (SchurShape); a layout is a tree when every body is a 3D rigid body, every
 // row is an equality (no active limit or contact), the body pairs that rows join form a forest rooted at the world,
-// and each pair's rows are one such joint's.
+// and each pair's rows are one such joint's: one point primitive's three and all of one angle primitive's, or a
+// double hinge's four.
 #pragma once
 
 #include <array>
