@@ -123,21 +123,19 @@ bool ComputeAcceleration(const Model<T>& model, double t, const VecX<T>& q, cons
     ApplyInverseMass(model, ws->inverse_mass, ws->force, a);  // v' = M^-1 f
     return true;
   }
+  if (ws->constraints.contacts.empty()) ws->sliding.clear();  // none slides where none touches (a tree included)
   if constexpr (!std::is_same_v<T, Rev>) {  // a tree's elimination from the primitives, unless the adjoint keeps the
                                             // Schur path's solves; it leaves the rows' values only
     if (ws->tree != nullptr && ws->kkt_log == nullptr &&
         TreeAcceleration(model, *ws->tree, ws->constraints, ws->frames, ws->principal_inertia,
                          ws->inverse_mass.diagonal, ws->inverse_mass.rotational, q, v, ws->alpha, ws->beta, ws->force,
                          &ws->tree_work, &ws->rows, a)) {
-      ws->sliding.clear();  // a tree has no contact rows
       return true;
     }
   }
   EvaluateConstraintRows(model, ws->constraints, ws->frames, q, v, true, &ws->rows);
   if (!ws->constraints.contacts.empty()) {
     EvaluateSliding(model, ws->constraints, ws->frames, q, v, static_cast<int>(ws->rows.size()), &ws->sliding);
-  } else {
-    ws->sliding.clear();  // none slides where none touches
   }
   return SolveKkt(model, v, ws, a);
 }
