@@ -17,6 +17,14 @@ Tape::~Tape() {
   if (adjoints_.capacity() > spare_adjoints_.capacity()) adjoints_.swap(spare_adjoints_);
 }
 
+int Rev::Record(int parent, double partial) { return ActiveTape()->Push(parent, partial, -1, 0.0); }
+
+int Rev::Record(int parent0, double partial0, int parent1, double partial1) {
+  if (parent0 < 0) return ActiveTape()->Push(parent1, partial1, -1, 0.0);
+  if (parent1 < 0) return ActiveTape()->Push(parent0, partial0, -1, 0.0);
+  return ActiveTape()->Push(parent0, partial0, parent1, partial1);
+}
+
 Rev Tape::Variable(double value) { return Rev(value, Push(-1, 0.0, -1, 0.0)); }
 
 int Tape::RecordExternal(int count, ExternalBackward backward) {

@@ -52,7 +52,10 @@ struct Rev {
   Rev& operator*=(double y);
   Rev& operator/=(double y);
 
-  // A node with one or two parents on the active tape.
+  // A node with one or two parents on the active tape. Out of line (reverse.cc): each operation inlines only its
+  // test for constants and a call, which keeps the code of every function instantiated for Rev small. Inlined, the
+  // tape's growth in every operation made the Rev instantiations most of the library's compile time (the constraint
+  // rows' 110 of 137 s at -O3).
   static int Record(int parent, double partial);
   static int Record(int parent0, double partial0, int parent1, double partial1);
 };
@@ -137,15 +140,6 @@ class Tape {
   inline static thread_local std::vector<double> spare_adjoints_;
   Tape* previous_ = nullptr;
 };
-
-__attribute__((always_inline)) inline int Rev::Record(int parent, double partial) {
-  return ActiveTape()->Push(parent, partial, -1, 0.0);
-}
-__attribute__((always_inline)) inline int Rev::Record(int parent0, double partial0, int parent1, double partial1) {
-  if (parent0 < 0) return ActiveTape()->Push(parent1, partial1, -1, 0.0);
-  if (parent1 < 0) return ActiveTape()->Push(parent0, partial0, -1, 0.0);
-  return ActiveTape()->Push(parent0, partial0, parent1, partial1);
-}
 
 inline double Value(const Rev& x) { return x.a; }
 
