@@ -175,11 +175,10 @@ WorldRow<T> AngleRow(const AnglePrimitive<T>& c, int k, const BodyFrames<T>& fra
   return row;
 }
 
-// A distance primitive's row: C = |d| - L, J v = n . d', the child's block +-(n, r x n) at its point.
+// A distance primitive's row from the motions of its points a and b: C = |d| - L, J v = n . d', the child's block
+// +-(n, r x n) at its point.
 template <typename T>
-WorldRow<T> DistanceRow(const Model<T>& model, const DistancePrimitive<T>& c, const BodyFrames<T>& frames,
-                        const VecX<T>& q, const VecX<T>& v, int child) {
-  const PointMotion<T> pa = MovePoint(model, frames, c.a, q, v, true), pb = MovePoint(model, frames, c.b, q, v, true);
+WorldRow<T> DistanceRow(const DistancePrimitive<T>& c, const PointMotion<T>& pa, const PointMotion<T>& pb, int child) {
   const Segment<T> segment = Between(pa, pb);
   const Vec3<T>& n = segment.n;
   const Vec3<T> dv = pb.velocity - pa.velocity;
@@ -192,12 +191,11 @@ WorldRow<T> DistanceRow(const Model<T>& model, const DistancePrimitive<T>& c, co
   return row;
 }
 
-// A line primitive's row k: C = n . d - c with n turning with A, J v = n . d' + w_A . (n x d), the child's block
-// (n, r_B x n) on B and (-n, n x d - r_A x n) on A.
+// A line primitive's row k from the motions of its points a and b: C = n . d - c with n turning with A,
+// J v = n . d' + w_A . (n x d), the child's block (n, r_B x n) on B and (-n, n x d - r_A x n) on A.
 template <typename T>
-WorldRow<T> LineRow(const Model<T>& model, const LinePrimitive<T>& c, int k, const BodyFrames<T>& frames,
-                    const VecX<T>& q, const VecX<T>& v, int child) {
-  const PointMotion<T> pa = MovePoint(model, frames, c.a, q, v, true), pb = MovePoint(model, frames, c.b, q, v, true);
+WorldRow<T> LineRow(const LinePrimitive<T>& c, int k, const BodyFrames<T>& frames, const PointMotion<T>& pa,
+                    const PointMotion<T>& pb, int child) {
   const bool world_a = c.a.body == kWorld;
   const Vec3<T> w_a = world_a ? Zero3<T>() : frames[c.a.body].w_W;
   const Vec3<T> n = world_a ? c.normals[k] : Vec3<T>(frames[c.a.body].R_WB * c.normals[k]);
@@ -297,13 +295,22 @@ bool DoubleHinge(const Model<T>& model, const TreeJoint& joint, const Constraint
     j_child.row(i) = row.child.transpose();
     gamma[i++] = row.Gamma(alpha, beta);
   };
+  // the distance and the lines join the hinge's two points (AddDoubleHinge), the second line from b to a: their
+  // motions are taken once
+  const Joint<T>& hinge = model.joints[joint.double_hinge];
+  const PointMotion<T> motion_a = MovePoint(model, frames, hinge.a, q, v, true);
+  const PointMotion<T> motion_b = MovePoint(model, frames, hinge.b, q, v, true);
+  const auto from_a = [&hinge](const BodyPoint<T>& point) { return point.body == hinge.a.body; };
   for (int p = 0; p < joint.primitive_count; ++p) {
     const auto [kind, index] = joint.primitives[p];
     if (kind == RowPrimitive::kDistance) {
-      add(DistanceRow(model, set.distances[index], frames, q, v, joint.child));
+      add(DistanceRow(set.distances[index], motion_a, motion_b, joint.child));
     } else if (kind == RowPrimitive::kLine) {
       const LinePrimitive<T>& line = set.lines[index];
-      for (int k = 0; k < line.rows; ++k) add(LineRow(model, line, k, frames, q, v, joint.child));
+      const bool forward = from_a(line.a);
+      for (int k = 0; k < line.rows; ++k) {
+        add(LineRow(line, k, frames, forward ? motion_a : motion_b, forward ? motion_b : motion_a, joint.child));
+      }
     } else {
       const AnglePrimitive<T>& angle = set.angles[index];
       for (int k = 0; k < angle.rows; ++k) add(AngleRow(angle, k, frames, joint.child));
@@ -313,19 +320,14 @@ bool DoubleHinge(const Model<T>& model, const TreeJoint& joint, const Constraint
   if (!Cholesky(kTreePivot * std::max(1.0, Value(l.diagonal().maxCoeff())), &l)) return false;
   SolveLower(l, &gamma);
   SolveUpper(l, &gamma);
-  const Joint<T>& hinge = model.joints[joint.double_hinge];
   const Vec3<T> c_child = Centre(model, q, joint.child);
   Vec3<T> axis[2] = {hinge.axis / sqrt(hinge.axis.squaredNorm()), hinge.axis_b / sqrt(hinge.axis_b.squaredNorm())};
-  const BodyPoint<T>* points[2] = {&hinge.a, &hinge.b};
+  const int bodies[2] = {hinge.a.body, hinge.b.body};
+  const Vec3<T>* points[2] = {&motion_a.position, &motion_b.position};
   w->free = 2;
   for (int h = 0; h < 2; ++h) {
-    Vec3<T> point = points[h]->local;
-    if (points[h]->body != kWorld) {
-      const Mat3<T>& r_body = frames[points[h]->body].R_WB;
-      axis[h] = r_body * axis[h];
-      point = Centre(model, q, points[h]->body) + r_body * point;
-    }
-    w->directions.col(h) << axis[h].cross(c_child - point), axis[h];
+    if (bodies[h] != kWorld) axis[h] = frames[bodies[h]].R_WB * axis[h];
+    w->directions.col(h) << axis[h].cross(c_child - *points[h]), axis[h];
   }
   w->offset.noalias() = j_child.transpose() * gamma;
   w->arm = centres;
