@@ -300,14 +300,13 @@ bool DoubleHinge(const Model<T>& model, const TreeJoint& joint, const Constraint
   const Joint<T>& hinge = model.joints[joint.double_hinge];
   const PointMotion<T> motion_a = MovePoint(model, frames, hinge.a, q, v, true);
   const PointMotion<T> motion_b = MovePoint(model, frames, hinge.b, q, v, true);
-  const auto from_a = [&hinge](const BodyPoint<T>& point) { return point.body == hinge.a.body; };
   for (int p = 0; p < joint.primitive_count; ++p) {
     const auto [kind, index] = joint.primitives[p];
     if (kind == RowPrimitive::kDistance) {
       add(DistanceRow(set.distances[index], motion_a, motion_b, joint.child));
     } else if (kind == RowPrimitive::kLine) {
       const LinePrimitive<T>& line = set.lines[index];
-      const bool forward = from_a(line.a);
+      const bool forward = line.a.body == hinge.a.body;
       for (int k = 0; k < line.rows; ++k) {
         add(LineRow(line, k, frames, forward ? motion_a : motion_b, forward ? motion_b : motion_a, joint.child));
       }
