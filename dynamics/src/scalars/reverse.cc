@@ -7,7 +7,7 @@ Tape::Tape() : previous_(internal::active_tape) {
   internal::active_tape = this;
   nodes_.swap(spare_nodes_);
   adjoints_.swap(spare_adjoints_);
-  nodes_.clear();
+  size_ = 0;
   adjoints_.clear();
 }
 
@@ -17,25 +17,24 @@ Tape::~Tape() {
   if (adjoints_.capacity() > spare_adjoints_.capacity()) adjoints_.swap(spare_adjoints_);
 }
 
-int Rev::Record(int parent, double partial) { return ActiveTape()->Push(parent, partial, -1, 0.0); }
-
-int Rev::Record(int parent0, double partial0, int parent1, double partial1) {
-  if (parent0 < 0) return ActiveTape()->Push(parent1, partial1, -1, 0.0);
-  if (parent1 < 0) return ActiveTape()->Push(parent0, partial0, -1, 0.0);
-  return ActiveTape()->Push(parent0, partial0, parent1, partial1);
+void Tape::Grow(int count) {
+  const size_t needed = static_cast<size_t>(size_) + count;
+  if (needed > nodes_.size()) nodes_.resize(std::max<size_t>({needed, 2 * nodes_.size(), 1024}));
 }
 
 Rev Tape::Variable(double value) { return Rev(value, Push(-1, 0.0, -1, 0.0)); }
 
 int Tape::RecordExternal(int count, ExternalBackward backward) {
   const int first = size();
-  nodes_.resize(nodes_.size() + count, Node{{-1, -1}, {0.0, 0.0}});
+  Grow(count);
+  std::fill_n(nodes_.begin() + first, count, Node{{-1, -1}, {0.0, 0.0}});
+  size_ += count;
   externals_.push_back({first, count, std::move(backward)});
   return first;
 }
 
 void Tape::Backward(int mark) {
-  adjoints_.resize(nodes_.size(), 0.0);
+  adjoints_.resize(size_, 0.0);
   int i = size() - 1;
   while (i >= mark) {
     // the nodes down to the last output of the next external operation, or to the mark
@@ -58,7 +57,7 @@ void Tape::Backward(int mark) {
 }
 
 void Tape::Rewind(int mark) {
-  nodes_.resize(mark);
+  size_ = mark;
   adjoints_.resize(std::min<size_t>(adjoints_.size(), mark));
   while (!externals_.empty() && externals_.back().first >= mark) externals_.pop_back();
 }

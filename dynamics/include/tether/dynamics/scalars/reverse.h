@@ -52,10 +52,7 @@ struct Rev {
   Rev& operator*=(double y);
   Rev& operator/=(double y);
 
-  // A node with one or two parents on the active tape. Out of line (reverse.cc): each operation inlines only its
-  // test for constants and a call, which keeps the code of every function instantiated for Rev small. Inlined, the
-  // tape's growth in every operation made the Rev instantiations most of the library's compile time (the constraint
-  // rows' 110 of 137 s at -O3).
+  // A node with one or two parents on the active tape.
   static int Record(int parent, double partial);
   static int Record(int parent0, double partial0, int parent1, double partial1);
 };
@@ -70,7 +67,7 @@ class Tape {
 
   // A recorded input.
   Rev Variable(double value);
-  int size() const { return static_cast<int>(nodes_.size()); }
+  int size() const { return size_; }
   // What the nodes and their adjoints hold (their buffers' capacity, which only grows).
   std::int64_t Bytes() const {
     return static_cast<std::int64_t>(nodes_.capacity() * sizeof(Node) + adjoints_.capacity() * sizeof(double));
@@ -87,7 +84,7 @@ class Tape {
   void AddAdjoint(const Rev& x, double value) { AddAdjoint(x.index, value); }
   void AddAdjoint(int node, double value) {
     if (node < 0) return;
-    if (node >= static_cast<int>(adjoints_.size())) adjoints_.resize(nodes_.size(), 0.0);
+    if (node >= static_cast<int>(adjoints_.size())) adjoints_.resize(size_, 0.0);
     adjoints_[node] += value;
   }
   // A record of type Record for an external operation (default-constructed the first time): one that no recorded
@@ -120,10 +117,16 @@ class Tape {
     int first, count;
     ExternalBackward backward;
   };
+  // Inlined into every recorded operation, with the buffer's growth out of line (Grow, reverse.cc): a push_back
+  // there put its reallocation into every operation of every function instantiated for Rev, which made those
+  // instantiations most of the library's compile time (the constraint rows' Rev part 110 s at -O3; 36 s so).
   int Push(int p0, double d0, int p1, double d1) {
-    nodes_.push_back({{p0, p1}, {d0, d1}});
-    return static_cast<int>(nodes_.size()) - 1;
+    if (__builtin_expect(size_ == static_cast<int>(nodes_.size()), 0)) Grow(1);
+    nodes_[size_] = {{p0, p1}, {d0, d1}};
+    return size_++;
   }
+  // Room for `count` more nodes: the buffer at least doubled.
+  void Grow(int count);
 
  public:
   static constexpr int kBytesPerNode = sizeof(Node) + sizeof(double);  // a node and its adjoint
@@ -131,7 +134,8 @@ class Tape {
  private:
   // The nodes and adjoints, in buffers a thread's tapes pass on to the next one (Tape(), ~Tape()): a gradient's
   // record is the same size every time, and a fresh buffer would be paged in again by the kernel on every call.
-  std::vector<Node> nodes_;
+  std::vector<Node> nodes_;  // the nodes [0, size_); the rest is room (its size only grows)
+  int size_ = 0;
   std::vector<double> adjoints_;                           // of the nodes [0, adjoints_.size()); the others' are zero
   std::vector<External> externals_;                        // in the order recorded
   std::vector<std::vector<std::shared_ptr<void>>> pools_;  // Reusable's records, by the record type's number
@@ -140,6 +144,16 @@ class Tape {
   inline static thread_local std::vector<double> spare_adjoints_;
   Tape* previous_ = nullptr;
 };
+
+__attribute__((always_inline)) inline int Rev::Record(int parent, double partial) {
+  return ActiveTape()->Push(parent, partial, -1, 0.0);
+}
+// A constant parent is dropped (the other one first): one push, its operands chosen without branches.
+__attribute__((always_inline)) inline int Rev::Record(int parent0, double partial0, int parent1, double partial1) {
+  const bool first = parent0 >= 0, second = parent1 >= 0;
+  return ActiveTape()->Push(first ? parent0 : parent1, first ? partial0 : partial1, first && second ? parent1 : -1,
+                            first && second ? partial1 : 0.0);
+}
 
 inline double Value(const Rev& x) { return x.a; }
 
