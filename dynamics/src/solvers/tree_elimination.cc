@@ -158,21 +158,32 @@ struct WorldRow {
   T Gamma(const T& alpha, const T& beta) const { return -(bias + beta * value + alpha * rate); }
 };
 
-// An angle primitive's row k: C = u . w - c, J v = (w_A - w_B) . (u x w), the child's block +-(0, u x w).
-template <typename T>
-WorldRow<T> AngleRow(const AnglePrimitive<T>& c, int k, const BodyFrames<T>& frames, int child) {
-  const bool world_a = c.body_a == kWorld, world_b = c.body_b == kWorld;
-  const Vec3<T> w_a = world_a ? Zero3<T>() : frames[c.body_a].w_W;
-  const Vec3<T> w_b = world_b ? Zero3<T>() : frames[c.body_b].w_W;
-  const Vec3<T> u = world_a ? c.u[k] : Vec3<T>(frames[c.body_a].R_WB * c.u[k]);
-  const Vec3<T> w = world_b ? c.w[k] : Vec3<T>(frames[c.body_b].R_WB * c.w[k]);
-  const Vec3<T> normal = u.cross(w), turning = w_a - w_b;
-  WorldRow<T> row;
-  row.value = u.dot(w) - c.c[k];
-  row.rate = turning.dot(normal);
-  row.bias = turning.dot(Vec3<T>(w_a.cross(u).cross(w) + u.cross(w_b.cross(w))));
-  row.child << Zero3<T>(), (c.body_a == child ? normal : Vec3<T>(-normal));
-  return row;
+// An angle primitive's kRows rows (c.rows of them): row k is C = u . w - c with u turning with A and w with B,
+// J v = (w_A - w_B) . n with n = u x w, Jdot v = (w_A - w_B) . ((w_A x u) x w + u x (w_B x w)); its value into
+// values[k], the child's rotational block +-n into column k of *blocks and its gamma into (*gamma)[k]. Two rows are a
+// common axis's (CommonAxis: one w, turned once) and three a frozen orientation's (FrozenOrientation: u_k = e_k, so
+// that R_WA u_k is R_WA's column k).
+template <int kRows, typename T>
+void AngleRows(const AnglePrimitive<T>& c, const BodyFrames<T>& frames, int child, const T& alpha, const T& beta,
+               Eigen::Matrix<T, 3, kRows>* blocks, Eigen::Matrix<T, kRows, 1>* gamma, T* values) {
+  static const BodyFrame<T> world;  // R = 1, w = 0
+  const BodyFrame<T>& a = c.body_a == kWorld ? world : frames[c.body_a];
+  const BodyFrame<T>& b = c.body_b == kWorld ? world : frames[c.body_b];
+  const Vec3<T> turning = a.w_W - b.w_W;
+  const double sign = c.body_a == child ? 1.0 : -1.0;
+  Vec3<T> w, spin_w;  // w and w_B x w
+  for (int k = 0; k < kRows; ++k) {
+    if (kRows != 2 || k == 0) {
+      w.noalias() = b.R_WB * c.w[k];
+      spin_w = b.w_W.cross(w);
+    }
+    const Vec3<T> u = kRows == 3 ? Vec3<T>(a.R_WB.col(k)) : Vec3<T>(a.R_WB * c.u[k]);
+    const Vec3<T> normal = u.cross(w);
+    values[k] = u.dot(w) - c.c[k];
+    const T bias = turning.dot(Vec3<T>(a.w_W.cross(u).cross(w) + u.cross(spin_w)));
+    (*gamma)[k] = -(bias + beta * values[k] + alpha * turning.dot(normal));
+    blocks->col(k) = sign * normal;
+  }
 }
 
 // A distance primitive's row from the motions of its points a and b: C = |d| - L, J v = n . d', the child's block
@@ -234,13 +245,10 @@ bool PointAndAngles(const Model<T>& model, const TreeJoint& joint, const Constra
   Eigen::Matrix<T, 3, kAngles> yt_child;
   Eigen::Matrix<T, kAngles, 1> gamma_angle;
   if constexpr (kAngles > 0) {
-    const AnglePrimitive<T>& angle = set.angles[joint.primitives[1].second];
-    for (int i = 0; i < kAngles; ++i) {
-      const WorldRow<T> row = AngleRow(angle, i, frames, joint.child);
-      (*rows)[joint.rows[3 + i]].value = row.value;
-      yt_child.col(i) = row.child.template tail<3>();
-      gamma_angle[i] = row.Gamma(alpha, beta);
-    }
+    T values[kAngles];
+    AngleRows(set.angles[joint.primitives[1].second], frames, joint.child, alpha, beta, &yt_child, &gamma_angle,
+              values);
+    for (int i = 0; i < kAngles; ++i) (*rows)[joint.rows[3 + i]].value = values[i];
   }
   // c = Y_C^+ gamma_angle with Y_C^+ = Y_C^T G^-1, G = Y_C Y_C^T; N spans Y_C's null space
   Vec3<T> c = Zero3<T>();
@@ -272,11 +280,31 @@ bool PointAndAngles(const Model<T>& model, const TreeJoint& joint, const Constra
   }
   w->free = kFree;
   if constexpr (kFree > 0) {
-    for (int k = 0; k < kFree; ++k) w->directions.col(k) << arm.cross(Vec3<T>(null.col(k))), null.col(k);
+    for (int k = 0; k < kFree; ++k) {
+      w->directions.template block<3, 1>(0, k) = arm.cross(Vec3<T>(null.col(k)));
+      w->directions.template block<3, 1>(3, k) = null.col(k);
+    }
   }
   w->offset << s * gamma_point + arm.cross(c), c;
   w->arm = centres - s * separation;
   return true;
+}
+
+// A double hinge's kRows angle rows (AngleRows) into its rows from row *i on: their values into rows, the child's
+// blocks (no translation) into j_child and gamma.
+template <int kRows, typename T>
+void AddAngles(const AnglePrimitive<T>& angle, const BodyFrames<T>& frames, const TreeJoint& joint, const T& alpha,
+               const T& beta, std::vector<ConstraintRow<T>>* rows, int* i, Eigen::Matrix<T, 4, 6>* j_child,
+               Eigen::Matrix<T, 4, 1>* gamma) {
+  Eigen::Matrix<T, 3, kRows> blocks;
+  Eigen::Matrix<T, kRows, 1> gammas;
+  T values[kRows];
+  AngleRows(angle, frames, joint.child, alpha, beta, &blocks, &gammas, values);
+  for (int k = 0; k < kRows; ++k, ++*i) {
+    (*rows)[joint.rows[*i]].value = values[k];
+    j_child->row(*i) << Zero3<T>().transpose(), blocks.col(k).transpose();
+    (*gamma)[*i] = gammas[k];
+  }
 }
 
 // S, b and d of a double hinge's four rows (the hinges' screws of tree_elimination.h, in the world), from the bodies'
@@ -310,9 +338,10 @@ bool DoubleHinge(const Model<T>& model, const TreeJoint& joint, const Constraint
       for (int k = 0; k < line.rows; ++k) {
         add(LineRow(line, k, frames, forward ? motion_a : motion_b, forward ? motion_b : motion_a, joint.child));
       }
+    } else if (set.angles[index].rows == 1) {
+      AddAngles<1>(set.angles[index], frames, joint, alpha, beta, rows, &i, &j_child, &gamma);
     } else {
-      const AnglePrimitive<T>& angle = set.angles[index];
-      for (int k = 0; k < angle.rows; ++k) add(AngleRow(angle, k, frames, joint.child));
+      AddAngles<2>(set.angles[index], frames, joint, alpha, beta, rows, &i, &j_child, &gamma);
     }
   }
   Eigen::Matrix<T, 4, 4> l = j_child * j_child.transpose();
@@ -336,6 +365,7 @@ bool DoubleHinge(const Model<T>& model, const TreeJoint& joint, const Constraint
 // I_P += X^T I X for the rigid transport X = [1 -[d]x; 0 1] (d: the child's centre from its parent's): with
 // I = [A B; B^T C] and G = B - A [d]x = B + (d x A)^T (columnwise cross products),
 //   X^T I X = [A G; G^T C + d x G + (d x B)^T].
+// Both are symmetric: only their lower triangles are read and written (A's, G^T, C's).
 template <typename T>
 void AddShiftedInertia(const Vec3<T>& d, const Eigen::Matrix<T, 6, 6>& inertia, Eigen::Matrix<T, 6, 6>* out) {
   const auto cross = [&d](const auto& m) {
@@ -343,14 +373,25 @@ void AddShiftedInertia(const Vec3<T>& d, const Eigen::Matrix<T, 6, 6>& inertia, 
     for (int k = 0; k < 3; ++k) out.col(k) = d.cross(Vec3<T>(m.col(k)));
     return out;
   };
-  const auto a = inertia.template topLeftCorner<3, 3>();
-  const auto b = inertia.template topRightCorner<3, 3>();
-  const Mat3<T> g = b + cross(a).transpose();
-  out->template topLeftCorner<3, 3>() += a;
-  out->template topRightCorner<3, 3>() += g;
-  out->template bottomLeftCorner<3, 3>() += g.transpose();
-  out->template bottomRightCorner<3, 3>() +=
-      inertia.template bottomRightCorner<3, 3>() + cross(g) + cross(b).transpose();
+  const Mat3<T> a = inertia.template topLeftCorner<3, 3>().template selfadjointView<Eigen::Lower>();
+  const Mat3<T> b_t = inertia.template bottomLeftCorner<3, 3>();  // B^T
+  const Mat3<T> g_t = b_t + cross(a);                             // G^T
+  const Mat3<T> c = cross(g_t.transpose()) + cross(b_t.transpose()).transpose();
+  for (int col = 0; col < 3; ++col) {
+    for (int row = col; row < 3; ++row) {
+      (*out)(row, col) += a(row, col);
+      (*out)(3 + row, 3 + col) += inertia(3 + row, 3 + col) + c(row, col);
+    }
+  }
+  out->template bottomLeftCorner<3, 3>() += g_t;
+}
+
+// The upper triangle of a symmetric I from its lower one.
+template <typename T>
+void Mirror(Eigen::Matrix<T, 6, 6>* inertia) {
+  for (int col = 1; col < 6; ++col) {
+    for (int row = 0; row < col; ++row) (*inertia)(row, col) = (*inertia)(col, row);
+  }
 }
 
 // Calls f(std::integral_constant<int, k>) for k = free in [0, 3], so that a joint's blocks have fixed sizes.
@@ -372,6 +413,7 @@ bool WithFreeCount(int free, F f) {
 // and z - W y in place of I and z (what the parent receives). False where D is not positive definite.
 template <int K, typename T>
 bool Eliminate(bool to_parent, TreeJointWork<T>* w) {
+  Mirror(&w->inertia);
   w->force.noalias() -= w->inertia * w->offset;  // z
   if constexpr (K > 0) {
     const Eigen::Matrix<T, 6, K> directions = w->directions.template leftCols<K>();
@@ -383,7 +425,9 @@ bool Eliminate(bool to_parent, TreeJointWork<T>* w) {
     SolveLower(l, &w_t);
     SolveLower(l, &y);
     if (to_parent) {
-      w->inertia.noalias() -= w_t.transpose() * w_t;
+      for (int col = 0; col < 6; ++col) {  // the lower triangle, as the parent reads it
+        for (int row = col; row < 6; ++row) w->inertia(row, col) -= w_t.col(row).dot(w_t.col(col));
+      }
       w->force.noalias() -= w_t.transpose() * y;
     }
     w->l.template topLeftCorner<K, K>() = l;
@@ -437,10 +481,16 @@ TETHER_FLATTEN bool TreeAcceleration(const Model<T>& model, const TreePlan& plan
     }
     if (!made) return false;
     const Mat3<T> r_inertia = r_child * principal_inertia[joint.child];
-    w.inertia.setZero();
-    w.inertia.template topLeftCorner<3, 3>().diagonal().setConstant(T(model.bodies[joint.child].mass));
-    w.inertia.template bottomRightCorner<3, 3>().noalias() = r_inertia * r_child.transpose();
-    w.force << force.template segment<3>(joint.child_v), r_child * force.template segment<3>(joint.child_v + 3);
+    const T mass(model.bodies[joint.child].mass);
+    for (int col = 0; col < 3; ++col) {  // the lower triangle of diag(m 1, R J R^T) (AddShiftedInertia)
+      for (int row = col; row < 3; ++row) {
+        w.inertia(row, col) = row == col ? mass : T(0.0);
+        w.inertia(3 + row, 3 + col) = r_inertia.row(row).dot(r_child.row(col));
+      }
+      w.inertia.template block<3, 1>(3, col).setZero();
+    }
+    w.force.template head<3>() = force.template segment<3>(joint.child_v);
+    w.force.template tail<3>().noalias() = r_child * force.template segment<3>(joint.child_v + 3);
   }
   for (size_t j = joints.size(); j-- > 0;) {  // children first
     const TreeJoint& joint = joints[j];
@@ -459,13 +509,14 @@ TETHER_FLATTEN bool TreeAcceleration(const Model<T>& model, const TreePlan& plan
     Vec6<T> transported = Vec6<T>::Zero();  // X a_P = [a - d x alpha; alpha]
     if (joint.parent != kWorld) {
       const Vec6<T>& parent = (*work)[joint.parent_joint].acceleration;
-      transported << parent.template head<3>() - w.arm.cross(Vec3<T>(parent.template tail<3>())),
-          parent.template tail<3>();
+      const Vec3<T> alpha_parent = parent.template tail<3>();
+      transported.template head<3>() = parent.template head<3>() - w.arm.cross(alpha_parent);
+      transported.template tail<3>() = alpha_parent;
     }
     WithFreeCount(w.free, [&](auto k) { return Accelerate<k()>(transported, &w); });
     a->template segment<3>(joint.child_v) = w.acceleration.template head<3>();
-    a->template segment<3>(joint.child_v + 3).noalias() =
-        frames[joint.child].R_WP.transpose() * w.acceleration.template tail<3>();
+    a->template segment<3>(joint.child_v + 3) =
+        TransposeTimes(frames[joint.child].R_WP, Vec3<T>(w.acceleration.template tail<3>()));
   }
   for (int body : plan.free_bodies()) {  // M^-1 f as ApplyInverseMass takes it
     const int o = model.bodies[body].v_offset;

@@ -63,7 +63,7 @@ Mat3<T> PlanarRotation(const T& angle) {
 }
 
 template <typename T>
-Mat3<T> RotationMatrix(const Vec4<T>& q) {
+TETHER_HOT_INLINE Mat3<T> RotationMatrix(const Vec4<T>& q) {
   const T w = q[0], x = q[1], y = q[2], z = q[3];
   Mat3<T> R;
   R << T(1.0) - T(2.0) * (y * y + z * z), T(2.0) * (x * y - w * z), T(2.0) * (x * z + w * y), T(2.0) * (x * y + w * z),

@@ -122,7 +122,7 @@ using Vec6 = Eigen::Matrix<T, 6, 1>;  // a body's velocities' shape: translation
 // What one elimination computes into, per joint (TreeAcceleration sizes it to the plan's joints).
 template <typename T>
 struct TreeJointWork {
-  Eigen::Matrix<T, 6, 6> inertia;     // I, articulated (its blocks in the world's axes, as above)
+  Eigen::Matrix<T, 6, 6> inertia;     // I, articulated (world-aligned, as above): its lower triangle until eliminated
   Vec6<T> force;                      // p, then z
   Vec3<T> arm;                        // d (X = [1 -[d]x; 0 1])
   int free = 0;                       // k
