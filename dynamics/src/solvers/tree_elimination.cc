@@ -290,23 +290,6 @@ bool PointAndAngles(const Model<T>& model, const TreeJoint& joint, const Constra
   return true;
 }
 
-// A double hinge's kRows angle rows (AngleRows) into its rows from row *i on: their values into rows, the child's
-// blocks (no translation) into j_child and gamma.
-template <int kRows, typename T>
-void AddAngles(const AnglePrimitive<T>& angle, const BodyFrames<T>& frames, const TreeJoint& joint, const T& alpha,
-               const T& beta, std::vector<ConstraintRow<T>>* rows, int* i, Eigen::Matrix<T, 4, 6>* j_child,
-               Eigen::Matrix<T, 4, 1>* gamma) {
-  Eigen::Matrix<T, 3, kRows> blocks;
-  Eigen::Matrix<T, kRows, 1> gammas;
-  T values[kRows];
-  AngleRows(angle, frames, joint.child, alpha, beta, &blocks, &gammas, values);
-  for (int k = 0; k < kRows; ++k, ++*i) {
-    (*rows)[joint.rows[*i]].value = values[k];
-    j_child->row(*i) << Zero3<T>().transpose(), blocks.col(k).transpose();
-    (*gamma)[*i] = gammas[k];
-  }
-}
-
 // S, b and d of a double hinge's four rows (the hinges' screws of tree_elimination.h, in the world), from the bodies'
 // centres c_C - c_P; the rows from their primitives in the world's axes, their values into rows. False where
 // J_C J_C^T is close to singular.
@@ -318,10 +301,19 @@ bool DoubleHinge(const Model<T>& model, const TreeJoint& joint, const Constraint
   Eigen::Matrix<T, 4, 6> j_child;  // the rows first, into locals (as in PointAndAngles)
   Eigen::Matrix<T, 4, 1> gamma;
   int i = 0;
-  const auto add = [&](const WorldRow<T>& row) {
-    (*rows)[joint.rows[i]].value = row.value;
-    j_child.row(i) = row.child.transpose();
-    gamma[i++] = row.Gamma(alpha, beta);
+  const auto put = [&](const T& value, const Vec6<T>& child, const T& row_gamma) {  // row i
+    (*rows)[joint.rows[i]].value = value;
+    j_child.row(i) = child.transpose();
+    gamma[i++] = row_gamma;
+  };
+  const auto add = [&](const WorldRow<T>& row) { put(row.value, row.child, row.Gamma(alpha, beta)); };
+  const auto add_angles = [&](const AnglePrimitive<T>& angle, auto count) {  // kRows = count rows (AngleRows)
+    constexpr int kRows = decltype(count)::value;
+    Eigen::Matrix<T, 3, kRows> blocks;
+    Eigen::Matrix<T, kRows, 1> gammas;
+    T values[kRows];
+    AngleRows(angle, frames, joint.child, alpha, beta, &blocks, &gammas, values);
+    for (int k = 0; k < kRows; ++k) put(values[k], (Vec6<T>() << Zero3<T>(), blocks.col(k)).finished(), gammas[k]);
   };
   // the distance and the lines join the hinge's two points (AddDoubleHinge), the second line from b to a: their
   // motions are taken once
@@ -339,9 +331,9 @@ bool DoubleHinge(const Model<T>& model, const TreeJoint& joint, const Constraint
         add(LineRow(line, k, frames, forward ? motion_a : motion_b, forward ? motion_b : motion_a, joint.child));
       }
     } else if (set.angles[index].rows == 1) {
-      AddAngles<1>(set.angles[index], frames, joint, alpha, beta, rows, &i, &j_child, &gamma);
+      add_angles(set.angles[index], std::integral_constant<int, 1>());
     } else {
-      AddAngles<2>(set.angles[index], frames, joint, alpha, beta, rows, &i, &j_child, &gamma);
+      add_angles(set.angles[index], std::integral_constant<int, 2>());
     }
   }
   Eigen::Matrix<T, 4, 4> l = j_child * j_child.transpose();
